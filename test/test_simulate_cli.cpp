@@ -1,0 +1,114 @@
+// The `simulate` executable, run as a user would: CSV layout, time grid, exit codes.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "test_helpers.h"
+
+namespace {
+
+struct RunResult {
+  int exit_code;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+RunResult runSimulate(const std::string& args) {
+  const std::string err_path = ::testing::TempDir() + "/simulate_stderr.txt";
+  const std::string command = std::string(KANE_SIM_SIMULATE_EXE) + " " + args + " 2>" + err_path;
+  RunResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) result.out.append(buffer, n);
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream err(err_path);
+  result.err.assign(std::istreambuf_iterator<char>(err), {});
+  return result;
+}
+
+std::vector<std::vector<double>> parseRows(const std::string& csv, std::string* header) {
+  std::istringstream in(csv);
+  std::getline(in, *header);
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::istringstream fields(line);
+    std::string field;
+    while (std::getline(fields, field, ',')) row.push_back(std::stod(field));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+const std::string kConfig = "--config " + kane_sim::test::configPath("mechanism.yaml");
+
+TEST(SimulateCli, HeaderRowsAndTimeGrid) {
+  const RunResult r = runSimulate(kConfig + " --duration 2 --output-rate 50 --torque 1");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string header;
+  const auto rows = parseRows(r.out, &header);
+  EXPECT_EQ(header.rfind("t,q1,q2,u1,u2,energy", 0), 0u) << header;
+  ASSERT_EQ(rows.size(), 101u);  // t = 0, 0.02, ..., 2.0
+  for (size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_NEAR(rows[i][0], i / 50.0, 1e-12);
+    EXPECT_EQ(rows[i].size(), rows[0].size());
+  }
+  EXPECT_NEAR(rows[0][1], M_PI / 6, 1e-15);  // q1 at t = 0 is the configured q10
+  EXPECT_NE(r.err.find("steps/s"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("2000 physics steps"), std::string::npos) << r.err;
+}
+
+TEST(SimulateCli, DefaultOutputRateIs100HzAndCsvFileWorks) {
+  const std::string path = ::testing::TempDir() + "/run.csv";
+  const RunResult r = runSimulate(kConfig + " --duration 0.5 --integrator dopri5 --csv " + path);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  std::ifstream file(path);
+  const std::string csv((std::istreambuf_iterator<char>(file)), {});
+  std::string header;
+  EXPECT_EQ(parseRows(csv, &header).size(), 51u);
+}
+
+TEST(SimulateCli, BadFlagsExitWithUsage) {
+  for (const std::string& args :
+       {std::string("--duration 1"), kConfig, kConfig + " --duration -1",
+        kConfig + " --duration abc", kConfig + " --duration 1 --output-rate 0",
+        kConfig + " --duration 1 --output-rate 300", kConfig + " --duration 1 --integrator euler",
+        kConfig + " --duration 1 --bogus", kConfig + " --duration nan"}) {
+    const RunResult r = runSimulate(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("Usage: simulate"), std::string::npos) << args << "\n" << r.err;
+  }
+}
+
+TEST(SimulateCli, BadConfigExitsOneNamingTheKey) {
+  const RunResult missing = runSimulate("--config /nonexistent.yaml --duration 1");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("cannot open '/nonexistent.yaml'"), std::string::npos) << missing.err;
+
+  const std::string path = ::testing::TempDir() + "/bad.yaml";
+  std::ifstream in(kane_sim::test::configPath("mechanism.yaml"));
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  text.replace(text.find("rod_mass: 1.0"), 13, "rod_mass: -2");
+  std::ofstream(path) << text;
+  const RunResult bad = runSimulate("--config " + path + " --duration 1");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("mechanism.rod_mass' must be > 0, got -2"), std::string::npos) << bad.err;
+}
+
+TEST(SimulateCli, UnwritableOutputExitsFour) {
+  const RunResult r = runSimulate(kConfig + " --duration 1 --csv /nonexistent/dir/out.csv");
+  EXPECT_EQ(r.exit_code, 4);
+  EXPECT_NE(r.err.find("/nonexistent/dir/out.csv"), std::string::npos) << r.err;
+}
+
+}  // namespace
