@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs everything kane_sim needs to build, run and test on Debian 12 (bookworm), from
+# Debian's own ROS 1 packages. Safe to run again: apt is skipped when all are present.
+set -euo pipefail
+
+PACKAGES=(
+  # build + unit tests
+  build-essential cmake ros-core-dev libtf2-ros-dev libeigen3-dev libboost-dev
+  libboost-program-options-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev
+  librosbag-dev libstd-srvs-dev ros-std-srvs libdiagnostic-msgs-dev ros-diagnostic-msgs
+  libros-rosgraph-msgs-dev
+  # node tests and command-line tools
+  python3-rostest rosbash python3-rostopic python3-rosnode python3-rosparam python3-rosbag
+  python3-sensor-msgs python3-tf2-msgs python3-geometry-msgs python3-visualization-msgs
+  python3-diagnostic-msgs python3-std-msgs
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install_deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+echo "install_deps: installing ${#missing[@]} packages: ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${PACKAGES[@]}" >/dev/null
