@@ -6,7 +6,7 @@ namespace kane_sim {
 
 void writeCsvHeader(std::ostream& out) {
   out << "t,q1,q2,u1,u2,energy,u1dot,u2dot,torque,motor_work,kinetic,gravitational,spring,"
-         "energy_minus_work,F1,F2,spring_elongation\n";
+         "energy_minus_work,F1,F2,spring_elongation,motor_power\n";
 }
 
 void writeCsvRow(std::ostream& out, const MechanismSnapshot& s) {
@@ -26,7 +26,8 @@ void writeCsvRow(std::ostream& out, const MechanismSnapshot& s) {
                            s.energy.total() - s.motor_work,
                            s.active_forces[0],
                            s.active_forces[1],
-                           s.spring_elongation};
+                           s.spring_elongation,
+                           s.motor_power};
   // %.17g round-trips every double exactly.
   char buffer[32];
   bool first = true;

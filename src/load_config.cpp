@@ -169,6 +169,7 @@ void readSimulation(Section& s, SimulationSettings* sim) {
   s.number("publish_rate", &sim->publish_rate);
   s.number("real_time_factor", &sim->real_time_factor);
   s.boolean("publish_clock", &sim->publish_clock);
+  s.boolean("start_paused", &sim->start_paused);
 
   requirePositive(s.keyPath("physics_rate"), sim->physics_rate);
   if (sim->physics_rate > kMaxPhysicsRate)

@@ -122,7 +122,6 @@ StepResult Simulator::step() {
 
 void Simulator::reset() {
   state_ = initial_state_;
-  ticks_ = 0;
   torque_ = 0.0;
   motor_work_ = 0.0;
 }
@@ -138,6 +137,7 @@ MechanismSnapshot Simulator::snapshot() const {
   snap.inertia_forces = forces.inertia(snap.u_dot);
   snap.energy = model_.energy(state_);
   snap.motor_work = motor_work_;
+  snap.motor_power = torque_ * state_.u1;
   snap.spring_elongation = model_.springElongation(state_.q1, state_.q2);
   return snap;
 }

@@ -36,6 +36,7 @@ struct SimulationSettings {
   double publish_rate = 100.0;       // [Hz] joint_states, tf, mechanism_state
   double real_time_factor = 1.0;     // sim time per wall time; 0 = as fast as possible
   bool publish_clock = false;        // true: the node owns /clock
+  bool start_paused = false;         // true: the node waits for `unpause` or `step`
 };
 
 struct CommandSettings {

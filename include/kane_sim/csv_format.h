@@ -9,7 +9,7 @@
 namespace kane_sim {
 
 // t,q1,q2,u1,u2,energy, then u1dot,u2dot,torque,motor_work,kinetic,gravitational,spring,
-// energy_minus_work,F1,F2,spring_elongation.
+// energy_minus_work,F1,F2,spring_elongation,motor_power.
 void writeCsvHeader(std::ostream& out);
 void writeCsvRow(std::ostream& out, const MechanismSnapshot& snapshot);
 

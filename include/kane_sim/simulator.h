@@ -26,6 +26,7 @@ struct MechanismSnapshot {
   SpeedVector inertia_forces = SpeedVector::Zero();  // F*_r at u': F*_1 [N m], F*_2 [N]
   EnergyTerms energy;
   double motor_work = 0.0;         // ∫ M_m u1 dt since start or reset [J]
+  double motor_power = 0.0;        // M_m u1 [W]
   double spring_elongation = 0.0;  // e [m], positive = stretched
 };
 
@@ -49,7 +50,8 @@ class Simulator {
   // error-controlled integrator cannot complete) is refused and the last good state kept.
   StepResult step();
 
-  // Back to the initial state, time 0, motor work 0; the torque is set to 0.
+  // Back to the initial state with motor work 0 and torque 0. Sim time keeps running (it never
+  // goes backwards, so tf listeners and bags downstream see a monotonic clock).
   void reset();
 
   const State& state() const { return state_; }

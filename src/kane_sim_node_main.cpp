@@ -1,0 +1,26 @@
+// kane_sim_node: the virtual robot. Parameters: see config/mechanism.yaml and the README.
+#include <algorithm>
+#include <string>
+
+#include <ros/ros.h>
+
+#include "kane_sim/kane_sim_node.h"
+#include "kane_sim/load_config.h"
+#include "kane_sim/shutdown_signals.h"
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "kane_sim", ros::init_options::NoSigintHandler);
+  kane_sim::installShutdownSignalHandlers();
+  try {
+    kane_sim::KaneSimNode node{ros::NodeHandle(), ros::NodeHandle("~")};
+    node.run();
+  } catch (const kane_sim::ConfigError& e) {
+    std::string param = e.key();
+    std::replace(param.begin(), param.end(), '.', '/');
+    ROS_FATAL("kane_sim: bad parameter %s/%s: %s. Fix it in the config file (or on the parameter "
+              "server) and start again.",
+              ros::this_node::getName().c_str(), param.c_str(), e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,122 @@
+#include "kane_sim/ros_messages.h"
+
+#include <cmath>
+#include <string>
+
+#include "kane_sim/joint_values.h"
+
+namespace kane_sim {
+namespace {
+
+geometry_msgs::TransformStamped planarTransform(const std::string& parent, const std::string& child,
+                                                const Eigen::Vector3d& origin, double angle,
+                                                const ros::Time& stamp) {
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = stamp;
+  t.header.frame_id = parent;
+  t.child_frame_id = child;
+  t.transform.translation.x = origin.x();
+  t.transform.translation.y = origin.y();
+  t.transform.translation.z = origin.z();
+  t.transform.rotation.z = std::sin(angle / 2);  // rotation by `angle` about the plane normal k
+  t.transform.rotation.w = std::cos(angle / 2);
+  return t;
+}
+
+}  // namespace
+
+YAML::Node yamlFromXmlRpc(XmlRpc::XmlRpcValue& value) {
+  switch (value.getType()) {
+    case XmlRpc::XmlRpcValue::TypeStruct: {
+      YAML::Node map(YAML::NodeType::Map);
+      for (auto& entry : value) map[entry.first] = yamlFromXmlRpc(entry.second);
+      return map;
+    }
+    case XmlRpc::XmlRpcValue::TypeArray: {
+      YAML::Node list(YAML::NodeType::Sequence);
+      for (int i = 0; i < value.size(); ++i) list.push_back(yamlFromXmlRpc(value[i]));
+      return list;
+    }
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      return YAML::Node(static_cast<bool>(value) ? "true" : "false");
+    case XmlRpc::XmlRpcValue::TypeInt:
+      return YAML::Node(std::to_string(static_cast<int>(value)));
+    case XmlRpc::XmlRpcValue::TypeDouble: {
+      // YAML spells the non-finite values .nan/.inf; keep them so the loader names them.
+      const double d = value;
+      if (std::isnan(d)) return YAML::Node(".nan");
+      if (std::isinf(d)) return YAML::Node(d > 0 ? ".inf" : "-.inf");
+      char buffer[32];
+      std::snprintf(buffer, sizeof(buffer), "%.17g", d);
+      return YAML::Node(std::string(buffer));
+    }
+    case XmlRpc::XmlRpcValue::TypeString:
+      return YAML::Node(static_cast<std::string>(value));
+    default:
+      return YAML::Node(YAML::NodeType::Null);
+  }
+}
+
+sensor_msgs::JointState jointStateMessage(const MechanismModel& model,
+                                          const MechanismSnapshot& snapshot,
+                                          const ros::Time& stamp) {
+  const JointValues j = jointValues(model, snapshot.state, snapshot.torque);
+  sensor_msgs::JointState msg;
+  msg.header.stamp = stamp;
+  msg.name.assign(kJointNames.begin(), kJointNames.end());
+  msg.position.assign(j.position.begin(), j.position.end());
+  msg.velocity.assign(j.velocity.begin(), j.velocity.end());
+  msg.effort.assign(j.effort.begin(), j.effort.end());
+  return msg;
+}
+
+geometry_msgs::TransformStamped worldToMechanism(const FrameNames& frames,
+                                                 const FrameSettings& settings,
+                                                 const ros::Time& stamp) {
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = stamp;
+  t.header.frame_id = frames.world;
+  t.child_frame_id = frames.mechanism;
+  t.transform.translation.z = settings.pivot_height;
+  // +90° about world y: mechanism x -> world -z (down), y -> world y, z -> world x.
+  t.transform.rotation.y = std::sqrt(0.5);
+  t.transform.rotation.w = std::sqrt(0.5);
+  return t;
+}
+
+std::vector<geometry_msgs::TransformStamped> bodyTransforms(const MechanismModel& model,
+                                                            const State& state,
+                                                            const FrameNames& frames,
+                                                            const ros::Time& stamp) {
+  const MechanismGeometry g = model.geometry(state.q1, state.q2);
+  return {planarTransform(frames.mechanism, frames.bodies[kRod1], g.rod1_center, g.rod1_angle, stamp),
+          planarTransform(frames.mechanism, frames.bodies[kRod2], g.rod2_center, g.rod2_angle, stamp),
+          planarTransform(frames.mechanism, frames.bodies[kSlider3], g.pin_b, 0.0, stamp),
+          planarTransform(frames.mechanism, frames.bodies[kSlider4], g.point_c, 0.0, stamp)};
+}
+
+kane_sim::MechanismState mechanismStateMessage(const MechanismSnapshot& s, double commanded_torque,
+                                               double real_time_factor, const ros::Time& stamp,
+                                               const std::string& frame_id) {
+  kane_sim::MechanismState msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = frame_id;
+  msg.sim_time = s.time;
+  msg.q = {s.state.q1, s.state.q2};
+  msg.u = {s.state.u1, s.state.u2};
+  msg.u_dot = {s.u_dot[0], s.u_dot[1]};
+  msg.commanded_torque = commanded_torque;
+  msg.applied_torque = s.torque;
+  msg.active_forces = {s.active_forces[0], s.active_forces[1]};
+  msg.inertia_forces = {s.inertia_forces[0], s.inertia_forces[1]};
+  msg.kinetic_energy = s.energy.kinetic;
+  msg.gravitational_energy = s.energy.gravitational;
+  msg.spring_energy = s.energy.spring;
+  msg.total_energy = s.energy.total();
+  msg.motor_work = s.motor_work;
+  msg.spring_elongation = s.spring_elongation;
+  msg.real_time_factor = real_time_factor;
+  return msg;
+}
+
+}  // namespace kane_sim
