@@ -17,7 +17,7 @@ namespace kane_sim {
 namespace {
 
 // Behind schedule by more than this, the loop stops bursting to catch up and re-anchors.
-constexpr double kMaxCatchUp = 0.1;  // [s]
+constexpr double kMaxCatchUp = 0.1;         // [s]
 constexpr double kDiagnosticsPeriod = 1.0;  // [s] wall
 constexpr double kPausedPoll = 0.002;       // [s] wall, callback wait while paused
 
@@ -118,9 +118,10 @@ bool KaneSimNode::physicsStep() {
   bool timed_out_now = false;
   const double torque = command_.applied(sim_.time(), &timed_out_now);
   if (timed_out_now)
-    ROS_WARN("kane_sim: no torque_command for %g s (command.timeout): applying 0 N m until the "
-             "next command",
-             config_.command.timeout);
+    ROS_WARN(
+        "kane_sim: no torque_command for %g s (command.timeout): applying 0 N m until the "
+        "next command",
+        config_.command.timeout);
   sim_.setTorque(torque);  // finite and clamped by TorqueCommand
   const StepResult result = sim_.step();
   if (!result.ok) ROS_ERROR_THROTTLE(1.0, "kane_sim: %s", result.error.c_str());
@@ -135,7 +136,8 @@ void KaneSimNode::publishState() {
   const ros::Time now = stamp();
   const auto wall_now = SteadyClock::now();
   const double wall_elapsed = wallSeconds(wall_now - last_publish_wall_);
-  if (wall_elapsed > 0) achieved_real_time_factor_ = (sim_.time() - last_publish_sim_) / wall_elapsed;
+  if (wall_elapsed > 0)
+    achieved_real_time_factor_ = (sim_.time() - last_publish_sim_) / wall_elapsed;
   last_publish_wall_ = wall_now;
   last_publish_sim_ = sim_.time();
 

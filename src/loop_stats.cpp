@@ -8,8 +8,8 @@ namespace {
 
 double percentile(std::vector<double>* values, double fraction) {
   if (values->empty()) return 0.0;
-  const size_t index = std::min(values->size() - 1,
-                                static_cast<size_t>(std::ceil(fraction * values->size())) - 1);
+  const size_t index =
+      std::min(values->size() - 1, static_cast<size_t>(std::ceil(fraction * values->size())) - 1);
   std::nth_element(values->begin(), values->begin() + index, values->end());
   return (*values)[index];
 }

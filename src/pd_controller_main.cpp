@@ -9,8 +9,12 @@
 int main(int argc, char** argv) {
   ros::init(argc, argv, "pd_controller", ros::init_options::NoSigintHandler);
   kane_sim::installShutdownSignalHandlers();
+  // Held outside the try: destroying the last NodeHandle shuts ROS (and its logging) down, and
+  // the fatal message below must still reach the console.
+  const ros::NodeHandle nh;
+  const ros::NodeHandle private_nh("~");
   try {
-    kane_sim::PdControllerNode node{ros::NodeHandle(), ros::NodeHandle("~")};
+    kane_sim::PdControllerNode node{nh, private_nh};
     ros::spin();
   } catch (const std::invalid_argument& e) {
     ROS_FATAL("pd_controller: %s", e.what());

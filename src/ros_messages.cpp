@@ -89,10 +89,11 @@ std::vector<geometry_msgs::TransformStamped> bodyTransforms(const MechanismModel
                                                             const FrameNames& frames,
                                                             const ros::Time& stamp) {
   const MechanismGeometry g = model.geometry(state.q1, state.q2);
-  return {planarTransform(frames.mechanism, frames.bodies[kRod1], g.rod1_center, g.rod1_angle, stamp),
-          planarTransform(frames.mechanism, frames.bodies[kRod2], g.rod2_center, g.rod2_angle, stamp),
-          planarTransform(frames.mechanism, frames.bodies[kSlider3], g.pin_b, 0.0, stamp),
-          planarTransform(frames.mechanism, frames.bodies[kSlider4], g.point_c, 0.0, stamp)};
+  return {
+      planarTransform(frames.mechanism, frames.bodies[kRod1], g.rod1_center, g.rod1_angle, stamp),
+      planarTransform(frames.mechanism, frames.bodies[kRod2], g.rod2_center, g.rod2_angle, stamp),
+      planarTransform(frames.mechanism, frames.bodies[kSlider3], g.pin_b, 0.0, stamp),
+      planarTransform(frames.mechanism, frames.bodies[kSlider4], g.point_c, 0.0, stamp)};
 }
 
 kane_sim::MechanismState mechanismStateMessage(const MechanismSnapshot& s, double commanded_torque,

@@ -9,8 +9,8 @@ namespace kane_sim {
 TorqueCommand::Verdict TorqueCommand::receive(double torque, double now, std::string* message) {
   std::ostringstream msg;
   if (!std::isfinite(torque)) {
-    msg << "torque_command " << torque << " N m is not finite: ignored, still applying "
-        << clamped_ << " N m";
+    msg << "torque_command " << torque << " N m is not finite: ignored, still applying " << clamped_
+        << " N m";
     *message = msg.str();
     return Verdict::kRejected;
   }

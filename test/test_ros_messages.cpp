@@ -1,8 +1,8 @@
 // The message-filling path, without a master: rosparam -> config, joint_states, tf, state.
 #include <cmath>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "kane_sim/load_config.h"
 #include "kane_sim/ros_messages.h"
@@ -173,7 +173,8 @@ TEST_F(MessagesTest, MechanismStateCarriesTheSnapshot) {
   EXPECT_EQ(msg.commanded_torque, 80.0);
   EXPECT_EQ(msg.applied_torque, 3.0);
   EXPECT_NEAR(msg.active_forces[0] + msg.inertia_forces[0], 0.0, 1e-12);
-  EXPECT_DOUBLE_EQ(msg.total_energy, msg.kinetic_energy + msg.gravitational_energy + msg.spring_energy);
+  EXPECT_DOUBLE_EQ(msg.total_energy,
+                   msg.kinetic_energy + msg.gravitational_energy + msg.spring_energy);
   EXPECT_DOUBLE_EQ(msg.motor_work, s.motor_work);
   EXPECT_EQ(msg.real_time_factor, 0.97);
 }

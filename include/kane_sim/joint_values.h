@@ -9,7 +9,13 @@
 
 namespace kane_sim {
 
-enum Joint { kCrankJoint = 0, kCouplerJoint = 1, kSlider3Joint = 2, kSlider4Joint = 3, kNumJoints = 4 };
+enum Joint {
+  kCrankJoint = 0,
+  kCouplerJoint = 1,
+  kSlider3Joint = 2,
+  kSlider4Joint = 3,
+  kNumJoints = 4
+};
 
 constexpr std::array<const char*, kNumJoints> kJointNames = {"crank_joint", "coupler_joint",
                                                              "slider3_joint", "slider4_joint"};

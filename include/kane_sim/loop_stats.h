@@ -13,12 +13,12 @@ class LoopStats {
   struct Summary {
     std::uint64_t ticks = 0;
     std::uint64_t overruns = 0;
-    double lateness_p50 = 0.0;  // [s]
-    double lateness_p99 = 0.0;  // [s]
-    double lateness_max = 0.0;  // [s]
-    double physics_rate = 0.0;  // [Hz] ticks per wall second
+    double lateness_p50 = 0.0;      // [s]
+    double lateness_p99 = 0.0;      // [s]
+    double lateness_max = 0.0;      // [s]
+    double physics_rate = 0.0;      // [Hz] ticks per wall second
     double real_time_factor = 0.0;  // sim seconds per wall second
-    double skipped = 0.0;       // [s] lag dropped by re-anchoring
+    double skipped = 0.0;           // [s] lag dropped by re-anchoring
   };
 
   void recordTick(double lateness, bool overrun, double skipped);

@@ -16,9 +16,9 @@ class TickScheduler {
   using Clock = std::chrono::steady_clock;
 
   struct Timing {
-    double lateness = 0.0;     // [s] how long after its due time the tick started, >= 0
-    bool overrun = false;      // the tick started more than one period late
-    double skipped = 0.0;      // [s] lag dropped by re-anchoring (0 when on schedule)
+    double lateness = 0.0;  // [s] how long after its due time the tick started, >= 0
+    bool overrun = false;   // the tick started more than one period late
+    double skipped = 0.0;   // [s] lag dropped by re-anchoring (0 when on schedule)
   };
 
   // period: wall seconds per tick (physics step / real_time_factor); 0 = free-running.
@@ -26,7 +26,7 @@ class TickScheduler {
 
   void anchor(Clock::time_point now);  // the next tick is due now
   bool freeRunning() const { return period_ <= 0.0; }
-  Clock::time_point due() const;       // when the next tick is due
+  Clock::time_point due() const;        // when the next tick is due
   Timing start(Clock::time_point now);  // the due tick starts at `now`
 
  private:

@@ -1,0 +1,79 @@
+// Helpers for the node tests (rostest): record a topic, wait for conditions on wall time.
+#ifndef KANE_SIM_TEST_NODE_TEST_UTILS_H
+#define KANE_SIM_TEST_NODE_TEST_UTILS_H
+
+#include <chrono>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <ros/ros.h>
+
+namespace kane_sim {
+namespace test {
+
+// Waits (wall time) until `done` holds; false on timeout.
+inline bool waitFor(const std::function<bool()>& done, double timeout_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return done();
+}
+
+inline void sleepWall(double seconds) {
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+}
+
+// Keeps every message of a topic (callbacks run on the test's AsyncSpinner).
+template <class M>
+class Recorder {
+ public:
+  Recorder(ros::NodeHandle& nh, const std::string& topic, uint32_t queue = 10000) {
+    sub_ = nh.subscribe<M>(topic, queue, [this](const typename M::ConstPtr& msg) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      messages_.push_back(*msg);
+    });
+  }
+  std::vector<M> messages() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return messages_;
+  }
+  size_t count() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return messages_.size();
+  }
+  M last() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return messages_.back();
+  }
+  void clear() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    messages_.clear();
+  }
+  bool waitForCount(size_t n, double timeout_s) const {
+    return waitFor([&] { return count() >= n; }, timeout_s);
+  }
+  bool connected() const { return sub_.getNumPublishers() > 0; }
+
+ private:
+  ros::Subscriber sub_;
+  mutable std::mutex mutex_;
+  std::vector<M> messages_;
+};
+
+// Publishes and waits until the sim is listening, so the first message is not lost.
+template <class M>
+ros::Publisher connectedPublisher(ros::NodeHandle& nh, const std::string& topic) {
+  ros::Publisher pub = nh.advertise<M>(topic, 10);
+  waitFor([&] { return pub.getNumSubscribers() > 0; }, 10.0);
+  return pub;
+}
+
+}  // namespace test
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_TEST_NODE_TEST_UTILS_H

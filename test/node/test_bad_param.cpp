@@ -1,0 +1,54 @@
+// A bad parameter stops the node with a non-zero exit and a message naming it
+// (test/node/bad_param.test puts the bad values on the parameter server).
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace {
+
+struct Outcome {
+  int exit_code;
+  std::string output;
+};
+
+Outcome runNode(const std::string& name) {
+  const std::string cmd = "timeout 30 rosrun kane_sim kane_sim_node __name:=" + name + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  Outcome out;
+  char buffer[1024];
+  while (fgets(buffer, sizeof(buffer), pipe)) out.output += buffer;
+  const int status = pclose(pipe);
+  out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return out;
+}
+
+TEST(BadParam, NegativeMassStopsTheNodeNamingIt) {
+  const Outcome out = runNode("negative_mass");
+  EXPECT_EQ(out.exit_code, 1) << out.output;
+  EXPECT_NE(out.output.find("/negative_mass/mechanism/rod_mass"), std::string::npos) << out.output;
+  EXPECT_NE(out.output.find("must be > 0, got -1"), std::string::npos) << out.output;
+}
+
+TEST(BadParam, WrongTypeStopsTheNodeNamingIt) {
+  const Outcome out = runNode("wrong_type");
+  EXPECT_EQ(out.exit_code, 1) << out.output;
+  EXPECT_NE(out.output.find("simulation/physics_rate"), std::string::npos) << out.output;
+  EXPECT_NE(out.output.find("must be a number, got 'fast'"), std::string::npos) << out.output;
+}
+
+TEST(BadParam, PublishRateAbovePhysicsRateStopsTheNode) {
+  const Outcome out = runNode("fast_publish");
+  EXPECT_EQ(out.exit_code, 1) << out.output;
+  EXPECT_NE(out.output.find("simulation/publish_rate"), std::string::npos) << out.output;
+}
+
+TEST(BadParam, NoParametersAtAllSaysWhatToLoad) {
+  const Outcome out = runNode("no_params");
+  EXPECT_EQ(out.exit_code, 1) << out.output;
+  EXPECT_NE(out.output.find("config/mechanism.yaml"), std::string::npos) << out.output;
+}
+
+}  // namespace

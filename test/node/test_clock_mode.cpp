@@ -1,0 +1,103 @@
+// /clock mode: free-running, deterministic, the same numbers as the offline `simulate`
+// (test/node/clock_mode.test: publish_clock, real_time_factor 0, start_paused, no timeout).
+#include <cstdio>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <rosgraph_msgs/Clock.h>
+#include <std_msgs/Float64.h>
+#include <std_srvs/Empty.h>
+#include <std_srvs/Trigger.h>
+
+#include "../test_helpers.h"
+#include "kane_sim/MechanismState.h"
+#include "kane_sim/ros_messages.h"
+#include "node_test_utils.h"
+
+namespace kane_sim {
+namespace {
+
+using test::Recorder;
+
+std::vector<std::vector<double>> simulateCsv(double torque, double duration) {
+  std::ostringstream cmd;
+  cmd << KANE_SIM_SIMULATE_EXE << " --config " << test::configPath("mechanism.yaml") << " --torque "
+      << torque << " --duration " << duration << " --output-rate 100 2>/dev/null";
+  FILE* pipe = popen(cmd.str().c_str(), "r");
+  std::vector<std::vector<double>> rows;
+  char line[4096];
+  bool header = true;
+  while (fgets(line, sizeof(line), pipe)) {
+    if (header) {
+      header = false;
+      continue;
+    }
+    std::vector<double> row;
+    std::istringstream fields(line);
+    std::string field;
+    while (std::getline(fields, field, ',')) row.push_back(std::stod(field));
+    rows.push_back(row);
+  }
+  EXPECT_EQ(pclose(pipe), 0);
+  return rows;
+}
+
+TEST(ClockMode, FreeRunsFasterThanRealTimeAndMatchesOfflineSimulate) {
+  ros::NodeHandle nh;
+  Recorder<MechanismState> state(nh, "mechanism_state");
+  Recorder<rosgraph_msgs::Clock> clock(nh, "/clock");
+  ros::Publisher torque = test::connectedPublisher<std_msgs::Float64>(nh, "torque_command");
+  ASSERT_TRUE(test::waitFor([&] { return state.connected() && clock.connected(); }, 10.0));
+  test::sleepWall(0.3);
+  EXPECT_LE(state.count(), 1u) << "paused at start: at most the initial state is published";
+  state.clear();
+
+  // The command reaches the paused node; the first step applies it from t = 0.
+  std_msgs::Float64 cmd;
+  cmd.data = 2.0;
+  torque.publish(cmd);
+  test::sleepWall(0.3);
+  std_srvs::Trigger step;
+  ASSERT_TRUE(ros::service::waitForService("step", ros::Duration(10)));
+  ASSERT_TRUE(ros::service::call("step", step));
+  ASSERT_TRUE(step.response.success) << step.response.message;
+  ASSERT_TRUE(state.waitForCount(1, 2.0));
+  EXPECT_EQ(state.last().applied_torque, 2.0);
+  EXPECT_NEAR(state.last().sim_time, 0.01, 1e-12);
+
+  std_srvs::Empty empty;
+  const auto wall_start = ros::WallTime::now();
+  ASSERT_TRUE(ros::service::call("unpause", empty));
+  test::sleepWall(0.5);
+  ASSERT_TRUE(ros::service::call("pause", empty));
+  const double wall = (ros::WallTime::now() - wall_start).toSec();
+  test::sleepWall(0.2);
+
+  const auto msgs = state.messages();
+  const double sim_reached = msgs.back().sim_time;
+  EXPECT_GT(sim_reached / wall, 5.0) << "real_time_factor 0 should run far faster than real time";
+  // /clock carries the epoch plus sim time and never runs backwards.
+  const auto ticks = clock.messages();
+  ASSERT_GT(ticks.size(), 10u);
+  for (size_t i = 1; i < ticks.size(); ++i) EXPECT_GE(ticks[i].clock, ticks[i - 1].clock);
+  EXPECT_EQ(ticks.back().clock, simStamp(sim_reached));
+
+  // Same config, same torque from t = 0: the very same numbers as the offline tool.
+  const auto rows = simulateCsv(2.0, sim_reached + 0.005);
+  size_t compared = 0;
+  for (const auto& m : msgs) {
+    const size_t row = static_cast<size_t>(std::lround(m.sim_time * 100));
+    ASSERT_LT(row, rows.size());
+    ASSERT_NEAR(rows[row][0], m.sim_time, 1e-9);
+    EXPECT_NEAR(m.q[0], rows[row][1], 1e-12) << "t = " << m.sim_time;
+    EXPECT_NEAR(m.q[1], rows[row][2], 1e-12) << "t = " << m.sim_time;
+    EXPECT_NEAR(m.u[0], rows[row][3], 1e-12) << "t = " << m.sim_time;
+    EXPECT_NEAR(m.u[1], rows[row][4], 1e-12) << "t = " << m.sim_time;
+    EXPECT_EQ(m.header.stamp, simStamp(m.sim_time));
+    ++compared;
+  }
+  EXPECT_GT(compared, 100u);
+}
+
+}  // namespace
+}  // namespace kane_sim

@@ -1,0 +1,25 @@
+# Node tests under rostest: one executable, one .test + .yaml per case (as ros_controllers
+# does); each .test runs node_tests with a --gtest_filter. Included from CMakeLists.txt.
+find_package(rostest REQUIRED)
+
+catkin_add_executable_with_gtest(node_tests
+  test/node/node_test_main.cpp
+  test/node/test_topics.cpp
+  test/node/test_commands.cpp
+  test/node/test_services.cpp
+  test/node/test_clock_mode.cpp
+  test/node/test_bad_param.cpp
+  test/node/test_namespaces.cpp
+  test/node/test_controller.cpp
+  EXCLUDE_FROM_ALL)
+if(TARGET node_tests)
+  target_link_libraries(node_tests kane_sim_ros)
+  add_dependencies(tests node_tests)
+  target_compile_options(node_tests PRIVATE ${KANE_SIM_WARNINGS})
+  target_compile_definitions(node_tests PRIVATE
+    KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config"
+    KANE_SIM_SIMULATE_EXE="$<TARGET_FILE:simulate>")
+  foreach(case topics torque commands services clock_mode bad_param namespaces controller)
+    add_rostest(test/node/${case}.test DEPENDENCIES node_tests kane_sim_node pd_controller simulate)
+  endforeach()
+endif()
