@@ -53,11 +53,13 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
                  kMaxCatchUp),
       ticks_per_publish_(static_cast<std::uint64_t>(
           std::lround(config_.simulation.physics_rate / config_.simulation.publish_rate))),
-      paused_(config_.simulation.start_paused) {
+      paused_(config_.simulation.start_paused),
+      publish_context_{&sim_.model(), &frames_, config_.command.torque_limit} {
   torque_sub_ = nh_.subscribe("torque_command", 10, &KaneSimNode::onTorqueCommand, this,
                               ros::TransportHints().tcpNoDelay());
   joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
   mechanism_state_pub_ = nh_.advertise<kane_sim::MechanismState>("mechanism_state", 10);
+  marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("visualization_markers", 10);
   diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
   if (config_.simulation.publish_clock)
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
@@ -146,12 +148,13 @@ void KaneSimNode::publishState() {
     clock.clock = now;
     clock_pub_.publish(clock);
   }
-  const MechanismSnapshot snapshot = sim_.snapshot();
-  joint_state_pub_.publish(jointStateMessage(sim_.model(), snapshot, now));
-  mechanism_state_pub_.publish(mechanismStateMessage(
-      snapshot, command_.commanded(), achieved_real_time_factor_, now, frames_.mechanism));
+  const PublishedMessages msgs = buildMessages(
+      publish_context_, sim_.snapshot(), command_.commanded(), achieved_real_time_factor_, now);
+  joint_state_pub_.publish(msgs.joint_state);
+  mechanism_state_pub_.publish(msgs.mechanism_state);
+  marker_pub_.publish(msgs.markers);
   if (now > last_tf_stamp_) {
-    tf_broadcaster_.sendTransform(bodyTransforms(sim_.model(), snapshot.state, frames_, now));
+    tf_broadcaster_.sendTransform(msgs.tf.transforms);
     last_tf_stamp_ = now;
   }
 }

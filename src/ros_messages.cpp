@@ -4,6 +4,7 @@
 #include <string>
 
 #include "kane_sim/joint_values.h"
+#include "kane_sim/markers.h"
 
 namespace kane_sim {
 namespace {
@@ -118,6 +119,19 @@ kane_sim::MechanismState mechanismStateMessage(const MechanismSnapshot& s, doubl
   msg.spring_elongation = s.spring_elongation;
   msg.real_time_factor = real_time_factor;
   return msg;
+}
+
+PublishedMessages buildMessages(const PublishContext& context, const MechanismSnapshot& snapshot,
+                                double commanded_torque, double real_time_factor,
+                                const ros::Time& stamp) {
+  PublishedMessages out;
+  out.joint_state = jointStateMessage(*context.model, snapshot, stamp);
+  out.tf.transforms = bodyTransforms(*context.model, snapshot.state, *context.frames, stamp);
+  out.mechanism_state = mechanismStateMessage(snapshot, commanded_torque, real_time_factor, stamp,
+                                              context.frames->mechanism);
+  out.markers =
+      mechanismMarkers(*context.model, snapshot, *context.frames, context.torque_limit, stamp);
+  return out;
 }
 
 }  // namespace kane_sim

@@ -27,3 +27,16 @@ kane_sim_unit_test(test_ros_messages test/test_ros_messages.cpp)
 if(TARGET test_ros_messages)
   target_link_libraries(test_ros_messages kane_sim_ros)
 endif()
+kane_sim_unit_test(test_torque_profile test/test_torque_profile.cpp)
+kane_sim_unit_test(test_simulate_bag test/test_simulate_bag.cpp)
+if(TARGET test_simulate_bag)
+  target_link_libraries(test_simulate_bag kane_sim_ros)
+  add_dependencies(test_simulate_bag simulate)
+  target_compile_definitions(test_simulate_bag PRIVATE KANE_SIM_SIMULATE_EXE="$<TARGET_FILE:simulate>")
+endif()
+
+# Script tests: plots, and rviz under Xvfb replaying a bag (screenshot kept in
+# _build/test_artifacts/).
+add_test(NAME plot_bag COMMAND ${PROJECT_SOURCE_DIR}/test/plot_bag_test.sh ${CMAKE_BINARY_DIR})
+add_test(NAME rviz_smoke COMMAND ${PROJECT_SOURCE_DIR}/test/rviz_smoke_test.sh ${CMAKE_BINARY_DIR})
+set_tests_properties(rviz_smoke PROPERTIES TIMEOUT 120)

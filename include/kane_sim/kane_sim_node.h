@@ -20,6 +20,7 @@
 #include "kane_sim/config.h"
 #include "kane_sim/frame_names.h"
 #include "kane_sim/loop_stats.h"
+#include "kane_sim/ros_messages.h"
 #include "kane_sim/simulator.h"
 #include "kane_sim/tick_scheduler.h"
 #include "kane_sim/torque_command.h"
@@ -63,10 +64,12 @@ class KaneSimNode {
   LoopStats stats_;
   std::uint64_t ticks_per_publish_;
   bool paused_;
+  PublishContext publish_context_;
 
   ros::Subscriber torque_sub_;
   ros::Publisher joint_state_pub_;
   ros::Publisher mechanism_state_pub_;
+  ros::Publisher marker_pub_;
   ros::Publisher clock_pub_;
   ros::Publisher diagnostics_pub_;
   std::vector<ros::ServiceServer> services_;

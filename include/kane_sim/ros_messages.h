@@ -9,6 +9,8 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <ros/time.h>
 #include <sensor_msgs/JointState.h>
+#include <tf2_msgs/TFMessage.h>
+#include <visualization_msgs/MarkerArray.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 #include <yaml-cpp/yaml.h>
 
@@ -46,6 +48,24 @@ std::vector<geometry_msgs::TransformStamped> bodyTransforms(const MechanismModel
 kane_sim::MechanismState mechanismStateMessage(const MechanismSnapshot& snapshot,
                                                double commanded_torque, double real_time_factor,
                                                const ros::Time& stamp, const std::string& frame_id);
+
+// Everything published at one publish instant, by the node or into a bag offline.
+struct PublishedMessages {
+  sensor_msgs::JointState joint_state;
+  tf2_msgs::TFMessage tf;  // mechanism -> bodies
+  kane_sim::MechanismState mechanism_state;
+  visualization_msgs::MarkerArray markers;
+};
+
+struct PublishContext {
+  const MechanismModel* model;
+  const FrameNames* frames;
+  double torque_limit;  // [N m] scales the torque arrow
+};
+
+PublishedMessages buildMessages(const PublishContext& context, const MechanismSnapshot& snapshot,
+                                double commanded_torque, double real_time_factor,
+                                const ros::Time& stamp);
 
 }  // namespace kane_sim
 

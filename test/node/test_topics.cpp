@@ -6,6 +6,8 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
+#include <visualization_msgs/MarkerArray.h>
+
 #include "kane_sim/MechanismState.h"
 #include "node_test_utils.h"
 
@@ -81,6 +83,21 @@ TEST(Topics, TfFramesAgreeWithJointStates) {
   EXPECT_NEAR(world_s3.transform.translation.x, 0.0, 1e-9);
   EXPECT_LT(world_s3.transform.translation.z, 2.0);
   EXPECT_GT(world_s3.transform.translation.z, 2.0 - 4 * L - 1e-9);
+}
+
+TEST(Topics, MarkersArriveInTheMechanismFrameWithStableIds) {
+  ros::NodeHandle nh;
+  Recorder<visualization_msgs::MarkerArray> markers(nh, "visualization_markers");
+  ASSERT_TRUE(markers.waitForCount(20, 15.0));
+  const auto msgs = markers.messages();
+  for (const auto& array : msgs) {
+    ASSERT_EQ(array.markers.size(), msgs.front().markers.size());
+    for (size_t i = 0; i < array.markers.size(); ++i) {
+      EXPECT_EQ(array.markers[i].header.frame_id, "mechanism");
+      EXPECT_EQ(array.markers[i].ns, msgs.front().markers[i].ns);
+      EXPECT_EQ(array.markers[i].id, msgs.front().markers[i].id);
+    }
+  }
 }
 
 }  // namespace

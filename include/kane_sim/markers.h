@@ -1,0 +1,31 @@
+// rviz markers of the mechanism: rods, pins, sliders, rail, spring zigzag and torque arrow,
+// all in the `mechanism` frame with stable namespaces and ids (rviz updates, never piles up).
+#ifndef KANE_SIM_MARKERS_H
+#define KANE_SIM_MARKERS_H
+
+#include <ros/time.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "kane_sim/frame_names.h"
+#include "kane_sim/simulator.h"
+
+namespace kane_sim {
+
+struct MarkerColors {  // RGB, used by the rviz smoke test to find the mechanism on screen
+  static constexpr float kRod[3] = {0.15f, 0.35f, 0.95f};   // blue
+  static constexpr float kSlider[3] = {1.0f, 0.55f, 0.0f};  // orange
+  static constexpr float kSpring[3] = {0.1f, 0.85f, 0.2f};  // green
+  static constexpr float kTorque[3] = {0.95f, 0.1f, 0.1f};  // red
+  static constexpr float kPin[3] = {0.8f, 0.8f, 0.8f};      // light grey
+  static constexpr float kRail[3] = {0.45f, 0.45f, 0.45f};  // grey
+};
+
+// torque_limit [N m] scales the torque arrow: full length (0.3 m) at the limit.
+visualization_msgs::MarkerArray mechanismMarkers(const MechanismModel& model,
+                                                 const MechanismSnapshot& snapshot,
+                                                 const FrameNames& frames, double torque_limit,
+                                                 const ros::Time& stamp);
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_MARKERS_H

@@ -1,0 +1,52 @@
+#!/usr/bin/python3
+"""Checks an rviz screenshot: the mechanism's marker colours are drawn inside the 3D view.
+
+The 3D view is found as the bounding box of rviz's background colour (config/kane_sim.rviz:
+40;40;48); rods (blue), sliders (orange) and spring (green), from src/markers.cpp, must each
+cover enough pixels inside it. Exit 0 when all are there, 1 otherwise, with the counts.
+Usage: check_screenshot.py SHOT.png
+"""
+import sys
+
+import matplotlib.image
+import numpy as np
+
+# Minimum pixel counts, at 1280x800: the rods cover ~3000 px, the sliders ~1000 px, the spring
+# ~300 px in the reference shot; a quarter of that rules out stray pixels but tolerates
+# the mechanism being drawn in another pose.
+COLOURS = {
+    "rods (blue)": (lambda r, g, b: (b > 0.6) & (r < 0.35) & (g < 0.5) & (b > g + 0.25), 700),
+    "sliders (orange)": (lambda r, g, b: (r > 0.8) & (g > 0.35) & (g < 0.75) & (b < 0.25), 250),
+    "spring (green)": (lambda r, g, b: (g > 0.6) & (r < 0.4) & (b < 0.4), 60),
+}
+
+
+def main(path):
+    image = matplotlib.image.imread(path)[:, :, :3].astype(float)
+    if image.max() > 1.0:
+        image /= 255.0
+    r, g, b = image[:, :, 0], image[:, :, 1], image[:, :, 2]
+    background = (np.abs(r - 40 / 255) < 0.02) & (np.abs(g - 40 / 255) < 0.02) & (np.abs(b - 48 / 255) < 0.02)
+    # The view's rows and columns are mostly background; panels and toolbars are not.
+    cols = np.nonzero(background.mean(axis=0) > 0.3)[0]
+    rows = np.nonzero(background.mean(axis=1) > 0.3)[0]
+    if len(rows) < 100 or len(cols) < 100:
+        print("FAIL: no 3D view with rviz's background colour in %s" % path)
+        return 1
+    top, bottom, left, right = rows.min(), rows.max(), cols.min(), cols.max()
+    print("3D view: x %d..%d, y %d..%d of %dx%d" % (left, right, top, bottom, image.shape[1], image.shape[0]))
+    inside = np.zeros(background.shape, dtype=bool)
+    inside[top:bottom + 1, left:right + 1] = True
+    failures = 0
+    for name, (match, minimum) in COLOURS.items():
+        mask = match(r, g, b)
+        count_in, count_out = int((mask & inside).sum()), int((mask & ~inside).sum())
+        ok = count_in >= minimum
+        failures += not ok
+        print("%s %s: %d px inside the 3D view (need %d), %d outside"
+              % ("ok  " if ok else "FAIL", name, count_in, minimum, count_out))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1]))
