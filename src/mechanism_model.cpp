@@ -8,13 +8,9 @@ namespace {
 const Eigen::Vector3d kI = Eigen::Vector3d::UnitX();  // i, vertical, down
 const Eigen::Vector3d kK = Eigen::Vector3d::UnitZ();  // k, out of the plane
 
-// Central inertia dyadic of a slender rod in the plane: only I_z matters for planar motion
+// Principal central moments of a slender rod in the plane: only I_z matters for planar motion
 // (ω and α are along k), the in-plane moments are left zero.
-Eigen::Matrix3d planarInertia(double i_z) {
-  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
-  inertia(2, 2) = i_z;
-  return inertia;
-}
+Eigen::Vector3d planarInertia(double i_z) { return Eigen::Vector3d(0, 0, i_z); }
 
 }  // namespace
 
@@ -25,9 +21,11 @@ MechanismModel::MechanismModel(const MechanismParameters& parameters, const Stat
                               spring_free.q2) {}
 
 MechanismGeometry MechanismModel::geometry(double q1, double q2) const {
+  return geometry(q1, std::cos(q1), std::sin(q1), q2);
+}
+
+MechanismGeometry MechanismModel::geometry(double q1, double c, double s, double q2) const {
   const double L = parameters_.rod_half_length;
-  const double c = std::cos(q1);
-  const double s = std::sin(q1);
   MechanismGeometry g;
   g.pivot_o = Eigen::Vector3d::Zero();
   g.pin_a = Eigen::Vector3d(2 * L * c, 2 * L * s, 0);
@@ -41,7 +39,11 @@ MechanismGeometry MechanismModel::geometry(double q1, double q2) const {
 }
 
 double MechanismModel::springElongation(double q1, double q2) const {
-  return (4.0 * parameters_.rod_half_length * std::cos(q1) - q2) - spring_free_separation_;
+  return springElongationFromCos(std::cos(q1), q2);
+}
+
+double MechanismModel::springElongationFromCos(double cos_q1, double q2) const {
+  return (4.0 * parameters_.rod_half_length * cos_q1 - q2) - spring_free_separation_;
 }
 
 MechanismModel::Bodies MechanismModel::bodies(const State& x, double motor_torque) const {
@@ -52,14 +54,14 @@ MechanismModel::Bodies MechanismModel::bodies(const State& x, double motor_torqu
   const double c = std::cos(x.q1);
   const double s = std::sin(x.q1);
   const double u1_sq = x.u1 * x.u1;
-  const MechanismGeometry geo = geometry(x.q1, x.q2);
-  const double spring_force = -p.spring_stiffness * springElongation(x.q1, x.q2);  // F_eB · i
+  const MechanismGeometry geo = geometry(x.q1, c, s, x.q2);
+  const double spring_force = -p.spring_stiffness * springElongationFromCos(c, x.q2);  // F_eB · i
 
   Bodies b;
   // Rigid body 1, rod OA: v_C1 = u1 L (-sin q1, cos q1), ω10 = u1 k.
   RigidBodyTerms<kNumSpeeds>& rod1 = b[kRod1];
   rod1.mass = m;
-  rod1.central_inertia = planarInertia(p.rod_inertia);  // I1z
+  rod1.principal_moments = planarInertia(p.rod_inertia);  // I1z
   rod1.mass_center_position = geo.rod1_center;
   rod1.partial_velocity.col(0) << -L * s, L * c, 0;                  // ∂v_C1/∂u1
   rod1.partial_angular_velocity.col(0) = kK;                         // ∂ω10/∂u1
@@ -70,7 +72,7 @@ MechanismModel::Bodies MechanismModel::bodies(const State& x, double motor_torqu
   // Rigid body 2, rod AB: v_C2 = u1 L (-3 sin q1, cos q1), ω20 = -u1 k.
   RigidBodyTerms<kNumSpeeds>& rod2 = b[kRod2];
   rod2.mass = m;
-  rod2.central_inertia = planarInertia(p.rod_inertia);  // I2z
+  rod2.principal_moments = planarInertia(p.rod_inertia);  // I2z
   rod2.mass_center_position = geo.rod2_center;
   rod2.partial_velocity.col(0) << -3 * L * s, L * c, 0;
   rod2.partial_angular_velocity.col(0) = -kK;

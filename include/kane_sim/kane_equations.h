@@ -17,7 +17,9 @@ struct RigidBodyTerms {
   using PartialMatrix = Eigen::Matrix<double, 3, N>;
 
   double mass = 0.0;                                               // M of RB
-  Eigen::Matrix3d central_inertia = Eigen::Matrix3d::Zero();       // I-bar, central inertia dyadic
+  // I-bar = I_x ii + I_y jj + I_z kk: the seed's eq (7) takes the central principal axes parallel
+  // to i, j, k, so the dyadic is diagonal and stored as (I_x, I_y, I_z).
+  Eigen::Vector3d principal_moments = Eigen::Vector3d::Zero();
   Eigen::Vector3d mass_center_position = Eigen::Vector3d::Zero();  // r_CG
   PartialMatrix partial_velocity = PartialMatrix::Zero();          // column r: dv_CG/du_r
   PartialMatrix partial_angular_velocity = PartialMatrix::Zero();  // column r: dω/du_r
@@ -55,24 +57,33 @@ struct GeneralizedForces {
     return -mass_matrix * u_dot + inertia_remainder;
   }
   // Kane's dynamical equations (18), F*_r + F_r = 0, solved for u'.
-  Vector solveAccelerations() const { return mass_matrix.ldlt().solve(inertia_remainder + active); }
+  // M is symmetric positive definite (kinetic energy ½ u·M·u > 0 for u ≠ 0). Up to 4x4 Eigen
+  // inverts it in closed form (cofactors), which is well-conditioned here and cheaper than a
+  // factorisation; larger systems use Cholesky.
+  Vector solveAccelerations() const {
+    if constexpr (N <= 4) {
+      return mass_matrix.inverse() * (inertia_remainder + active);
+    } else {
+      return mass_matrix.llt().solve(inertia_remainder + active);
+    }
+  }
 };
 
 // Adds one body's share of eqs (5)-(7) and (16) to `forces`. u is the generalized speed vector.
 template <int N>
-void accumulateBody(const RigidBodyTerms<N>& body, const Eigen::Matrix<double, N, 1>& u,
+inline void accumulateBody(const RigidBodyTerms<N>& body, const Eigen::Matrix<double, N, 1>& u,
                     GeneralizedForces<N>* forces) {
   const auto& V = body.partial_velocity;
   const auto& W = body.partial_angular_velocity;
   const Eigen::Vector3d omega = body.angularVelocity(u);
-  const Eigen::Matrix3d& I = body.central_inertia;
+  const auto I = body.principal_moments.asDiagonal();
 
   // F_in = -M a_CG (6) and T_in = -α·I - ω × (I·ω) (7), split into the part that multiplies u'
   // (the mass matrix) and the part that does not.
   forces->mass_matrix.noalias() += body.mass * V.transpose() * V + W.transpose() * I * W;
   const Eigen::Vector3d force_remainder = -body.mass * body.acceleration_remainder;
   const Eigen::Vector3d torque_remainder =
-      -I * body.angular_acceleration_remainder - omega.cross(I * omega);
+      -(I * body.angular_acceleration_remainder) - omega.cross(I * omega);
   forces->inertia_remainder.noalias() += V.transpose() * force_remainder;
   forces->inertia_remainder.noalias() += W.transpose() * torque_remainder;
 
@@ -86,7 +97,7 @@ template <int N>
 double kineticEnergy(const RigidBodyTerms<N>& body, const Eigen::Matrix<double, N, 1>& u) {
   const Eigen::Vector3d v = body.velocity(u);
   const Eigen::Vector3d omega = body.angularVelocity(u);
-  return 0.5 * body.mass * v.squaredNorm() + 0.5 * omega.dot(body.central_inertia * omega);
+  return 0.5 * body.mass * v.squaredNorm() + 0.5 * omega.dot(body.principal_moments.asDiagonal() * omega);
 }
 
 }  // namespace kane_sim

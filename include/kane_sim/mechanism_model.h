@@ -69,6 +69,10 @@ class MechanismModel {
   const State& springFreeState() const { return spring_free_; }
 
  private:
+  // The same with cos q1 and sin q1 already at hand: the hot path evaluates them once.
+  MechanismGeometry geometry(double q1, double cos_q1, double sin_q1, double q2) const;
+  double springElongationFromCos(double cos_q1, double q2) const;
+
   MechanismParameters parameters_;
   State spring_free_;
   double spring_free_separation_;  // x_B0 - x_C0 = 4L cos q10 - q20

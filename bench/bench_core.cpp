@@ -1,0 +1,110 @@
+// Core throughput (Google Benchmark): one evaluation of the equations of motion through the
+// generic Kane assembly, one rk4 step, dopri5 per simulated second, and - in the same binary -
+// the floor: a hand-written closed-form rk4 step of the same equations, so that the cost of
+// the general assembly and of odeint shows as a ratio.
+//   _build/devel/lib/kane_sim/bench_core --benchmark_min_time=0.5
+#include <cmath>
+
+#include <benchmark/benchmark.h>
+
+#include "kane_sim/load_config.h"
+#include "kane_sim/simulator.h"
+
+namespace {
+
+kane_sim::Config defaultConfig() {
+  return kane_sim::loadConfigFile(KANE_SIM_CONFIG_DIR "/mechanism.yaml").config;
+}
+
+// A state in the middle of a driven motion, so no term is trivially zero.
+const kane_sim::State kBusyState{0.9, 1.05, 3.2, -0.7};
+
+void BM_KaneEvaluation(benchmark::State& st) {
+  const kane_sim::Config c = defaultConfig();
+  const kane_sim::MechanismModel model(c.mechanism, c.initial_state);
+  kane_sim::State x = kBusyState;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(x);
+    const kane_sim::SpeedVector u_dot = model.accelerations(x, 2.0);
+    benchmark::DoNotOptimize(u_dot);
+  }
+  st.SetItemsProcessed(st.iterations());
+}
+BENCHMARK(BM_KaneEvaluation);
+
+void BM_Rk4Step(benchmark::State& st) {
+  kane_sim::Config c = defaultConfig();
+  c.simulation.integrator = kane_sim::IntegratorType::kRk4;
+  kane_sim::Simulator sim(c);
+  sim.setTorque(2.0);
+  for (auto _ : st) {
+    if (!sim.step().ok) st.SkipWithError("step refused");
+    if (sim.ticks() % 100000 == 0) sim.reset();  // stay in the same regime of motion
+  }
+  st.SetItemsProcessed(st.iterations());
+}
+BENCHMARK(BM_Rk4Step);
+
+// dopri5: the cost of one simulated second at 1 kHz physics, per tolerance.
+void BM_Dopri5PerSimSecond(benchmark::State& st) {
+  kane_sim::Config c = defaultConfig();
+  c.simulation.integrator = kane_sim::IntegratorType::kDopri5;
+  c.simulation.absolute_tolerance = c.simulation.relative_tolerance = std::pow(10.0, -st.range(0));
+  for (auto _ : st) {
+    kane_sim::Simulator sim(c);
+    sim.setTorque(2.0);
+    for (int i = 0; i < 1000; ++i)
+      if (!sim.step().ok) st.SkipWithError("step refused");
+  }
+  st.SetItemsProcessed(st.iterations());
+  st.SetLabel("tolerance 1e-" + std::to_string(st.range(0)));
+}
+BENCHMARK(BM_Dopri5PerSimSecond)->Arg(6)->Arg(9)->Arg(12)->Unit(benchmark::kMillisecond);
+
+// ---- the floor: the same equations written out by hand -------------------------------------
+struct ClosedForm {
+  double m, L, M1, M2, k, g, I, separation0;  // separation0 = 4 L cos q10 - q20
+
+  // u1' = (F1 + F*1|u'=0) / M11,  u2' = F2 / M2 (M is diagonal for this mechanism).
+  void operator()(const double x[4], double torque, double dx[4]) const {
+    const double s = std::sin(x[0]), c = std::cos(x[0]);
+    const double e = 4 * L * c - x[1] - separation0;
+    const double m11 = m * L * L * (2 + 8 * s * s) + 16 * M1 * L * L * s * s + 2 * I;
+    const double f1 = torque - 4 * g * L * (m + M1) * s + 4 * k * L * e * s -
+                      (8 * m + 16 * M1) * L * L * s * c * x[2] * x[2];
+    dx[0] = x[2];
+    dx[1] = x[3];
+    dx[2] = f1 / m11;
+    dx[3] = (M2 * g + k * e) / M2;
+  }
+};
+
+void BM_ClosedFormRk4StepFloor(benchmark::State& st) {
+  const kane_sim::Config c = defaultConfig();
+  const auto& p = c.mechanism;
+  const ClosedForm f{p.rod_mass,     p.rod_half_length,  p.slider3_mass, p.slider4_mass,
+                     p.spring_stiffness, p.gravity, p.rod_inertia,
+                     4 * p.rod_half_length * std::cos(c.initial_state.q1) - c.initial_state.q2};
+  const double h = 1e-3;
+  double x[4] = {c.initial_state.q1, c.initial_state.q2, 0, 0};
+  long n = 0;
+  for (auto _ : st) {
+    double k1[4], k2[4], k3[4], k4[4], y[4];
+    f(x, 2.0, k1);
+    for (int i = 0; i < 4; ++i) y[i] = x[i] + 0.5 * h * k1[i];
+    f(y, 2.0, k2);
+    for (int i = 0; i < 4; ++i) y[i] = x[i] + 0.5 * h * k2[i];
+    f(y, 2.0, k3);
+    for (int i = 0; i < 4; ++i) y[i] = x[i] + h * k3[i];
+    f(y, 2.0, k4);
+    for (int i = 0; i < 4; ++i) x[i] += h / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+    benchmark::DoNotOptimize(x);
+    if (++n % 100000 == 0) x[0] = c.initial_state.q1, x[1] = c.initial_state.q2, x[2] = x[3] = 0;
+  }
+  st.SetItemsProcessed(st.iterations());
+}
+BENCHMARK(BM_ClosedFormRk4StepFloor);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,11 @@
+# Benchmarks (Google Benchmark, Debian's libbenchmark-dev): built with `all` when found.
+find_package(benchmark QUIET)
+if(benchmark_FOUND)
+  add_executable(bench_core bench/bench_core.cpp)
+  target_link_libraries(bench_core kane_sim_core benchmark::benchmark)
+  target_compile_options(bench_core PRIVATE ${KANE_SIM_WARNINGS})
+  target_compile_definitions(bench_core PRIVATE KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config")
+  set_target_properties(bench_core PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME})
+else()
+  message(STATUS "kane_sim: Google Benchmark not found, bench_core is not built")
+endif()
