@@ -15,6 +15,8 @@ PACKAGES=(
   python3-diagnostic-msgs python3-std-msgs
   # rviz (also headless under Xvfb for the smoke test), plots
   rviz xvfb xauth imagemagick python3-matplotlib python3-numpy python3-rosgraph-msgs
+  # the independent SymPy derivation test
+  python3-sympy python3-yaml
 )
 
 missing=()

@@ -37,6 +37,8 @@ endif()
 
 # Script tests: plots, and rviz under Xvfb replaying a bag (screenshot kept in
 # _build/test_artifacts/).
+add_test(NAME sympy_crosscheck
+  COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/sympy_crosscheck_test.py ${CMAKE_BINARY_DIR})
 add_test(NAME plot_bag COMMAND ${PROJECT_SOURCE_DIR}/test/plot_bag_test.sh ${CMAKE_BINARY_DIR})
 add_test(NAME rviz_smoke COMMAND ${PROJECT_SOURCE_DIR}/test/rviz_smoke_test.sh ${CMAKE_BINARY_DIR})
 set_tests_properties(rviz_smoke PROPERTIES TIMEOUT 120)

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# One command for the whole benchmark suite (about 5 minutes): core throughput, the offline
+# tool at length, kane_sim against SymPy + SciPy with the accuracy table, and the live node.
+# Installs what it needs (Debian packages), builds, and prints Markdown tables.
+# Usage: bench/run_all.sh [NODE_SECONDS_PER_CASE (default 60)]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install_deps.sh
+missing=()
+for p in python3-sympy python3-scipy python3-yaml bc; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+scripts/build.sh
+export ROS_HOSTNAME=${ROS_HOSTNAME:-localhost}
+set +u
+# shellcheck disable=SC1091
+source _build/devel/setup.bash
+set -u
+echo "## Core throughput (Google Benchmark)"
+_build/devel/lib/kane_sim/bench_core --benchmark_min_time=1 --benchmark_repetitions=3 \
+  --benchmark_report_aggregates_only=true 2>/dev/null
+echo; echo "## simulate, 600 s simulated at 1 kHz"
+bench/simulate_perf.sh _build
+echo; echo "## Against SymPy + SciPy; accuracy"
+/usr/bin/python3 bench/compare_sympy.py _build
+echo; echo "## Live node"
+/usr/bin/python3 bench/node_perf.py _build --seconds "${1:-60}"
