@@ -82,8 +82,13 @@ struct ClosedForm {
 void BM_ClosedFormRk4StepFloor(benchmark::State& st) {
   const kane_sim::Config c = defaultConfig();
   const auto& p = c.mechanism;
-  const ClosedForm f{p.rod_mass,     p.rod_half_length,  p.slider3_mass, p.slider4_mass,
-                     p.spring_stiffness, p.gravity, p.rod_inertia,
+  const ClosedForm f{p.rod_mass,
+                     p.rod_half_length,
+                     p.slider3_mass,
+                     p.slider4_mass,
+                     p.spring_stiffness,
+                     p.gravity,
+                     p.rod_inertia,
                      4 * p.rod_half_length * std::cos(c.initial_state.q1) - c.initial_state.q2};
   const double h = 1e-3;
   double x[4] = {c.initial_state.q1, c.initial_state.q2, 0, 0};

@@ -9,3 +9,9 @@ if(benchmark_FOUND)
 else()
   message(STATUS "kane_sim: Google Benchmark not found, bench_core is not built")
 endif()
+
+# Load generator for the flood test (bench/flood.py).
+add_executable(torque_flood bench/torque_flood.cpp)
+target_include_directories(torque_flood PRIVATE ${catkin_INCLUDE_DIRS})
+target_link_libraries(torque_flood ${catkin_LIBRARIES})
+target_compile_options(torque_flood PRIVATE ${KANE_SIM_WARNINGS})

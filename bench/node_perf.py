@@ -35,7 +35,9 @@ def rss_mib(pid):
     return float("nan")
 
 
-def run_case(exe, env, name, settings, seconds):
+def run_case(exe, env, name, settings, seconds, load_commands=(), sample_every=5.0):
+    """Runs the node in namespace /perf_NAME with `settings` over config/mechanism.yaml, starts
+    `load_commands` (run in that namespace) once it is up, and measures for `seconds`."""
     ns = "/perf_" + name
     subprocess.run(["rosparam", "load", CONFIG, ns], env=env, check=True)
     for key, value in settings.items():
@@ -50,14 +52,24 @@ def run_case(exe, env, name, settings, seconds):
     sub = rospy.Subscriber("/diagnostics", DiagnosticArray, on_diagnostics, queue_size=100)
     node = subprocess.Popen([exe, "__name:=" + ns[1:]], env=env, stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL)
+    load = []
+    rss_samples = []
     try:
         time.sleep(3.0)  # start-up, first windows discarded
+        load = [subprocess.Popen(cmd, env=dict(env, ROS_NAMESPACE=ns), stdout=subprocess.DEVNULL,
+                                 stderr=subprocess.DEVNULL) for cmd in load_commands]
         windows.clear()
         cpu0, wall0 = cpu_seconds(node.pid), time.monotonic()
-        time.sleep(seconds)
+        while time.monotonic() - wall0 < seconds:
+            rss_samples.append(rss_mib(node.pid))
+            time.sleep(min(sample_every, max(0.0, seconds - (time.monotonic() - wall0))))
         cpu1, wall1 = cpu_seconds(node.pid), time.monotonic()
         rss = rss_mib(node.pid)
+        rss_samples.append(rss)
     finally:
+        for process in load:
+            process.terminate()
+            process.wait(timeout=10)
         node.terminate()
         node.wait(timeout=10)
         sub.unregister()
@@ -77,9 +89,38 @@ def run_case(exe, env, name, settings, seconds):
         "ticks": int(ticks),
         "cpu": 100.0 * (cpu1 - cpu0) / (wall1 - wall0),
         "rss": rss,
+        "rss_samples": rss_samples,
         "rtf": sorted(w["real-time factor achieved"] for w in windows)[len(windows) // 2],
         "windows": len(windows),
     }
+
+
+class Master:
+    """roscore on a free port for the duration of a `with` block; sets this process up as a node."""
+
+    def __init__(self, node_name):
+        self.port = random.randint(20000, 40000)
+        self.env = dict(os.environ, ROS_MASTER_URI="http://localhost:%d" % self.port,
+                        ROS_HOSTNAME=os.environ.get("ROS_HOSTNAME", "localhost"))
+        self.node_name = node_name
+
+    def __enter__(self):
+        os.environ.update(self.env)
+        self.core = subprocess.Popen(["roscore", "-p", str(self.port)], env=self.env,
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(3.0)
+        rospy.init_node(self.node_name, anonymous=True, disable_signals=True)
+        return self
+
+    def __exit__(self, *exc):
+        rospy.signal_shutdown("done")
+        self.core.terminate()
+        self.core.wait(timeout=10)
+
+
+def cpu_model():
+    with open("/proc/cpuinfo") as f:
+        return next((l.split(":", 1)[1].strip() for l in f if l.startswith("model name")), "?")
 
 
 def main():
@@ -88,18 +129,9 @@ def main():
     parser.add_argument("--seconds", type=float, default=60.0, help="measured window per case")
     args = parser.parse_args()
     exe = os.path.join(args.build_dir, "devel/lib/kane_sim/kane_sim_node")
-    port = random.randint(20000, 40000)
-    env = dict(os.environ, ROS_MASTER_URI="http://localhost:%d" % port,
-               ROS_HOSTNAME=os.environ.get("ROS_HOSTNAME", "localhost"))
-    os.environ.update(env)
-    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
-    try:
-        time.sleep(3.0)
-        rospy.init_node("kane_sim_node_perf", anonymous=True, disable_signals=True)
-        with open("/proc/cpuinfo") as f:
-            cpu = next((l.split(":", 1)[1].strip() for l in f if l.startswith("model name")), "?")
-        print("CPU: %s, %d cores; %g s measured per case" % (cpu, os.cpu_count(), args.seconds))
+    with Master("kane_sim_node_perf") as master:
+        env = master.env
+        print("CPU: %s, %d cores; %g s measured per case" % (cpu_model(), os.cpu_count(), args.seconds))
         print("| case | achieved physics rate [Hz] | ticks on time | lateness p50 / p99 [us] (median 1 s window) "
               "| p99 worst window / max [us] | overruns (> 1 period late) | CPU [% of one core] | RSS [MiB] |")
         print("|---|---|---|---|---|---|---|---|")
@@ -122,10 +154,6 @@ def main():
             print("\nFree-running (/clock mode, real_time_factor 0, publishing at 100 Hz sim time): "
                   "real-time factor %.0f (median of %d 1 s windows), %.0f physics steps/s, CPU %.0f %%"
                   % (free["rtf"], free["windows"], free["rate"], free["cpu"]))
-    finally:
-        rospy.signal_shutdown("done")
-        core.terminate()
-        core.wait(timeout=10)
 
 
 if __name__ == "__main__":

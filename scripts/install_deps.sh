@@ -12,7 +12,7 @@ PACKAGES=(
   # node tests and command-line tools
   python3-rostest rosbash python3-rostopic python3-rosnode python3-rosparam python3-rosbag
   python3-sensor-msgs python3-tf2-msgs python3-geometry-msgs python3-visualization-msgs
-  python3-diagnostic-msgs python3-std-msgs
+  python3-diagnostic-msgs python3-std-msgs python3-std-srvs
   # rviz (also headless under Xvfb for the smoke test), plots
   rviz xvfb xauth imagemagick python3-matplotlib python3-numpy python3-rosgraph-msgs
   # the independent SymPy derivation test

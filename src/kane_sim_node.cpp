@@ -8,6 +8,7 @@
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <ros/callback_queue.h>
+#include <ros/master.h>
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/JointState.h>
 
@@ -57,18 +58,7 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
           std::lround(config_.simulation.physics_rate / config_.simulation.publish_rate))),
       paused_(config_.simulation.start_paused),
       publish_context_{&sim_.model(), &frames_, config_.command.torque_limit} {
-  torque_sub_ = nh_.subscribe("torque_command", 10, &KaneSimNode::onTorqueCommand, this,
-                              ros::TransportHints().tcpNoDelay());
-  joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
-  mechanism_state_pub_ = nh_.advertise<kane_sim::MechanismState>("mechanism_state", 10);
-  marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("visualization_markers", 10);
-  diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
-  if (config_.simulation.publish_clock)
-    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
-  services_.push_back(nh_.advertiseService("reset", &KaneSimNode::onReset, this));
-  services_.push_back(nh_.advertiseService("pause", &KaneSimNode::onPause, this));
-  services_.push_back(nh_.advertiseService("unpause", &KaneSimNode::onUnpause, this));
-  services_.push_back(nh_.advertiseService("step", &KaneSimNode::onStep, this));
+  connect();
 
   const SimulationSettings& s = config_.simulation;
   ROS_INFO("kane_sim: %s at %g Hz, publishing every %lu steps (%g Hz), real_time_factor %g%s%s",
@@ -77,17 +67,70 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
            s.publish_clock ? ", publishing /clock" : "", paused_ ? ", paused" : "");
 }
 
+void KaneSimNode::connect() {
+  torque_sub_ = nh_.subscribe("torque_command", 10, &KaneSimNode::onTorqueCommand, this,
+                              ros::TransportHints().tcpNoDelay());
+  joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
+  mechanism_state_pub_ = nh_.advertise<kane_sim::MechanismState>("mechanism_state", 10);
+  marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("visualization_markers", 10);
+  diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  if (config_.simulation.publish_clock)
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  services_ = {nh_.advertiseService("reset", &KaneSimNode::onReset, this),
+               nh_.advertiseService("pause", &KaneSimNode::onPause, this),
+               nh_.advertiseService("unpause", &KaneSimNode::onUnpause, this),
+               nh_.advertiseService("step", &KaneSimNode::onStep, this)};
+  tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+  static_tf_broadcaster_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
+}
+
+void KaneSimNode::reconnect() {
+  // roscpp registers topics and services once; a new master knows nothing of them. Drop them
+  // (unregistering from a dead master fails quietly) and register everything again.
+  torque_sub_.shutdown();
+  for (ros::Publisher* pub :
+       {&joint_state_pub_, &mechanism_state_pub_, &marker_pub_, &diagnostics_pub_, &clock_pub_})
+    pub->shutdown();
+  for (ros::ServiceServer& service : services_) service.shutdown();
+  tf_broadcaster_.reset();
+  static_tf_broadcaster_.reset();
+  connect();
+  static_tf_broadcaster_->sendTransform(worldToMechanism(frames_, config_.frames, stamp()));
+  ROS_WARN(
+      "kane_sim: the ROS master restarted; topics and services registered again "
+      "(sim time %.3f s, state kept)",
+      sim_.time());
+}
+
+void KaneSimNode::watchMaster() {
+  // Runs beside the loop: an XML-RPC call per second must not delay a physics tick.
+  int last_pid = -1;
+  while (ros::ok()) {
+    XmlRpc::XmlRpcValue args, result, payload;
+    args[0] = ros::this_node::getName();
+    if (ros::master::execute("getPid", args, result, payload, false)) {
+      const int pid = payload;
+      if (last_pid != -1 && pid != last_pid) master_restarted_ = true;
+      last_pid = pid;
+    }
+    for (int i = 0; i < 10 && ros::ok(); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
 void KaneSimNode::run() {
+  std::thread master_watch(&KaneSimNode::watchMaster, this);
   // Linux lets a sleeping thread wake up to 50 µs late by default ("timer slack") to batch
   // wake-ups; a 1 kHz loop wants its deadlines kept to the microsecond.
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-  static_tf_broadcaster_.sendTransform(worldToMechanism(frames_, config_.frames, stamp()));
+  static_tf_broadcaster_->sendTransform(worldToMechanism(frames_, config_.frames, stamp()));
   publishState();
   const auto now = SteadyClock::now();
   scheduler_.anchor(now);
   window_start_wall_ = last_publish_wall_ = now;
   window_start_sim_ = last_publish_sim_ = sim_.time();
   while (ros::ok()) {
+    if (master_restarted_.exchange(false)) reconnect();
     ros::getGlobalCallbackQueue()->callAvailable();
     if (paused_) {
       waitWhilePaused();
@@ -95,6 +138,7 @@ void KaneSimNode::run() {
     }
     runOneTick();
   }
+  master_watch.join();
 }
 
 void KaneSimNode::runOneTick() {
@@ -130,8 +174,24 @@ bool KaneSimNode::physicsStep() {
         "next command",
         config_.command.timeout);
   sim_.setTorque(torque);  // finite and clamped by TorqueCommand
+  const std::uint64_t crossings_before = sim_.sliderCrossings();
+  const bool coarse_before = sim_.stepTooCoarse();
   const StepResult result = sim_.step();
   if (!result.ok) ROS_ERROR_THROTTLE(1.0, "kane_sim: %s", result.error.c_str());
+  if (crossings_before == 0 && sim_.sliderCrossings() > 0)
+    ROS_WARN(
+        "kane_sim: slider 4 passed through slider 3 at t = %.3f s: the seed models no "
+        "contact between the sliders (counted in mechanism_state/slider_crossings; "
+        "reported once per start or reset)",
+        sim_.time());
+  if (!coarse_before && sim_.stepTooCoarse())
+    ROS_WARN(
+        "kane_sim: the crank turns %.3f rad per physics step at t = %.3f s (u1 = %.1f rad/s): "
+        "rk4 at %g Hz no longer resolves the motion and energy is not conserved; use "
+        "simulation/integrator dopri5 or a higher simulation/physics_rate (reported once per "
+        "start or reset)",
+        std::abs(sim_.state().u1) * sim_.stepSize(), sim_.time(), sim_.state().u1,
+        config_.simulation.physics_rate);
   return result.ok;
 }
 
@@ -159,7 +219,7 @@ void KaneSimNode::publishState() {
   mechanism_state_pub_.publish(msgs.mechanism_state);
   marker_pub_.publish(msgs.markers);
   if (now > last_tf_stamp_) {
-    tf_broadcaster_.sendTransform(msgs.tf.transforms);
+    tf_broadcaster_->sendTransform(msgs.tf.transforms);
     last_tf_stamp_ = now;
   }
 }

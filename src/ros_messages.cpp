@@ -117,6 +117,8 @@ kane_sim::MechanismState mechanismStateMessage(const MechanismSnapshot& s, doubl
   msg.total_energy = s.energy.total();
   msg.motor_work = s.motor_work;
   msg.spring_elongation = s.spring_elongation;
+  msg.slider_separation = s.slider_separation;
+  msg.slider_crossings = static_cast<std::uint32_t>(s.slider_crossings);
   msg.real_time_factor = real_time_factor;
   return msg;
 }

@@ -265,6 +265,12 @@ int run(const Options& options) {
     out.write(sim.snapshot(), command.commanded());
   }
   out.finish();
+  if (sim.stepTooCoarse())
+    std::cerr << "warning: the crank turned more than "
+              << kane_sim::Simulator::kMaxCrankAnglePerStep
+              << " rad per physics step during the run: rk4 at " << config.simulation.physics_rate
+              << " Hz did not resolve the motion (energy not conserved); use --integrator dopri5 "
+                 "or a higher simulation.physics_rate\n";
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   std::cerr << "simulated " << sim.time() << " s in " << sim.ticks() << " physics steps ("

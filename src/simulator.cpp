@@ -87,7 +87,8 @@ Simulator::Simulator(const Config& config)
       initial_state_(config.initial_state),
       state_(config.initial_state),
       step_size_(1.0 / config.simulation.physics_rate),
-      integrator_(std::make_unique<Integrator>(config.simulation)) {}
+      integrator_(std::make_unique<Integrator>(config.simulation)),
+      slider_separation_(sliderSeparation(state_)) {}
 
 Simulator::~Simulator() = default;
 
@@ -115,6 +116,12 @@ StepResult Simulator::step() {
   }
   const State next = fromOdeState(x);
   motor_work_ += torque_ * (next.q1 - state_.q1);  // exact for a torque held over the step
+  const double separation = sliderSeparation(next);
+  if ((separation > 0) != (slider_separation_ > 0)) ++slider_crossings_;
+  slider_separation_ = separation;
+  if (settings_.integrator == IntegratorType::kRk4 &&
+      std::abs(next.u1) * step_size_ > kMaxCrankAnglePerStep)
+    step_too_coarse_ = true;
   state_ = next;
   ++ticks_;
   return result;
@@ -124,6 +131,14 @@ void Simulator::reset() {
   state_ = initial_state_;
   torque_ = 0.0;
   motor_work_ = 0.0;
+  slider_crossings_ = 0;
+  step_too_coarse_ = false;
+  slider_separation_ = sliderSeparation(state_);
+}
+
+double Simulator::sliderSeparation(const State& x) const {
+  const MechanismGeometry g = model_.geometry(x.q1, x.q2);
+  return g.point_c.x() - g.pin_b.x();
 }
 
 MechanismSnapshot Simulator::snapshot() const {
@@ -139,6 +154,8 @@ MechanismSnapshot Simulator::snapshot() const {
   snap.motor_work = motor_work_;
   snap.motor_power = torque_ * state_.u1;
   snap.spring_elongation = model_.springElongation(state_.q1, state_.q2);
+  snap.slider_separation = slider_separation_;
+  snap.slider_crossings = slider_crossings_;
   return snap;
 }
 

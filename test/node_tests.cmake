@@ -11,6 +11,7 @@ catkin_add_executable_with_gtest(node_tests
   test/node/test_bad_param.cpp
   test/node/test_namespaces.cpp
   test/node/test_controller.cpp
+  test/node/test_robustness.cpp
   EXCLUDE_FROM_ALL)
 if(TARGET node_tests)
   target_link_libraries(node_tests kane_sim_ros)
@@ -19,7 +20,7 @@ if(TARGET node_tests)
   target_compile_definitions(node_tests PRIVATE
     KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config"
     KANE_SIM_SIMULATE_EXE="$<TARGET_FILE:simulate>")
-  foreach(case topics torque commands services clock_mode bad_param namespaces controller)
+  foreach(case topics torque commands services clock_mode bad_param namespaces controller robustness)
     add_rostest(test/node/${case}.test DEPENDENCIES node_tests kane_sim_node pd_controller simulate)
   endforeach()
 endif()

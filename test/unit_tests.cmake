@@ -42,3 +42,5 @@ add_test(NAME sympy_crosscheck
 add_test(NAME plot_bag COMMAND ${PROJECT_SOURCE_DIR}/test/plot_bag_test.sh ${CMAKE_BINARY_DIR})
 add_test(NAME rviz_smoke COMMAND ${PROJECT_SOURCE_DIR}/test/rviz_smoke_test.sh ${CMAKE_BINARY_DIR})
 set_tests_properties(rviz_smoke PROPERTIES TIMEOUT 120)
+add_test(NAME faults COMMAND ${PROJECT_SOURCE_DIR}/test/faults_test.sh ${CMAKE_BINARY_DIR})
+set_tests_properties(faults PROPERTIES TIMEOUT 180)

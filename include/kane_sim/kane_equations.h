@@ -16,7 +16,7 @@ template <int N>
 struct RigidBodyTerms {
   using PartialMatrix = Eigen::Matrix<double, 3, N>;
 
-  double mass = 0.0;                                               // M of RB
+  double mass = 0.0;  // M of RB
   // I-bar = I_x ii + I_y jj + I_z kk: the seed's eq (7) takes the central principal axes parallel
   // to i, j, k, so the dyadic is diagonal and stored as (I_x, I_y, I_z).
   Eigen::Vector3d principal_moments = Eigen::Vector3d::Zero();
@@ -72,7 +72,7 @@ struct GeneralizedForces {
 // Adds one body's share of eqs (5)-(7) and (16) to `forces`. u is the generalized speed vector.
 template <int N>
 inline void accumulateBody(const RigidBodyTerms<N>& body, const Eigen::Matrix<double, N, 1>& u,
-                    GeneralizedForces<N>* forces) {
+                           GeneralizedForces<N>* forces) {
   const auto& V = body.partial_velocity;
   const auto& W = body.partial_angular_velocity;
   const Eigen::Vector3d omega = body.angularVelocity(u);
@@ -97,7 +97,8 @@ template <int N>
 double kineticEnergy(const RigidBodyTerms<N>& body, const Eigen::Matrix<double, N, 1>& u) {
   const Eigen::Vector3d v = body.velocity(u);
   const Eigen::Vector3d omega = body.angularVelocity(u);
-  return 0.5 * body.mass * v.squaredNorm() + 0.5 * omega.dot(body.principal_moments.asDiagonal() * omega);
+  return 0.5 * body.mass * v.squaredNorm() +
+         0.5 * omega.dot(body.principal_moments.asDiagonal() * omega);
 }
 
 }  // namespace kane_sim

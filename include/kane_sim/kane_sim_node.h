@@ -6,6 +6,7 @@
 #ifndef KANE_SIM_KANE_SIM_NODE_H
 #define KANE_SIM_KANE_SIM_NODE_H
 
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <string>
@@ -46,6 +47,9 @@ class KaneSimNode {
   bool onUnpause(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool onStep(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
 
+  void connect();          // advertise, subscribe, offer the services
+  void reconnect();        // the same again after the master restarted
+  void watchMaster();      // background thread: notices a restarted master
   void runOneTick();       // paced physics tick (+ publishing on the publish grid)
   void waitWhilePaused();  // serve callbacks, keep wall-clock topics alive
   bool physicsStep();      // one step with the current command; false if refused
@@ -73,8 +77,9 @@ class KaneSimNode {
   ros::Publisher clock_pub_;
   ros::Publisher diagnostics_pub_;
   std::vector<ros::ServiceServer> services_;
-  tf2_ros::TransformBroadcaster tf_broadcaster_;
-  tf2_ros::StaticTransformBroadcaster static_tf_broadcaster_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
+  std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_broadcaster_;
+  std::atomic<bool> master_restarted_{false};  // set by watchMaster(), handled by the loop
 
   ros::Time last_tf_stamp_;  // never two transforms of one frame with one stamp
   SteadyClock::time_point last_publish_wall_;

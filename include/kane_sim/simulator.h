@@ -28,6 +28,10 @@ struct MechanismSnapshot {
   double motor_work = 0.0;         // ∫ M_m u1 dt since start or reset [J]
   double motor_power = 0.0;        // M_m u1 [W]
   double spring_elongation = 0.0;  // e [m], positive = stretched
+  // x_C - x_B [m]: slider 4 below slider 3 when > 0. The seed models no contact between the
+  // sliders, so a hard-driven crank can pull one through the other; each sign change counts.
+  double slider_separation = 0.0;
+  std::uint64_t slider_crossings = 0;  // since start or reset
 };
 
 struct StepResult {
@@ -59,6 +63,12 @@ class Simulator {
   std::uint64_t ticks() const { return ticks_; }
   double stepSize() const { return step_size_; }
   double motorWork() const { return motor_work_; }
+  std::uint64_t sliderCrossings() const { return slider_crossings_; }
+  // rk4 resolves the motion only while the crank turns well under a tenth of a radian per step
+  // (its error grows as (u1 h)^4); past that, energy is no longer conserved. True once the
+  // crank has exceeded kMaxCrankAnglePerStep since start or reset; dopri5 refines by itself.
+  static constexpr double kMaxCrankAnglePerStep = 0.05;  // [rad]
+  bool stepTooCoarse() const { return step_too_coarse_; }
   const MechanismModel& model() const { return model_; }
   const SimulationSettings& settings() const { return settings_; }
 
@@ -66,6 +76,7 @@ class Simulator {
 
  private:
   class Integrator;
+  double sliderSeparation(const State& x) const;  // x_C - x_B
 
   MechanismModel model_;
   SimulationSettings settings_;
@@ -75,7 +86,10 @@ class Simulator {
   std::uint64_t ticks_ = 0;
   double torque_ = 0.0;
   double motor_work_ = 0.0;
+  std::uint64_t slider_crossings_ = 0;
+  bool step_too_coarse_ = false;
   std::unique_ptr<Integrator> integrator_;
+  double slider_separation_;  // x_C - x_B at the current state
 };
 
 }  // namespace kane_sim
