@@ -32,10 +32,12 @@ def main():
     samples = r["rss_samples"]
     print("CPU: %s, %d cores" % (cpu_model(), os.cpu_count()))
     print("Flood: %d publishers x %.0f Hz for %.0f s" % (args.publishers, args.rate, args.seconds))
-    print("| physics rate [Hz] | ticks on time | lateness p50 / p99 (median window) / max [us] | node CPU [%% of one core] | RSS first / max / last [MiB] |")
-    print("|---|---|---|---|---|")
-    print("| %.1f | %.3f %% | %.0f / %.0f / %.0f | %.1f | %.1f / %.1f / %.1f |"
-          % (r["rate"], r["on_time"], r["p50"], r["p99"], r["max"], r["cpu"], samples[0], max(samples), samples[-1]))
+    print("| commands received [1/s] | physics rate [Hz] | ticks on time | lateness p50 / p99 (median window) / max [us] "
+          "| node CPU [% of one core] | RSS first / max / last [MiB] |")
+    print("|---|---|---|---|---|---|")
+    print("| %.0f | %.1f | %.3f %% | %.0f / %.0f / %.0f | %.1f | %.1f / %.1f / %.1f |"
+          % (r["commands"], r["rate"], r["on_time"], r["p50"], r["p99"], r["max"], r["cpu"], samples[0],
+             max(samples), samples[-1]))
     return 0
 
 

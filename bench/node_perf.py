@@ -37,7 +37,8 @@ def rss_mib(pid):
 
 def run_case(exe, env, name, settings, seconds, load_commands=(), sample_every=5.0):
     """Runs the node in namespace /perf_NAME with `settings` over config/mechanism.yaml, starts
-    `load_commands` (run in that namespace) once it is up, and measures for `seconds`."""
+    `load_commands` once it is up, and measures for `seconds`. The node's topics are global
+    (its node name, not its namespace, is /perf_NAME)."""
     ns = "/perf_" + name
     subprocess.run(["rosparam", "load", CONFIG, ns], env=env, check=True)
     for key, value in settings.items():
@@ -56,8 +57,8 @@ def run_case(exe, env, name, settings, seconds, load_commands=(), sample_every=5
     rss_samples = []
     try:
         time.sleep(3.0)  # start-up, first windows discarded
-        load = [subprocess.Popen(cmd, env=dict(env, ROS_NAMESPACE=ns), stdout=subprocess.DEVNULL,
-                                 stderr=subprocess.DEVNULL) for cmd in load_commands]
+        load = [subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                for cmd in load_commands]
         windows.clear()
         cpu0, wall0 = cpu_seconds(node.pid), time.monotonic()
         while time.monotonic() - wall0 < seconds:
@@ -92,6 +93,7 @@ def run_case(exe, env, name, settings, seconds, load_commands=(), sample_every=5
         "rss_samples": rss_samples,
         "rtf": sorted(w["real-time factor achieved"] for w in windows)[len(windows) // 2],
         "windows": len(windows),
+        "commands": sorted(w.get("torque commands received [1/s]", 0.0) for w in windows)[len(windows) // 2],
     }
 
 

@@ -228,12 +228,12 @@ void KaneSimNode::maybeReportLoopHealth() {
   const auto now = SteadyClock::now();
   const double wall = wallSeconds(now - window_start_wall_);
   if (wall < kDiagnosticsPeriod) return;
-  publishDiagnostics(stats_.takeSummary(wall, sim_.time() - window_start_sim_));
+  publishDiagnostics(stats_.takeSummary(wall, sim_.time() - window_start_sim_), wall);
   window_start_wall_ = now;
   window_start_sim_ = sim_.time();
 }
 
-void KaneSimNode::publishDiagnostics(const LoopStats::Summary& s) {
+void KaneSimNode::publishDiagnostics(const LoopStats::Summary& s, double wall_window) {
   const SimulationSettings& cfg = config_.simulation;
   diagnostic_msgs::DiagnosticStatus status;
   status.name = "kane_sim: physics loop (" + ros::this_node::getName() + ")";
@@ -268,6 +268,10 @@ void KaneSimNode::publishDiagnostics(const LoopStats::Summary& s) {
   add("ticks", static_cast<double>(s.ticks));
   add("lag dropped [s]", s.skipped);
   add("sim time [s]", sim_.time());
+  add("torque commands received [1/s]", wall_window > 0 ? commands_in_window_ / wall_window : 0.0);
+  add("torque commands rejected or clamped", static_cast<double>(commands_refused_in_window_));
+  commands_in_window_ = 0;
+  commands_refused_in_window_ = 0;
   diagnostic_msgs::DiagnosticArray array;
   array.header.stamp = stamp();
   array.status.push_back(status);
@@ -276,8 +280,11 @@ void KaneSimNode::publishDiagnostics(const LoopStats::Summary& s) {
 
 void KaneSimNode::onTorqueCommand(const std_msgs::Float64::ConstPtr& msg) {
   std::string message;
-  if (command_.receive(msg->data, sim_.time(), &message) != TorqueCommand::Verdict::kAccepted)
+  ++commands_in_window_;
+  if (command_.receive(msg->data, sim_.time(), &message) != TorqueCommand::Verdict::kAccepted) {
+    ++commands_refused_in_window_;
     ROS_WARN_THROTTLE(1.0, "kane_sim: %s", message.c_str());
+  }
 }
 
 bool KaneSimNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {

@@ -4,6 +4,7 @@
 // 4 the output could not be written.
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -78,9 +79,15 @@ po::options_description describeOptions() {
   return desc;
 }
 
+std::string num(double value) {  // shortest exact-enough form for messages: 1e+12, 0.5, 300
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.15g", value);
+  return buffer;
+}
+
 double requireFinite(const std::string& flag, double value) {
   if (!std::isfinite(value))
-    throw UsageError("--" + flag + " must be finite, got " + std::to_string(value));
+    throw UsageError("--" + flag + " must be finite, got " + num(value));
   return value;
 }
 
@@ -154,10 +161,10 @@ bool parseOptions(int argc, char** argv, Options* options) {
   if (vm.count("csv")) options->csv_path = vm["csv"].as<std::string>();
   if (vm.count("bag")) options->bag_path = vm["bag"].as<std::string>();
   if (options->duration < 0 || options->duration > kMaxDuration)
-    throw UsageError("--duration must be in [0, " + std::to_string(kMaxDuration) + "] s, got " +
-                     std::to_string(options->duration));
+    throw UsageError("--duration must be in [0, " + num(kMaxDuration) + "] s, got " +
+                     num(options->duration));
   if (!(options->output_rate > 0))
-    throw UsageError("--output-rate must be > 0, got " + std::to_string(options->output_rate));
+    throw UsageError("--output-rate must be > 0, got " + num(options->output_rate));
   return true;
 }
 
@@ -166,8 +173,8 @@ long stepsPerRow(double physics_rate, double output_rate) {
   const double ratio = physics_rate / output_rate;
   const double whole = std::round(ratio);
   if (whole < 1 || std::abs(ratio - whole) > 1e-9 * ratio)
-    throw UsageError("--output-rate " + std::to_string(output_rate) +
-                     " Hz must divide simulation.physics_rate " + std::to_string(physics_rate) +
+    throw UsageError("--output-rate " + num(output_rate) +
+                     " Hz must divide simulation.physics_rate " + num(physics_rate) +
                      " Hz into a whole number of physics steps");
   return static_cast<long>(whole);
 }

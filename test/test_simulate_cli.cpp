@@ -109,6 +109,33 @@ TEST(SimulateCli, UnwritableOutputExitsFour) {
   const RunResult r = runSimulate(kConfig + " --duration 1 --csv /nonexistent/dir/out.csv");
   EXPECT_EQ(r.exit_code, 4);
   EXPECT_NE(r.err.find("/nonexistent/dir/out.csv"), std::string::npos) << r.err;
+  const RunResult bag = runSimulate(kConfig + " --duration 1 --bag /nonexistent/dir/out.bag");
+  EXPECT_EQ(bag.exit_code, 4);
+  EXPECT_NE(bag.err.find("cannot write --bag '/nonexistent/dir/out.bag'"), std::string::npos)
+      << bag.err;
+}
+
+TEST(SimulateCli, AbsurdValuesAndBadTorqueProfilesAreUsageErrors) {
+  const std::string csv = ::testing::TempDir() + "/backwards.csv";
+  std::ofstream(csv) << "t,torque\n0,1\n1,2\n0.5,3\n";
+  const struct {
+    std::string args;
+    std::string message;
+  } cases[] = {
+      {" --duration 1e12", "--duration must be in [0, 10000000] s"},
+      {" --duration 1 --output-rate 1e300", "must divide simulation.physics_rate"},
+      {" --duration 1 --torque-csv " + csv, "backwards.csv:4: time 0.5 goes backwards"},
+      {" --duration 1 --torque-csv /nonexistent.csv", "cannot be read"},
+      {" --duration 1 --torque-step 1,2", "--torque-step takes 3 comma-separated numbers"},
+      {" --duration 1 --torque-sine 1,x", "--torque-sine: 'x' is not a number"},
+      {" --duration 1 --torque 1 --torque-sine 1,2", "give at most one of --torque"},
+      {" --duration 1 --torque inf", "--torque must be finite"},
+  };
+  for (const auto& c : cases) {
+    const RunResult r = runSimulate(kConfig + c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
+  }
 }
 
 }  // namespace

@@ -54,7 +54,7 @@ class KaneSimNode {
   void waitWhilePaused();  // serve callbacks, keep wall-clock topics alive
   bool physicsStep();      // one step with the current command; false if refused
   void publishState();     // joint_states, tf, mechanism_state (+ /clock)
-  void publishDiagnostics(const LoopStats::Summary& summary);
+  void publishDiagnostics(const LoopStats::Summary& summary, double wall_window);
   void maybeReportLoopHealth();
   ros::Time stamp() const;  // sim time on the epoch in /clock mode, else wall ROS time
 
@@ -87,6 +87,8 @@ class KaneSimNode {
   double achieved_real_time_factor_ = 0.0;
   SteadyClock::time_point window_start_wall_;
   double window_start_sim_ = 0.0;
+  std::uint64_t commands_in_window_ = 0;
+  std::uint64_t commands_refused_in_window_ = 0;
 };
 
 }  // namespace kane_sim
