@@ -96,7 +96,8 @@ TEST(Energy, DrivenAtTheTorqueLimit) {
       const MechanismSnapshot s = sim.snapshot();
       ASSERT_TRUE(s.state.isFinite());
       if (!sim.stepTooCoarse()) {
-        resolved_drift = std::max(resolved_drift, std::abs(s.energy.total() - s.motor_work - start));
+        resolved_drift =
+            std::max(resolved_drift, std::abs(s.energy.total() - s.motor_work - start));
         resolved_work = s.motor_work;
       }
     }

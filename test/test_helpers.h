@@ -2,7 +2,9 @@
 #ifndef KANE_SIM_TEST_HELPERS_H
 #define KANE_SIM_TEST_HELPERS_H
 
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "kane_sim/load_config.h"
 
@@ -14,6 +16,22 @@ inline std::string configPath(const std::string& file) {
 }
 inline Config defaultConfig() { return loadConfigFile(configPath("mechanism.yaml")).config; }
 inline Config textbookConfig() { return loadConfigFile(configPath("textbook.yaml")).config; }
+
+// The rows of a CSV written by `simulate` (header returned separately).
+inline std::vector<std::vector<double>> parseCsv(const std::string& text, std::string* header) {
+  std::istringstream in(text);
+  std::getline(in, *header);
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::istringstream fields(line);
+    std::string field;
+    while (std::getline(fields, field, ',')) row.push_back(std::stod(field));
+    rows.push_back(row);
+  }
+  return rows;
+}
 
 }  // namespace test
 }  // namespace kane_sim

@@ -26,17 +26,9 @@ namespace {
 
 std::vector<std::vector<double>> readCsv(const std::string& path) {
   std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header
-  std::vector<std::vector<double>> rows;
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    std::istringstream fields(line);
-    std::string field;
-    while (std::getline(fields, field, ',')) row.push_back(std::stod(field));
-    rows.push_back(row);
-  }
-  return rows;
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  std::string header;
+  return test::parseCsv(text, &header);
 }
 
 class SimulateBag : public ::testing::Test {

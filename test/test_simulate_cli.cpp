@@ -35,18 +35,7 @@ RunResult runSimulate(const std::string& args) {
 }
 
 std::vector<std::vector<double>> parseRows(const std::string& csv, std::string* header) {
-  std::istringstream in(csv);
-  std::getline(in, *header);
-  std::vector<std::vector<double>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    std::istringstream fields(line);
-    std::string field;
-    while (std::getline(fields, field, ',')) row.push_back(std::stod(field));
-    rows.push_back(row);
-  }
-  return rows;
+  return kane_sim::test::parseCsv(csv, header);
 }
 
 const std::string kConfig = "--config " + kane_sim::test::configPath("mechanism.yaml");

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <ros/ros.h>
+#include <std_msgs/Float64.h>
 
 namespace kane_sim {
 namespace test {
@@ -71,6 +72,13 @@ ros::Publisher connectedPublisher(ros::NodeHandle& nh, const std::string& topic)
   ros::Publisher pub = nh.advertise<M>(topic, 10);
   waitFor([&] { return pub.getNumSubscribers() > 0; }, 10.0);
   return pub;
+}
+
+// One torque_command (or setpoint) value.
+inline void send(ros::Publisher& pub, double value) {
+  std_msgs::Float64 msg;
+  msg.data = value;
+  pub.publish(msg);
 }
 
 }  // namespace test

@@ -24,22 +24,13 @@ std::vector<std::vector<double>> simulateCsv(double torque, double duration) {
   cmd << KANE_SIM_SIMULATE_EXE << " --config " << test::configPath("mechanism.yaml") << " --torque "
       << torque << " --duration " << duration << " --output-rate 100 2>/dev/null";
   FILE* pipe = popen(cmd.str().c_str(), "r");
-  std::vector<std::vector<double>> rows;
-  char line[4096];
-  bool header = true;
-  while (fgets(line, sizeof(line), pipe)) {
-    if (header) {
-      header = false;
-      continue;
-    }
-    std::vector<double> row;
-    std::istringstream fields(line);
-    std::string field;
-    while (std::getline(fields, field, ',')) row.push_back(std::stod(field));
-    rows.push_back(row);
-  }
+  std::string text;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) text.append(buffer, n);
   EXPECT_EQ(pclose(pipe), 0);
-  return rows;
+  std::string header;
+  return test::parseCsv(text, &header);
 }
 
 TEST(ClockMode, FreeRunsFasterThanRealTimeAndMatchesOfflineSimulate) {
@@ -53,9 +44,7 @@ TEST(ClockMode, FreeRunsFasterThanRealTimeAndMatchesOfflineSimulate) {
   state.clear();
 
   // The command reaches the paused node; the first step applies it from t = 0.
-  std_msgs::Float64 cmd;
-  cmd.data = 2.0;
-  torque.publish(cmd);
+  test::send(torque, 2.0);
   test::sleepWall(0.3);
   std_srvs::Trigger step;
   ASSERT_TRUE(ros::service::waitForService("step", ros::Duration(10)));

@@ -16,11 +16,7 @@ namespace {
 
 using test::Recorder;
 
-void send(ros::Publisher& pub, double value) {
-  std_msgs::Float64 msg;
-  msg.data = value;
-  pub.publish(msg);
-}
+using test::send;
 
 // A steady 10 N m for 0.5 s moves q1 by roughly ½ (τ / M11) t² ≈ 2 rad more than the unforced
 // motion; demand 0.3 rad against the offline simulator at the same sim time.

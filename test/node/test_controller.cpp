@@ -22,9 +22,7 @@ TEST(Controller, HoldsTheCrankAtItsSetpointAndFollowsTheSetpointTopic) {
   EXPECT_NEAR(state.last().q[0], 1.0, 0.05);
 
   ros::Publisher setpoint = test::connectedPublisher<std_msgs::Float64>(nh, "setpoint");
-  std_msgs::Float64 msg;
-  msg.data = -0.5;
-  setpoint.publish(msg);
+  test::send(setpoint, -0.5);
   test::sleepWall(3.0);
   EXPECT_NEAR(state.last().q[0], -0.5, 0.05);
   EXPECT_NEAR(state.last().u[0], 0.0, 0.5);

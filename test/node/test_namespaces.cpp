@@ -23,9 +23,7 @@ TEST(Namespaces, TwoInstancesKeepTheirTopicsAndFramesApart) {
       test::connectedPublisher<std_msgs::Float64>(nh, "/robot_a/torque_command");
   ASSERT_TRUE(a.waitForCount(1, 15.0));
   ASSERT_TRUE(b.waitForCount(1, 15.0));
-  std_msgs::Float64 cmd;
-  cmd.data = 6.0;
-  torque_a.publish(cmd);
+  test::send(torque_a, 6.0);
   ASSERT_TRUE(test::waitFor([&] { return a.last().applied_torque == 6.0; }, 3.0));
   test::sleepWall(0.2);
   EXPECT_EQ(b.last().applied_torque, 0.0);

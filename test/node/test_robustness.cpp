@@ -26,11 +26,7 @@ namespace {
 
 using test::Recorder;
 
-void send(ros::Publisher& pub, double value) {
-  std_msgs::Float64 msg;
-  msg.data = value;
-  pub.publish(msg);
-}
+using test::send;
 
 bool allFinite(const MechanismState& m) {
   for (double v : {m.q[0], m.q[1], m.u[0], m.u[1], m.u_dot[0], m.u_dot[1], m.applied_torque,

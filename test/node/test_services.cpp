@@ -52,9 +52,7 @@ TEST(Services, ResetRestoresTheInitialStateAndZeroesWork) {
   ros::NodeHandle nh;
   Recorder<MechanismState> state(nh, "mechanism_state");
   ros::Publisher torque = test::connectedPublisher<std_msgs::Float64>(nh, "torque_command");
-  std_msgs::Float64 cmd;
-  cmd.data = 5.0;
-  torque.publish(cmd);
+  test::send(torque, 5.0);
   ASSERT_TRUE(
       test::waitFor([&] { return state.count() > 0 && state.last().motor_work != 0.0; }, 5.0));
   const double before = state.last().sim_time;
