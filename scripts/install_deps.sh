@@ -15,8 +15,8 @@ PACKAGES=(
   python3-diagnostic-msgs python3-std-msgs python3-std-srvs
   # rviz (also headless under Xvfb for the smoke test), plots
   rviz xvfb xauth imagemagick python3-matplotlib python3-numpy python3-rosgraph-msgs
-  # the independent SymPy derivation test
-  python3-sympy python3-yaml
+  # the independent SymPy derivation test; tools the test scripts call
+  python3-sympy python3-yaml python3-rosservice bc procps
 )
 
 missing=()
