@@ -9,7 +9,7 @@ that is not synchronised with sim time would then hold each command for seconds 
 which can pump the crank over the top and spin it beyond what rk4 at 1 kHz resolves. Reports NaN count, the spread of E - W over the
 run (E - W is constant for a correct simulation with a torque held between commands), and
 the node's RSS sampled every 5 s.
-Usage: bench/soak.py BUILD_DIR [--sim-hours 1] [--wall-minutes 10]
+Usage: bench/soak.py BUILD_DIR [--sim-hours 1] [--wall-minutes 10] [--integrator rk4|dopri5]
 """
 import argparse
 import math
@@ -68,9 +68,9 @@ def phase(master, exe, name, settings, done, limit_s):
         node.wait(timeout=10)
         sub.unregister()
     wall = time.monotonic() - start
-    print("| %s | %.0f s sim in %.0f s wall | %d | %d | %.3g | %.1f / %.1f / %.1f |"
+    print("| %s | %.0f s sim in %.0f s wall | %d | %d | %.3g | %.1f | %.1f / %.1f / %.1f |"
           % (name, stats["t"], wall, stats["n"], stats["nan"], stats["hi"] - stats["lo"],
-             rss[0], max(rss), rss[-1]))
+             stats["max_u1"], rss[0], max(rss), rss[-1]))
 
 
 def main():
@@ -78,18 +78,22 @@ def main():
     parser.add_argument("build_dir", nargs="?", default=os.path.join(os.path.dirname(__file__), "..", "_build"))
     parser.add_argument("--sim-hours", type=float, default=1.0)
     parser.add_argument("--wall-minutes", type=float, default=10.0)
+    parser.add_argument("--integrator", default="rk4", help="rk4 | dopri5 (simulation/integrator)")
     args = parser.parse_args()
     exe = os.path.join(args.build_dir, "devel/lib/kane_sim/kane_sim_node")
     with Master("kane_sim_soak") as master:
         print("CPU: %s, %d cores" % (cpu_model(), os.cpu_count()))
-        print("| phase | duration | states received | non-finite | spread of E - W [J] | RSS first / max / last [MiB] |")
-        print("|---|---|---|---|---|---|")
+        print("| phase | duration | states received | non-finite | spread of E - W [J] | max |u1| [rad/s] "
+              "| RSS first / max / last [MiB] |")
+        print("|---|---|---|---|---|---|---|")
         if args.sim_hours > 0:
-            phase(master, exe, "fast_1h_sim",
-                  {"simulation/publish_clock": True, "simulation/real_time_factor": 20.0, "command/timeout": 0.0},
+            phase(master, exe, "fast_1h_sim_" + args.integrator,
+                  {"simulation/publish_clock": True, "simulation/real_time_factor": 20.0, "command/timeout": 0.0,
+                   "simulation/integrator": args.integrator},
                   lambda s: s["t"] >= args.sim_hours * 3600, limit_s=args.sim_hours * 3600)
         if args.wall_minutes > 0:
-            phase(master, exe, "real_time_1kHz", {"simulation/physics_rate": 1000.0},
+            phase(master, exe, "real_time_1kHz",
+                  {"simulation/physics_rate": 1000.0, "simulation/integrator": args.integrator},
                   lambda s: False, limit_s=args.wall_minutes * 60)
     return 0
 
