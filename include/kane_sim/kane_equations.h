@@ -75,20 +75,22 @@ inline void accumulateBody(const RigidBodyTerms<N>& body, const Eigen::Matrix<do
                            GeneralizedForces<N>* forces) {
   const auto& V = body.partial_velocity;
   const auto& W = body.partial_angular_velocity;
+
+  // Translation: F_in = -M a_CG (6) splits into the part that multiplies u' (the mass matrix)
+  // and the part that does not; F_r gains dv/du_r · R (16).
+  forces->mass_matrix.noalias() += body.mass * V.transpose() * V;
+  forces->inertia_remainder.noalias() -= body.mass * V.transpose() * body.acceleration_remainder;
+  forces->active.noalias() += V.transpose() * body.applied_force;
+
+  // Rotation: T_in = -α·I - ω × (I·ω) (7) and dω/du_r · T (16). Every term carries a partial
+  // angular velocity, so a body that no speed turns (a slider) contributes none: skip the work.
+  if (W.isZero(0.0)) return;
   const Eigen::Vector3d omega = body.angularVelocity(u);
   const auto I = body.principal_moments.asDiagonal();
-
-  // F_in = -M a_CG (6) and T_in = -α·I - ω × (I·ω) (7), split into the part that multiplies u'
-  // (the mass matrix) and the part that does not.
-  forces->mass_matrix.noalias() += body.mass * V.transpose() * V + W.transpose() * I * W;
-  const Eigen::Vector3d force_remainder = -body.mass * body.acceleration_remainder;
+  forces->mass_matrix.noalias() += W.transpose() * I * W;
   const Eigen::Vector3d torque_remainder =
       -(I * body.angular_acceleration_remainder) - omega.cross(I * omega);
-  forces->inertia_remainder.noalias() += V.transpose() * force_remainder;
   forces->inertia_remainder.noalias() += W.transpose() * torque_remainder;
-
-  // F_r = dv/du_r · R + dω/du_r · T (16).
-  forces->active.noalias() += V.transpose() * body.applied_force;
   forces->active.noalias() += W.transpose() * body.applied_torque;
 }
 
