@@ -45,7 +45,6 @@ Config KaneSimNode::loadParameters(const ros::NodeHandle& private_nh) {
 
 KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh)
     : nh_(nh),
-      private_nh_(private_nh),
       config_(loadParameters(private_nh)),
       frames_(config_.frames),
       sim_(config_),

@@ -59,7 +59,6 @@ class KaneSimNode {
   ros::Time stamp() const;  // sim time on the epoch in /clock mode, else wall ROS time
 
   ros::NodeHandle nh_;
-  ros::NodeHandle private_nh_;
   Config config_;
   FrameNames frames_;
   Simulator sim_;
