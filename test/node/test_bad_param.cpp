@@ -45,6 +45,22 @@ TEST(BadParam, PublishRateAbovePhysicsRateStopsTheNode) {
   EXPECT_NE(out.output.find("simulation/publish_rate"), std::string::npos) << out.output;
 }
 
+TEST(BadParam, ListWhereAMapBelongsUnknownIntegratorBadFrameName) {
+  const struct {
+    const char* node;
+    const char* message;
+  } cases[] = {
+      {"list_section", "config key 'simulation' must be a map, got a list"},
+      {"bad_integrator", "unknown integrator 'euler' (valid: rk4, dopri5)"},
+      {"bad_frame", "frames.prefix' must hold only letters, digits, '_' and '/', got 'robot 1'"},
+  };
+  for (const auto& c : cases) {
+    const Outcome out = runNode(c.node);
+    EXPECT_EQ(out.exit_code, 1) << c.node << ": " << out.output;
+    EXPECT_NE(out.output.find(c.message), std::string::npos) << c.node << ": " << out.output;
+  }
+}
+
 TEST(BadParam, NoParametersAtAllSaysWhatToLoad) {
   const Outcome out = runNode("no_params");
   EXPECT_EQ(out.exit_code, 1) << out.output;
