@@ -44,15 +44,17 @@ class Simulator::Integrator {
         dopri5_(odeint::make_controlled(s.absolute_tolerance, s.relative_tolerance,
                                         odeint::runge_kutta_dopri5<OdeState>())) {}
 
-  // Advances x from t to exactly t + dt.
-  StepResult advance(const EquationsOfMotion& system, OdeState& x, double t, double dt) {
+  // Advances x from t to exactly t + dt. `continues` says that x is where the last successful
+  // call left it and the right-hand side (the torque) is unchanged.
+  StepResult advance(const EquationsOfMotion& system, OdeState& x, double t, double dt,
+                     bool continues) {
     if (type_ == IntegratorType::kRk4) {
       rk4_.do_step(system, x, t, dt);
       return {};
     }
-    // The torque may have changed since the last call: drop dopri5's cached first-same-as-last
-    // derivative, which belongs to the old right-hand side.
-    dopri5_.reset();
+    // dopri5 reuses the derivative at the end of its last step (first same as last); that is
+    // only valid for the same state and the same torque.
+    if (!continues) dopri5_.reset();
     const double t_end = t + dt;
     double substep = std::min(dopri5_substep_, dt);
     for (int n = 0; n < kMaxSubstepsPerTick; ++n) {
@@ -98,6 +100,7 @@ StepResult Simulator::setTorque(double torque) {
     msg << "torque " << torque << " N m is not finite; keeping " << torque_ << " N m";
     return {false, msg.str()};
   }
+  if (torque != torque_) continues_ = false;
   torque_ = torque;
   return {};
 }
@@ -105,8 +108,9 @@ StepResult Simulator::setTorque(double torque) {
 StepResult Simulator::step() {
   OdeState x = toOdeState(state_);
   const EquationsOfMotion system{&model_, torque_};
-  StepResult result = integrator_->advance(system, x, time(), step_size_);
+  StepResult result = integrator_->advance(system, x, time(), step_size_, continues_);
   if (result.ok && !isFinite(x)) result = {false, "the step produced a non-finite state"};
+  continues_ = result.ok;
   if (!result.ok) {
     std::ostringstream msg;
     msg << result.error << " at t = " << time() << " s (q1 = " << state_.q1
@@ -133,6 +137,7 @@ void Simulator::reset() {
   motor_work_ = 0.0;
   slider_crossings_ = 0;
   step_too_coarse_ = false;
+  continues_ = false;
   slider_separation_ = sliderSeparation(state_);
 }
 

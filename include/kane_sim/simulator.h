@@ -88,6 +88,7 @@ class Simulator {
   double motor_work_ = 0.0;
   std::uint64_t slider_crossings_ = 0;
   bool step_too_coarse_ = false;
+  bool continues_ = false;  // the next step starts where the last one ended, same torque
   std::unique_ptr<Integrator> integrator_;
   double slider_separation_;  // x_C - x_B at the current state
 };
