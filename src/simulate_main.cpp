@@ -86,8 +86,7 @@ std::string num(double value) {  // shortest exact-enough form for messages: 1e+
 }
 
 double requireFinite(const std::string& flag, double value) {
-  if (!std::isfinite(value))
-    throw UsageError("--" + flag + " must be finite, got " + num(value));
+  if (!std::isfinite(value)) throw UsageError("--" + flag + " must be finite, got " + num(value));
   return value;
 }
 
