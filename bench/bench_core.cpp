@@ -7,8 +7,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "kane_sim/load_config.h"
-#include "kane_sim/simulator.h"
+#include "kane_sim/config/load_config.h"
+#include "kane_sim/sim/simulator.h"
 
 namespace {
 
@@ -21,7 +21,7 @@ const kane_sim::State kBusyState{0.9, 1.05, 3.2, -0.7};
 
 void BM_KaneEvaluation(benchmark::State& st) {
   const kane_sim::Config c = defaultConfig();
-  const kane_sim::MechanismModel model(c.mechanism, c.initial_state);
+  const kane_sim::MechanismModel model = kane_sim::mechanismModel(c);
   kane_sim::State x = kBusyState;
   for (auto _ : st) {
     benchmark::DoNotOptimize(x);

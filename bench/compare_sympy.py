@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """kane_sim against what users would use instead: SymPy's KanesMethod + SciPy.
 
-Builds the seed's mechanism independently with sympy.physics.mechanics (KanesMethod),
+Builds the textbook example's mechanism independently with sympy.physics.mechanics (KanesMethod),
 lambdifies it and integrates 10 s of the default parameters (no torque):
   (a) fixed-step rk4 at dt = 1 ms (NumPy loop over the lambdified right-hand side),
   (b) an adaptive solver at rtol = atol = 1e-9 (SciPy RK45, Dormand-Prince like dopri5),
@@ -26,7 +26,7 @@ import sympy as sp
 import yaml
 from scipy.integrate import solve_ivp
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "test"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "test", "tools"))
 from sympy_model import sympy_model  # noqa: E402  (the independent SymPy derivation)
 
 HERE = os.path.dirname(os.path.abspath(__file__))

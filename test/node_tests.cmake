@@ -14,9 +14,9 @@ catkin_add_executable_with_gtest(node_tests
   test/node/test_robustness.cpp
   EXCLUDE_FROM_ALL)
 if(TARGET node_tests)
-  target_link_libraries(node_tests kane_sim_ros)
+  target_link_libraries(node_tests kane_sim_ros kane_sim_warnings)
+  target_include_directories(node_tests PRIVATE ${PROJECT_SOURCE_DIR}/test/common)
   add_dependencies(tests node_tests)
-  target_compile_options(node_tests PRIVATE ${KANE_SIM_WARNINGS})
   target_compile_definitions(node_tests PRIVATE
     KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config"
     KANE_SIM_SIMULATE_EXE="$<TARGET_FILE:simulate>")

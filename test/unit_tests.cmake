@@ -1,6 +1,9 @@
 # Unit tests (gtest, no master). Included from CMakeLists.txt.
 #   kane_sim_unit_test(NAME SOURCES... [ROS] [RUNS_SIMULATE])
-# ROS: also links the message-filling library; RUNS_SIMULATE: the test runs the `simulate`
+# Layout: test/core (the ROS-free libraries), test/ros (message translation, no master),
+# test/tools (the executables and scripts, run as a user would), test/node (rostests, see
+# node_tests.cmake); test/common holds what they share.
+# ROS: also links the message-translation library; RUNS_SIMULATE: the test runs the `simulate`
 # executable (built first, its path in KANE_SIM_SIMULATE_EXE).
 function(kane_sim_unit_test name)
   cmake_parse_arguments(ARG "ROS;RUNS_SIMULATE" "" "" ${ARGN})
@@ -8,8 +11,8 @@ function(kane_sim_unit_test name)
   if(NOT TARGET ${name})
     return()
   endif()
-  target_link_libraries(${name} kane_sim_core gtest_main)
-  target_compile_options(${name} PRIVATE ${KANE_SIM_WARNINGS})
+  target_link_libraries(${name} kane_sim_sim gtest_main kane_sim_warnings)
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/test/common)
   target_compile_definitions(${name} PRIVATE KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config")
   if(ARG_ROS)
     target_link_libraries(${name} kane_sim_ros)
@@ -20,25 +23,30 @@ function(kane_sim_unit_test name)
   endif()
 endfunction()
 
-kane_sim_unit_test(test_seed_equations test/test_seed_equations.cpp)
-kane_sim_unit_test(test_lagrange_crosscheck test/test_lagrange_crosscheck.cpp)
-kane_sim_unit_test(test_energy test/test_energy.cpp)
-kane_sim_unit_test(test_simulator test/test_simulator.cpp)
-kane_sim_unit_test(test_load_config test/test_load_config.cpp)
-kane_sim_unit_test(test_simulate_cli test/test_simulate_cli.cpp RUNS_SIMULATE)
-kane_sim_unit_test(test_torque_command test/test_torque_command.cpp)
-kane_sim_unit_test(test_loop_timing test/test_loop_timing.cpp)
-kane_sim_unit_test(test_pd_law test/test_pd_law.cpp)
-kane_sim_unit_test(test_ros_messages test/test_ros_messages.cpp ROS)
-kane_sim_unit_test(test_torque_profile test/test_torque_profile.cpp)
-kane_sim_unit_test(test_simulate_bag test/test_simulate_bag.cpp ROS RUNS_SIMULATE)
+kane_sim_unit_test(test_textbook_equations test/core/test_textbook_equations.cpp)
+kane_sim_unit_test(test_lagrange_crosscheck test/core/test_lagrange_crosscheck.cpp)
+kane_sim_unit_test(test_energy test/core/test_energy.cpp)
+kane_sim_unit_test(test_simulator test/core/test_simulator.cpp)
+kane_sim_unit_test(test_sim_driver test/core/test_sim_driver.cpp)
+kane_sim_unit_test(test_load_config test/core/test_load_config.cpp)
+kane_sim_unit_test(test_torque_command test/core/test_torque_command.cpp)
+kane_sim_unit_test(test_loop_timing test/core/test_loop_timing.cpp)
+kane_sim_unit_test(test_torque_profile test/core/test_torque_profile.cpp)
+kane_sim_unit_test(test_pd_law test/core/test_pd_law.cpp)
+if(TARGET test_pd_law)
+  target_include_directories(test_pd_law PRIVATE ${PROJECT_SOURCE_DIR}/examples/pd_controller)
+endif()
+kane_sim_unit_test(test_ros_messages test/ros/test_ros_messages.cpp ROS)
+kane_sim_unit_test(test_simulate_cli test/tools/test_simulate_cli.cpp RUNS_SIMULATE)
+kane_sim_unit_test(test_simulate_bag test/tools/test_simulate_bag.cpp ROS RUNS_SIMULATE)
 
 # Script tests: plots, and rviz under Xvfb replaying a bag (screenshot kept in
 # _build/test_artifacts/).
+set(tools_dir ${PROJECT_SOURCE_DIR}/test/tools)
 add_test(NAME sympy_crosscheck
-  COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/sympy_crosscheck_test.py ${CMAKE_BINARY_DIR})
-add_test(NAME plot_bag COMMAND ${PROJECT_SOURCE_DIR}/test/plot_bag_test.sh ${CMAKE_BINARY_DIR})
-add_test(NAME rviz_smoke COMMAND ${PROJECT_SOURCE_DIR}/test/rviz_smoke_test.sh ${CMAKE_BINARY_DIR})
+  COMMAND /usr/bin/python3 ${tools_dir}/sympy_crosscheck_test.py ${CMAKE_BINARY_DIR})
+add_test(NAME plot_bag COMMAND ${tools_dir}/plot_bag_test.sh ${CMAKE_BINARY_DIR})
+add_test(NAME rviz_smoke COMMAND ${tools_dir}/rviz_smoke_test.sh ${CMAKE_BINARY_DIR})
 set_tests_properties(rviz_smoke PROPERTIES TIMEOUT 120)
-add_test(NAME faults COMMAND ${PROJECT_SOURCE_DIR}/test/faults_test.sh ${CMAKE_BINARY_DIR})
+add_test(NAME faults COMMAND ${tools_dir}/faults_test.sh ${CMAKE_BINARY_DIR})
 set_tests_properties(faults PROPERTIES TIMEOUT 180)

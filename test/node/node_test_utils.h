@@ -9,8 +9,11 @@
 #include <thread>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <std_msgs/Float64.h>
+
+#include "kane_sim/MechanismState.h"
 
 namespace kane_sim {
 namespace test {
@@ -80,6 +83,20 @@ inline void send(ros::Publisher& pub, double value) {
   msg.data = value;
   pub.publish(msg);
 }
+
+// The fixture most node tests share: the node under test (started by test/node/sim_node.launch)
+// is publishing mechanism_state, and a torque_command publisher is connected to it.
+class SimNodeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    torque_ = connectedPublisher<std_msgs::Float64>(nh_, "torque_command");
+    ASSERT_TRUE(state_.waitForCount(1, 15.0)) << "no mechanism_state from the node under test";
+  }
+
+  ros::NodeHandle nh_;
+  Recorder<MechanismState> state_{nh_, "mechanism_state"};
+  ros::Publisher torque_;
+};
 
 }  // namespace test
 }  // namespace kane_sim

@@ -1,28 +1,22 @@
 // A bad parameter stops the node with a non-zero exit and a message naming it
 // (test/node/bad_param.test puts the bad values on the parameter server).
-#include <sys/wait.h>
-
-#include <cstdio>
 #include <string>
 
 #include <gtest/gtest.h>
+
+#include "test_helpers.h"
 
 namespace {
 
 struct Outcome {
   int exit_code;
-  std::string output;
+  std::string output;  // stdout and stderr
 };
 
 Outcome runNode(const std::string& name) {
-  const std::string cmd = "timeout 30 rosrun kane_sim kane_sim_node __name:=" + name + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  Outcome out;
-  char buffer[1024];
-  while (fgets(buffer, sizeof(buffer), pipe)) out.output += buffer;
-  const int status = pclose(pipe);
-  out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return out;
+  const kane_sim::test::CommandResult r =
+      kane_sim::test::runCommand("timeout 30 rosrun kane_sim kane_sim_node __name:=" + name);
+  return {r.exit_code, r.out + r.err};
 }
 
 TEST(BadParam, NegativeMassStopsTheNodeNamingIt) {

@@ -9,10 +9,10 @@
 #include <std_srvs/Empty.h>
 #include <std_srvs/Trigger.h>
 
-#include "../test_helpers.h"
 #include "kane_sim/MechanismState.h"
-#include "kane_sim/ros_messages.h"
+#include "kane_sim/ros/messages.h"
 #include "node_test_utils.h"
+#include "test_helpers.h"
 
 namespace kane_sim {
 namespace {
@@ -22,15 +22,11 @@ using test::Recorder;
 std::vector<std::vector<double>> simulateCsv(double torque, double duration) {
   std::ostringstream cmd;
   cmd << KANE_SIM_SIMULATE_EXE << " --config " << test::configPath("mechanism.yaml") << " --torque "
-      << torque << " --duration " << duration << " --output-rate 1000 2>/dev/null";
-  FILE* pipe = popen(cmd.str().c_str(), "r");
-  std::string text;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) text.append(buffer, n);
-  EXPECT_EQ(pclose(pipe), 0);
+      << torque << " --duration " << duration << " --output-rate 1000";
+  const test::CommandResult r = test::runCommand(cmd.str());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
   std::string header;
-  return test::parseCsv(text, &header);
+  return test::parseCsv(r.out, &header);
 }
 
 TEST(ClockMode, FreeRunsFasterThanRealTimeAndMatchesOfflineSimulate) {

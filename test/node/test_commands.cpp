@@ -3,16 +3,20 @@
 #include <limits>
 
 #include <gtest/gtest.h>
+#include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Float64.h>
 
-#include "../test_helpers.h"
 #include "kane_sim/MechanismState.h"
-#include "kane_sim/simulator.h"
+#include "kane_sim/sim/simulator.h"
 #include "node_test_utils.h"
+#include "test_helpers.h"
 
 namespace kane_sim {
 namespace {
+
+class Torque : public test::SimNodeTest {};
+class Commands : public test::SimNodeTest {};
 
 using test::Recorder;
 
@@ -20,19 +24,15 @@ using test::send;
 
 // A steady 10 N m for 0.5 s moves q1 by roughly ½ (τ / M11) t² ≈ 2 rad more than the unforced
 // motion; demand 0.3 rad against the offline simulator at the same sim time.
-TEST(Torque, PositiveTorqueRaisesQ1AndShowsInEffortAndState) {
-  ros::NodeHandle nh;
-  Recorder<MechanismState> state(nh, "mechanism_state");
-  Recorder<sensor_msgs::JointState> js(nh, "joint_states");
-  ros::Publisher torque = test::connectedPublisher<std_msgs::Float64>(nh, "torque_command");
-  ASSERT_TRUE(state.waitForCount(1, 15.0));
-  send(torque, 10.0);
-  ASSERT_TRUE(test::waitFor([&] { return state.last().applied_torque == 10.0; }, 2.0));
+TEST_F(Torque, PositiveTorqueRaisesQ1AndShowsInEffortAndState) {
+  Recorder<sensor_msgs::JointState> js(nh_, "joint_states");
+  send(torque_, 10.0);
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 10.0; }, 2.0));
   for (int i = 0; i < 5; ++i) {  // keep commanding, well inside the 0.5 s timeout
     test::sleepWall(0.1);
-    send(torque, 10.0);
+    send(torque_, 10.0);
   }
-  const MechanismState driven = state.last();
+  const MechanismState driven = state_.last();
   EXPECT_EQ(driven.applied_torque, 10.0);
   EXPECT_EQ(driven.commanded_torque, 10.0);
   EXPECT_EQ(js.last().effort[0], 10.0);
@@ -44,19 +44,15 @@ TEST(Torque, PositiveTorqueRaisesQ1AndShowsInEffortAndState) {
       << " at t = " << driven.sim_time;
 }
 
-TEST(Commands, NonFiniteCommandIsIgnored) {
-  ros::NodeHandle nh;
-  Recorder<MechanismState> state(nh, "mechanism_state");
-  ros::Publisher torque = test::connectedPublisher<std_msgs::Float64>(nh, "torque_command");
-  ASSERT_TRUE(state.waitForCount(1, 15.0));
-  send(torque, 5.0);
-  ASSERT_TRUE(test::waitFor([&] { return state.last().applied_torque == 5.0; }, 2.0));
-  state.clear();
+TEST_F(Commands, NonFiniteCommandIsIgnored) {
+  send(torque_, 5.0);
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 5.0; }, 2.0));
+  state_.clear();
   for (double bad : {std::nan(""), std::numeric_limits<double>::infinity(),
                      -std::numeric_limits<double>::infinity()})
-    send(torque, bad);
+    send(torque_, bad);
   test::sleepWall(0.2);  // < command.timeout (0.5 s)
-  const auto msgs = state.messages();
+  const auto msgs = state_.messages();
   ASSERT_GT(msgs.size(), 5u);
   for (const auto& m : msgs) {
     EXPECT_EQ(m.applied_torque, 5.0);
@@ -65,33 +61,43 @@ TEST(Commands, NonFiniteCommandIsIgnored) {
   }
 }
 
-TEST(Commands, OverLimitCommandIsClamped) {
-  ros::NodeHandle nh;
-  Recorder<MechanismState> state(nh, "mechanism_state");
-  ros::Publisher torque = test::connectedPublisher<std_msgs::Float64>(nh, "torque_command");
-  ASSERT_TRUE(state.waitForCount(1, 15.0));
-  send(torque, 80.0);  // command.torque_limit is 20 in commands.yaml
-  ASSERT_TRUE(test::waitFor([&] { return state.last().commanded_torque == 80.0; }, 2.0));
-  EXPECT_EQ(state.last().applied_torque, 20.0);
-  send(torque, -1e300);
-  ASSERT_TRUE(test::waitFor([&] { return state.last().commanded_torque == -1e300; }, 2.0));
-  EXPECT_EQ(state.last().applied_torque, -20.0);
+TEST_F(Commands, OverLimitCommandIsClamped) {
+  send(torque_, 80.0);  // command.torque_limit is 20 in commands.yaml
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().commanded_torque == 80.0; }, 2.0));
+  EXPECT_EQ(state_.last().applied_torque, 20.0);
+  send(torque_, -1e300);
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().commanded_torque == -1e300; }, 2.0));
+  EXPECT_EQ(state_.last().applied_torque, -20.0);
 }
 
-TEST(Commands, TimeoutZeroesTheTorqueAndNextCommandResumes) {
-  ros::NodeHandle nh;
-  Recorder<MechanismState> state(nh, "mechanism_state");
-  ros::Publisher torque = test::connectedPublisher<std_msgs::Float64>(nh, "torque_command");
-  ASSERT_TRUE(state.waitForCount(1, 15.0));
-  send(torque, 3.0);
-  ASSERT_TRUE(test::waitFor([&] { return state.last().applied_torque == 3.0; }, 2.0));
-  const double on_at = state.last().sim_time;
-  ASSERT_TRUE(test::waitFor([&] { return state.last().applied_torque == 0.0; }, 3.0));
+// The driver's events reach the node's log: the timeout once per lapse, clamping throttled.
+int countInLog(const Recorder<rosgraph_msgs::Log>& rosout, const std::string& text) {
+  int n = 0;
+  for (const auto& log : rosout.messages()) n += log.msg.find(text) != std::string::npos;
+  return n;
+}
+
+TEST_F(Commands, TimeoutZeroesTheTorqueAndNextCommandResumes) {
+  Recorder<rosgraph_msgs::Log> rosout(nh_, "/rosout");
+  ASSERT_TRUE(test::waitFor([&] { return rosout.connected(); }, 10.0));
+  // Earlier tests' commands lapse first (their timeout messages are not this test's).
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 0.0; }, 3.0));
+  test::sleepWall(0.5);  // connections to every /rosout publisher, the sim's included
+  rosout.clear();
+  send(torque_, 3.0);
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 3.0; }, 2.0));
+  const double on_at = state_.last().sim_time;
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 0.0; }, 3.0));
   // Zeroed after command.timeout (0.5 s sim time), not before; one publish period of slack.
-  EXPECT_GE(state.last().sim_time - on_at, 0.5 - 0.011);
-  EXPECT_EQ(state.last().commanded_torque, 3.0);
-  send(torque, 4.0);
-  ASSERT_TRUE(test::waitFor([&] { return state.last().applied_torque == 4.0; }, 2.0));
+  EXPECT_GE(state_.last().sim_time - on_at, 0.5 - 0.011);
+  EXPECT_EQ(state_.last().commanded_torque, 3.0);
+  send(torque_, 4.0);
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 4.0; }, 2.0));
+  send(torque_, 80.0);  // over the 20 N m limit of commands.yaml
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 20.0; }, 2.0));
+  test::sleepWall(0.3);  // the log reaches us; still inside the 0.5 s timeout
+  EXPECT_EQ(countInLog(rosout, "no torque_command for 0.5 s (command.timeout)"), 1);
+  EXPECT_GE(countInLog(rosout, "exceeds command.torque_limit 20 N m: clamped to 20 N m"), 1);
 }
 
 }  // namespace

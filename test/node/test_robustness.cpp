@@ -17,12 +17,14 @@
 #include <std_srvs/Empty.h>
 #include <std_srvs/Trigger.h>
 
-#include "../test_helpers.h"
 #include "kane_sim/MechanismState.h"
 #include "node_test_utils.h"
+#include "test_helpers.h"
 
 namespace kane_sim {
 namespace {
+
+class Robustness : public test::SimNodeTest {};
 
 using test::Recorder;
 
@@ -35,24 +37,20 @@ bool allFinite(const MechanismState& m) {
   return true;
 }
 
-TEST(Robustness, SignedZeroAndDenormalCommandsPassThrough) {
-  ros::NodeHandle nh;
-  Recorder<MechanismState> state(nh, "mechanism_state");
-  ros::Publisher torque = test::connectedPublisher<std_msgs::Float64>(nh, "torque_command");
-  ASSERT_TRUE(state.waitForCount(1, 15.0));
-  send(torque, 1.0);
-  ASSERT_TRUE(test::waitFor([&] { return state.last().applied_torque == 1.0; }, 2.0));
-  send(torque, -0.0);
-  ASSERT_TRUE(test::waitFor([&] { return state.last().applied_torque == 0.0; }, 2.0));
+TEST_F(Robustness, SignedZeroAndDenormalCommandsPassThrough) {
+  send(torque_, 1.0);
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 1.0; }, 2.0));
+  send(torque_, -0.0);
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 0.0; }, 2.0));
   const double denormal = std::numeric_limits<double>::denorm_min();
-  send(torque, denormal);
-  ASSERT_TRUE(test::waitFor([&] { return state.last().applied_torque == denormal; }, 2.0));
-  for (const auto& m : state.messages()) EXPECT_TRUE(allFinite(m));
+  send(torque_, denormal);
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == denormal; }, 2.0));
+  for (const auto& m : state_.messages()) EXPECT_TRUE(allFinite(m));
 }
 
 // Three publishers at 1 kHz each with different values: every applied torque is one of them,
 // and the node keeps publishing at its rate.
-TEST(Robustness, SeveralPublishersAtOnce) {
+TEST_F(Robustness, SeveralPublishersAtOnce) {
   ros::NodeHandle nh;
   Recorder<MechanismState> state(nh, "mechanism_state");
   std::vector<ros::Publisher> pubs;
@@ -89,7 +87,7 @@ TEST(Robustness, SeveralPublishersAtOnce) {
 
 // A commander process streams 5 N m and is killed with SIGKILL: after command.timeout the
 // torque goes to 0.
-TEST(Robustness, TorquePublisherDiesMidCommand) {
+TEST_F(Robustness, TorquePublisherDiesMidCommand) {
   ros::NodeHandle nh;
   Recorder<MechanismState> state(nh, "mechanism_state");
   ASSERT_TRUE(state.waitForCount(1, 15.0));
@@ -111,22 +109,18 @@ TEST(Robustness, TorquePublisherDiesMidCommand) {
 
 // pause / step / unpause / reset while commands stream at 1 kHz: between consecutive states
 // q moves by at most |u| dt (plus the change of u over dt), except across the reset itself.
-TEST(Robustness, ServicesWhileCommandsStream) {
-  ros::NodeHandle nh;
-  Recorder<MechanismState> state(nh, "mechanism_state");
-  ros::Publisher torque = test::connectedPublisher<std_msgs::Float64>(nh, "torque_command");
-  ASSERT_TRUE(state.waitForCount(1, 15.0));
+TEST_F(Robustness, ServicesWhileCommandsStream) {
   ASSERT_TRUE(ros::service::waitForService("reset", ros::Duration(10)));
   std::atomic<bool> stop{false};
   std::thread streamer([&] {
     for (int i = 0; !stop; ++i) {
-      send(torque, 4.0 * std::sin(i * 0.01));
+      send(torque_, 4.0 * std::sin(i * 0.01));
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
   });
   std_srvs::Empty empty;
   std_srvs::Trigger step;
-  state.clear();
+  state_.clear();
   for (int round = 0; round < 3; ++round) {
     test::sleepWall(0.2);
     ASSERT_TRUE(ros::service::call("pause", empty));
@@ -142,7 +136,7 @@ TEST(Robustness, ServicesWhileCommandsStream) {
   }
   stop = true;
   streamer.join();
-  const auto msgs = state.messages();
+  const auto msgs = state_.messages();
   const Config c = test::defaultConfig();
   int resets = 0;
   for (size_t i = 1; i < msgs.size(); ++i) {
@@ -165,24 +159,20 @@ TEST(Robustness, ServicesWhileCommandsStream) {
 
 // At the torque limit the crank spins up and pulls slider 3 through slider 4's path: the state
 // stays finite, the crossing is counted in mechanism_state and logged exactly once.
-TEST(Robustness, DrivenHardTheSlidersCrossAndItIsReportedOnce) {
-  ros::NodeHandle nh;
-  Recorder<MechanismState> state(nh, "mechanism_state");
-  Recorder<rosgraph_msgs::Log> rosout(nh, "/rosout");  // the node's own log stream
-  ros::Publisher torque = test::connectedPublisher<std_msgs::Float64>(nh, "torque_command");
-  ASSERT_TRUE(state.waitForCount(1, 15.0));
+TEST_F(Robustness, DrivenHardTheSlidersCrossAndItIsReportedOnce) {
+  Recorder<rosgraph_msgs::Log> rosout(nh_, "/rosout");  // the node's own log stream
   ASSERT_TRUE(test::waitFor([&] { return rosout.connected(); }, 10.0));
   test::sleepWall(0.5);  // connections to every /rosout publisher, the sim's included
   std_srvs::Empty empty;
   ASSERT_TRUE(ros::service::call("reset", empty));
-  for (int i = 0; i < 300 && state.last().slider_crossings < 2; ++i) {
-    send(torque, 1e9);  // clamped to the limit
+  for (int i = 0; i < 300 && state_.last().slider_crossings < 2; ++i) {
+    send(torque_, 1e9);  // clamped to the limit
     test::sleepWall(0.01);
   }
-  const MechanismState last = state.last();
+  const MechanismState last = state_.last();
   EXPECT_GE(last.slider_crossings, 2u);
   EXPECT_EQ(last.applied_torque, 50.0);
-  for (const auto& m : state.messages()) EXPECT_TRUE(allFinite(m));
+  for (const auto& m : state_.messages()) EXPECT_TRUE(allFinite(m));
   test::sleepWall(0.5);
   int reports = 0;
   for (const auto& log : rosout.messages())

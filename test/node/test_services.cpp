@@ -6,12 +6,14 @@
 #include <std_srvs/Empty.h>
 #include <std_srvs/Trigger.h>
 
-#include "../test_helpers.h"
 #include "kane_sim/MechanismState.h"
 #include "node_test_utils.h"
+#include "test_helpers.h"
 
 namespace kane_sim {
 namespace {
+
+class Services : public test::SimNodeTest {};
 
 using test::Recorder;
 
@@ -21,9 +23,8 @@ bool call(const std::string& name, S& srv) {
   return ros::service::call(name, srv);
 }
 
-TEST(Services, PauseFreezesSimTimeAndStepAdvancesOnePublishPeriod) {
-  ros::NodeHandle nh;
-  Recorder<MechanismState> state(nh, "mechanism_state");
+TEST_F(Services, PauseFreezesSimTimeAndStepAdvancesOnePublishPeriod) {
+  Recorder<MechanismState>& state = state_;
   ASSERT_TRUE(state.waitForCount(10, 15.0));
   std_srvs::Empty empty;
   ASSERT_TRUE(call("pause", empty));
@@ -48,11 +49,9 @@ TEST(Services, PauseFreezesSimTimeAndStepAdvancesOnePublishPeriod) {
   EXPECT_NE(step.response.message.find("not paused"), std::string::npos) << step.response.message;
 }
 
-TEST(Services, ResetRestoresTheInitialStateAndZeroesWork) {
-  ros::NodeHandle nh;
-  Recorder<MechanismState> state(nh, "mechanism_state");
-  ros::Publisher torque = test::connectedPublisher<std_msgs::Float64>(nh, "torque_command");
-  test::send(torque, 5.0);
+TEST_F(Services, ResetRestoresTheInitialStateAndZeroesWork) {
+  Recorder<MechanismState>& state = state_;
+  test::send(torque_, 5.0);
   ASSERT_TRUE(
       test::waitFor([&] { return state.count() > 0 && state.last().motor_work != 0.0; }, 5.0));
   const double before = state.last().sim_time;

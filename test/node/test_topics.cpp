@@ -78,7 +78,7 @@ TEST(Topics, TfFramesAgreeWithJointStates) {
     ++checked;
   }
   EXPECT_EQ(checked, 25);
-  // The seed's frame hangs from the pivot with x down: O is 2 m up, slider 3 below it.
+  // The textbook's frame hangs from the pivot with x down: O is 2 m up, slider 3 below it.
   const auto world_s3 = buffer.lookupTransform("world", "slider3", ros::Time(0));
   EXPECT_NEAR(world_s3.transform.translation.x, 0.0, 1e-9);
   EXPECT_LT(world_s3.transform.translation.z, 2.0);

@@ -1,0 +1,62 @@
+// Everything config/mechanism.yaml holds, as plain structs. The node (through rosparam), the
+// offline tools and the tests all fill it through config/load_config.h. Optional settings carry
+// their default here (the loader keeps it when the key is absent); required ones (mechanism,
+// initial_state) come only from the file.
+#ifndef KANE_SIM_CONFIG_CONFIG_H
+#define KANE_SIM_CONFIG_CONFIG_H
+
+#include <string>
+
+#include "kane_sim/model/mechanism_model.h"
+#include "kane_sim/model/mechanism_parameters.h"
+#include "kane_sim/model/state.h"
+
+namespace kane_sim {
+
+enum class IntegratorType { kRk4, kDopri5 };
+
+constexpr const char* integratorName(IntegratorType type) {
+  return type == IntegratorType::kRk4 ? "rk4" : "dopri5";
+}
+
+struct SimulationSettings {
+  double physics_rate = 1000.0;  // [Hz], one physics step is 1/physics_rate of sim time
+  IntegratorType integrator = IntegratorType::kRk4;
+  double absolute_tolerance = 1e-9;  // dopri5 only
+  double relative_tolerance = 1e-9;  // dopri5 only
+  double publish_rate = 100.0;       // [Hz] joint_states, tf, mechanism_state
+  double real_time_factor = 1.0;     // sim time per wall time; 0 = as fast as possible
+  bool publish_clock = false;        // true: the node owns /clock
+  bool start_paused = false;         // true: the node waits for `unpause` or `step`
+};
+
+struct CommandSettings {
+  double torque_limit = 50.0;  // [N m] |M_m| is clamped to this
+  double timeout = 0.5;        // [s] no command for this long -> torque 0; 0 disables
+};
+
+struct FrameSettings {
+  std::string prefix;           // prepended to every frame name
+  std::string world = "world";  // REP-105 world frame, z up
+  double pivot_height = 2.0;    // [m] height of O above the world origin
+};
+
+struct Config {
+  MechanismParameters mechanism;
+  State initial_state;  // q10, q20, u10, u20; the spring is unstretched at (q10, q20)
+  SimulationSettings simulation;
+  CommandSettings command;
+  FrameSettings frames;
+};
+
+// The model a config describes: its parameters, the spring unstretched at the initial state.
+inline MechanismModel mechanismModel(const Config& config) {
+  const State& x0 = config.initial_state;
+  return MechanismModel(
+      config.mechanism,
+      mechanismGeometry(config.mechanism.rod_half_length, x0.q1, x0.q2).sliderSeparation());
+}
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_CONFIG_CONFIG_H

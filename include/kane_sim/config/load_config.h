@@ -1,0 +1,41 @@
+// The one config loader: YAML (a file, or a node converted from rosparam) -> validated Config.
+#ifndef KANE_SIM_CONFIG_LOAD_CONFIG_H
+#define KANE_SIM_CONFIG_LOAD_CONFIG_H
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "kane_sim/config/config.h"
+
+namespace kane_sim {
+
+// A bad configuration: `key()` is the dotted path of the offending entry (e.g.
+// "mechanism.rod_mass"), what() a full sentence naming the key and the value.
+class ConfigError : public std::runtime_error {
+ public:
+  ConfigError(const std::string& key, const std::string& problem);
+  const std::string& key() const { return key_; }
+
+ private:
+  std::string key_;
+};
+
+struct LoadedConfig {
+  Config config;
+  std::vector<std::string> warnings;  // unknown keys, one sentence each
+};
+
+// Throws ConfigError on a missing required key, a wrong type or an out-of-range value.
+LoadedConfig loadConfig(const YAML::Node& root);
+// As loadConfig, and a ConfigError (key "file") when the file cannot be read or parsed.
+LoadedConfig loadConfigFile(const std::string& path);
+
+// "rk4" -> kRk4, ...; throws ConfigError(key, ...) listing the valid names otherwise.
+IntegratorType parseIntegratorName(const std::string& name, const std::string& key);
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_CONFIG_LOAD_CONFIG_H

@@ -1,0 +1,116 @@
+// The textbook example's mechanism ("Kane equations - Example 1") written on the generic Kane
+// method of kane/kane_method.h.
+//
+// Frame (0): origin O at the crank pivot, i vertical pointing down (gravity is +g i), j
+// horizontal, k = i x j. Bodies in the textbook's numbering: 1 = rod OA, 2 = rod AB (both 2L
+// long, mass m, rigid bodies), 3 = slider at B (M1), 4 = slider at C (M2) (both particles on the
+// i axis). A massless spring k joins 3 and 4; it is unstretched when the sliders are
+// `spring_rest_length` apart (the initial configuration (q10, q20) in the config).
+#ifndef KANE_SIM_MODEL_MECHANISM_MODEL_H
+#define KANE_SIM_MODEL_MECHANISM_MODEL_H
+
+#include <array>
+
+#include <Eigen/Core>
+
+#include "kane_sim/kane/kane_method.h"
+#include "kane_sim/model/joint_values.h"
+#include "kane_sim/model/mechanism_parameters.h"
+#include "kane_sim/model/state.h"
+
+namespace kane_sim {
+
+enum Body { kRod1 = 0, kRod2 = 1, kSlider3 = 2, kSlider4 = 3, kNumBodies = 4 };
+
+// Where everything is for given (q1, q2), in frame (0): the one source of positions for the
+// dynamics, the energy, tf and markers.
+struct MechanismGeometry {
+  double rod_length = 0.0;                                // 2L [m]
+  Eigen::Vector3d pivot_o = Eigen::Vector3d::Zero();      // O, the crank's ground pivot
+  Eigen::Vector3d pin_a = Eigen::Vector3d::Zero();        // A = 2L (cos q1, sin q1)
+  Eigen::Vector3d pin_b = Eigen::Vector3d::Zero();        // B = (4L cos q1, 0): slider 3
+  Eigen::Vector3d point_c = Eigen::Vector3d::Zero();      // C = (q2, 0): slider 4
+  Eigen::Vector3d rod1_center = Eigen::Vector3d::Zero();  // C1
+  Eigen::Vector3d rod2_center = Eigen::Vector3d::Zero();  // C2
+  double rod1_angle = 0.0;  // angle of rod 1 (O -> A) about k, from i:  q1
+  double rod2_angle = 0.0;  // angle of rod 2 (A -> B) about k, from i: -q1
+
+  // x_C - x_B [m]: > 0 while slider 4 is below slider 3.
+  double sliderSeparation() const { return point_c.x() - pin_b.x(); }
+};
+
+MechanismGeometry mechanismGeometry(double rod_half_length, double q1, double q2);
+
+// The four bodies at one instant (kinematics, eqs 1-4).
+struct MechanismKinematics {
+  MechanismGeometry geometry;
+  kane::RigidBody<kNumSpeeds> rod1;    // body 1, OA: ω10 = u1 k
+  kane::RigidBody<kNumSpeeds> rod2;    // body 2, AB: ω20 = -u1 k
+  kane::Particle<kNumSpeeds> slider3;  // body 3 at B: v_B = -4 L u1 sin q1 i
+  kane::Particle<kNumSpeeds> slider4;  // body 4 at C: v_C = u2 i
+};
+
+// The applied loads at one instant: eq (14), eq (15) and the driver moment, each with the
+// partial (angular) velocities of the point (frame) it acts on.
+struct MechanismLoads {
+  std::array<kane::ForceAtPoint<kNumSpeeds>, kNumBodies> gravity;  // G1 at C1 ... G4 at C
+  kane::ForceAtPoint<kNumSpeeds> spring_on_slider3;                // F_eB at B
+  kane::ForceAtPoint<kNumSpeeds> spring_on_slider4;                // F_eC = -F_eB at C
+  kane::TorqueOnFrame<kNumSpeeds> motor;                           // M_m k on rod 1
+};
+
+struct EnergyTerms {
+  double kinetic = 0.0;        // T  [J]
+  double gravitational = 0.0;  // V_g = -Σ M g (r · i)  [J], zero at the level of O
+  double spring = 0.0;         // V_s = ½ k e²  [J]
+  double total() const { return kinetic + gravitational + spring; }
+};
+
+class MechanismModel {
+ public:
+  using Equations = kane::KaneEquations<kNumSpeeds>;
+
+  // spring_rest_length: x_C - x_B [m] at which the spring is unstretched.
+  MechanismModel(const MechanismParameters& parameters, double spring_rest_length);
+
+  MechanismGeometry geometry(double q1, double q2) const {
+    return mechanismGeometry(parameters_.rod_half_length, q1, q2);
+  }
+  MechanismKinematics kinematics(const State& x) const;
+  MechanismLoads loads(const MechanismKinematics& k, double motor_torque) const;
+
+  // F*_r (as mass matrix and remainder) and F_r, eqs (12) and (16), term by term.
+  static Equations equations(const MechanismKinematics& k, const MechanismLoads& loads,
+                             const State& x);
+  Equations equations(const State& x, double motor_torque) const;
+
+  // u' from F*_r + F_r = 0, eq (18).
+  SpeedVector accelerations(const State& x, double motor_torque) const {
+    return equations(x, motor_torque).solveAccelerations();
+  }
+  // The first-order system the integrators step: q' = u (eq 1) and u' (eq 18).
+  OdeState stateDerivative(const State& x, double motor_torque) const;
+
+  // e = (x_B - x_C) - (x_B0 - x_C0) [m], eq (15): F_eB = -k e i, F_eC = +k e i. Positive when
+  // the spring is shorter than its rest length (compressed).
+  double springElongation(const MechanismGeometry& g) const {
+    return spring_rest_length_ - g.sliderSeparation();
+  }
+
+  EnergyTerms energy(const MechanismKinematics& k, const State& x) const;
+  EnergyTerms energy(const State& x) const { return energy(kinematics(x), x); }
+
+  // The mechanism as the four joints of joint_states.
+  static JointValues jointValues(const MechanismKinematics& k, const State& x, double motor_torque);
+
+  const MechanismParameters& parameters() const { return parameters_; }
+  double springRestLength() const { return spring_rest_length_; }
+
+ private:
+  MechanismParameters parameters_;
+  double spring_rest_length_;  // x_C0 - x_B0 [m]
+};
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_MODEL_MECHANISM_MODEL_H

@@ -1,0 +1,32 @@
+// Writes what the node would publish into a bag, with no master running: the offline tool's
+// way to make bags that replay in rviz like recorded ones.
+#ifndef KANE_SIM_ROS_BAG_WRITER_H
+#define KANE_SIM_ROS_BAG_WRITER_H
+
+#include <string>
+
+#include <rosbag/bag.h>
+
+#include "kane_sim/ros/messages.h"
+
+namespace kane_sim {
+
+class BagWriter {
+ public:
+  // Opens `path` for writing; throws rosbag::BagException when it cannot.
+  explicit BagWriter(const std::string& path);
+  ~BagWriter();
+
+  // /tf_static (latched, like tf2_ros' static broadcaster) with world -> mechanism.
+  void writeStatic(const geometry_msgs::TransformStamped& world_to_mechanism);
+  // /clock, /joint_states, /tf, /mechanism_state, /visualization_markers at `stamp`.
+  void write(const PublishedMessages& messages, const ros::Time& stamp);
+  void close();
+
+ private:
+  rosbag::Bag bag_;
+};
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_ROS_BAG_WRITER_H

@@ -1,0 +1,18 @@
+// The CSV layout of `simulate`: one header, one row per snapshot, full double precision.
+#ifndef KANE_SIM_SIM_CSV_FORMAT_H
+#define KANE_SIM_SIM_CSV_FORMAT_H
+
+#include <ostream>
+
+#include "kane_sim/sim/snapshot.h"
+
+namespace kane_sim {
+
+// t,q1,q2,u1,u2,energy, then u1dot,u2dot,torque,motor_work,kinetic,gravitational,spring,
+// energy_minus_work,F1,F2,spring_elongation,motor_power.
+void writeCsvHeader(std::ostream& out);
+void writeCsvRow(std::ostream& out, const Snapshot& snapshot);
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_SIM_CSV_FORMAT_H

@@ -1,0 +1,68 @@
+// The one simulation driver: the Simulator plus the command handling, stepped the same way by
+// the node, by `simulate` and by the tests. It reports what a user must hear about as events;
+// the node logs them with rosconsole, `simulate` prints them on stderr.
+#ifndef KANE_SIM_SIM_SIM_DRIVER_H
+#define KANE_SIM_SIM_SIM_DRIVER_H
+
+#include <functional>
+#include <string>
+
+#include "kane_sim/config/config.h"
+#include "kane_sim/sim/simulator.h"
+#include "kane_sim/sim/snapshot.h"
+#include "kane_sim/sim/torque_command.h"
+
+namespace kane_sim {
+
+struct SimEvent {
+  enum class Kind {
+    kCommandRejected,      // a non-finite torque command was ignored (every time)
+    kCommandClamped,       // a torque command beyond command.torque_limit (every time)
+    kCommandTimedOut,      // no command for command.timeout: 0 N m from now on (once per lapse)
+    kFirstSliderCrossing,  // slider 4 passed through slider 3 (once per start or reset)
+    kStepTooCoarse,        // rk4 no longer resolves the crank's motion (once per start or reset)
+    kStepRefused,          // the step would have gone non-finite; state kept (every time)
+  };
+  Kind kind;
+  double time;          // [s] sim time
+  std::string message;  // a full sentence naming the values and, where there is one, the fix
+};
+
+class SimDriver {
+ public:
+  using EventHandler = std::function<void(const SimEvent&)>;
+
+  // on_event is called synchronously from command() and step(); it may be empty.
+  SimDriver(const Config& config, EventHandler on_event);
+
+  // A torque command [N m] arriving at the current sim time: in force from this instant on,
+  // i.e. held over the next step.
+  TorqueCommand::Verdict command(double torque);
+
+  // One physics step with the command in force (0 N m after a timeout). False when the step
+  // was refused: the last good state is kept. Afterwards the torque in force is that of the
+  // new instant (the command may have timed out).
+  bool step();
+
+  // Initial state, motor work 0, command forgotten; sim time runs on.
+  void reset();
+
+  Snapshot snapshot() const;  // the physics of this instant and the command status
+
+  const Simulator& simulator() const { return sim_; }
+  double time() const { return sim_.time(); }
+  std::uint64_t ticks() const { return sim_.ticks(); }
+
+ private:
+  void applyCommand();  // the command handling's torque at the current time -> the simulator
+  void report(SimEvent::Kind kind, std::string message) const;
+
+  Config config_;
+  Simulator sim_;
+  TorqueCommand command_;
+  EventHandler on_event_;
+};
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_SIM_SIM_DRIVER_H

@@ -1,0 +1,83 @@
+// Fixed-rate time stepping of the mechanism with Boost.Odeint.
+//
+// One physics step advances sim time by exactly 1/physics_rate. The driver moment M_m is held
+// constant over a step (zero-order hold), which also makes the accumulated motor work exact:
+// W = Σ M_m Δq1.
+#ifndef KANE_SIM_SIM_SIMULATOR_H
+#define KANE_SIM_SIM_SIMULATOR_H
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "kane_sim/config/config.h"
+#include "kane_sim/model/mechanism_model.h"
+#include "kane_sim/model/state.h"
+#include "kane_sim/sim/snapshot.h"
+
+namespace kane_sim {
+
+// The outcome of a call that may refuse its input; `error` says why (nothing changed then).
+struct Status {
+  bool ok = true;
+  std::string error;
+};
+
+class Simulator {
+ public:
+  explicit Simulator(const Config& config);
+  ~Simulator();
+  Simulator(const Simulator&) = delete;
+  Simulator& operator=(const Simulator&) = delete;
+
+  // M_m [N m], held from the next step on until changed. Non-finite values are refused.
+  Status setTorque(double torque);
+  double torque() const { return torque_; }
+
+  // Advances one physics step. A step that would leave a non-finite state (or that the
+  // error-controlled integrator cannot complete) is refused and the last good state kept.
+  Status step();
+
+  // Back to the initial state with motor work 0 and torque 0. Sim time keeps running (it never
+  // goes backwards, so tf listeners and bags downstream see a monotonic clock).
+  void reset();
+
+  const State& state() const { return state_; }
+  double time() const { return static_cast<double>(ticks_) * step_size_; }
+  std::uint64_t ticks() const { return ticks_; }
+  double stepSize() const { return step_size_; }
+  double motorWork() const { return motor_work_; }
+  std::uint64_t sliderCrossings() const { return slider_crossings_; }
+  // rk4 resolves the motion only while the crank turns well under a tenth of a radian per step
+  // (its error grows as (u1 h)^4); past that, energy is no longer conserved. True once the
+  // crank has exceeded kMaxCrankAnglePerStep since start or reset; dopri5 refines by itself.
+  static constexpr double kMaxCrankAnglePerStep = 0.05;  // [rad]
+  bool stepTooCoarse() const { return step_too_coarse_; }
+  const MechanismModel& model() const { return model_; }
+
+  // The physics of this instant (command fields left at their defaults: see SimDriver).
+  Snapshot snapshot() const;
+
+ private:
+  class Integrator;
+
+  MechanismModel model_;
+  IntegratorType integrator_type_;
+  State initial_state_;
+  State state_;
+  double step_size_;  // [s] 1 / physics_rate
+  std::uint64_t ticks_ = 0;
+  double torque_ = 0.0;
+  double motor_work_ = 0.0;
+  std::uint64_t slider_crossings_ = 0;
+  bool step_too_coarse_ = false;
+  // dopri5 may start the next step from the derivative it ended the last one with ("first same
+  // as last") only while the state is where it left it and the torque is unchanged.
+  bool last_derivative_valid_ = false;
+  std::unique_ptr<Integrator> integrator_;
+  double slider_separation_;  // x_C - x_B at the current state
+};
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_SIM_SIMULATOR_H

@@ -1,0 +1,44 @@
+// Everything one publish (or one CSV row) needs about one instant, computed once in the core:
+// the ROS layer, the CSV writer and the bag writer only translate it.
+#ifndef KANE_SIM_SIM_SNAPSHOT_H
+#define KANE_SIM_SIM_SNAPSHOT_H
+
+#include <cstdint>
+#include <limits>
+
+#include "kane_sim/model/joint_values.h"
+#include "kane_sim/model/mechanism_model.h"
+#include "kane_sim/model/state.h"
+
+namespace kane_sim {
+
+// What the command handling holds at this instant.
+struct CommandStatus {
+  double commanded = 0.0;  // [N m] last accepted torque_command, before clamping
+  double torque_limit = std::numeric_limits<double>::infinity();  // [N m] command.torque_limit
+  bool timed_out = false;  // no command for command.timeout: 0 N m applied
+};
+
+struct Snapshot {
+  double time = 0.0;  // [s] sim time
+  State state;
+  SpeedVector u_dot = SpeedVector::Zero();  // u1' [rad/s^2], u2' [m/s^2]
+  double torque = 0.0;                      // M_m [N m] applied from this instant on
+  CommandStatus command;
+  SpeedVector active_forces = SpeedVector::Zero();   // F_r: F_1 [N m], F_2 [N]
+  SpeedVector inertia_forces = SpeedVector::Zero();  // F*_r at u': F*_1 [N m], F*_2 [N]
+  EnergyTerms energy;
+  double motor_work = 0.0;         // ∫ M_m u1 dt since start or reset [J]
+  double motor_power = 0.0;        // M_m u1 [W]
+  double spring_elongation = 0.0;  // e [m], eq (15); positive = compressed
+  // x_C - x_B [m]: slider 4 below slider 3 when > 0. The textbook example models no contact
+  // between the sliders, so a hard-driven crank can pull one through the other.
+  double slider_separation = 0.0;
+  std::uint64_t slider_crossings = 0;  // sign changes of slider_separation since start or reset
+  MechanismGeometry geometry;          // positions of O, A, B, C, C1, C2; rod angles
+  JointValues joints;                  // crank, coupler, slider3, slider4
+};
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_SIM_SNAPSHOT_H

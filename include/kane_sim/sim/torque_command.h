@@ -1,0 +1,41 @@
+// What the node does with torque commands, kept free of ROS so it can be unit-tested:
+// non-finite values are rejected, out-of-range ones clamped, and a silent commander times out.
+#ifndef KANE_SIM_SIM_TORQUE_COMMAND_H
+#define KANE_SIM_SIM_TORQUE_COMMAND_H
+
+#include <string>
+
+#include "kane_sim/config/config.h"
+
+namespace kane_sim {
+
+class TorqueCommand {
+ public:
+  enum class Verdict { kAccepted, kClamped, kRejected };
+
+  explicit TorqueCommand(const CommandSettings& settings) : settings_(settings) {}
+
+  // A new command at sim time `now` [s]. `message` explains a clamp or a rejection.
+  Verdict receive(double torque, double now, std::string* message);
+
+  // The torque to apply from sim time `now`: the clamped command, or 0 after a timeout.
+  // `timed_out_now` is set true only on the call at which the timeout first takes effect.
+  double applied(double now, bool* timed_out_now);
+
+  double commanded() const { return commanded_; }  // last accepted value, before clamping
+  double torqueLimit() const { return settings_.torque_limit; }
+  bool timedOut() const { return timed_out_; }
+  void reset();  // back to no command, torque 0
+
+ private:
+  CommandSettings settings_;
+  double commanded_ = 0.0;
+  double clamped_ = 0.0;
+  double last_command_time_ = 0.0;
+  bool have_command_ = false;
+  bool timed_out_ = false;
+};
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_SIM_TORQUE_COMMAND_H

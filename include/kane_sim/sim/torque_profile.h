@@ -1,0 +1,37 @@
+// Torque as a function of sim time for the offline tool: constant, step, sine, or a table of
+// (t, torque) pairs held from each time on (zero-order hold, like a stream of commands).
+#ifndef KANE_SIM_SIM_TORQUE_PROFILE_H
+#define KANE_SIM_SIM_TORQUE_PROFILE_H
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace kane_sim {
+
+class TorqueProfile {
+ public:
+  static TorqueProfile constant(double torque);
+  static TorqueProfile step(double time, double before, double after);
+  static TorqueProfile sine(double amplitude, double frequency, double offset);
+  // Times must be finite and non-decreasing, torques finite; before the first time: 0.
+  static TorqueProfile table(std::vector<std::pair<double, double>> points);
+  // A CSV of `t,torque` lines (an optional header line, # comments); throws
+  // std::invalid_argument naming the file, the line and the bad value.
+  static TorqueProfile fromCsvFile(const std::string& path);
+
+  double at(double t) const;  // [N m]
+  std::string describe() const;
+
+ private:
+  enum class Kind { kConstant, kStep, kSine, kTable };
+  Kind kind_ = Kind::kConstant;
+  double a_ = 0.0, b_ = 0.0,
+         c_ = 0.0;  // constant: a; step: a=time b=before c=after; sine: a,f,offset
+  std::vector<std::pair<double, double>> points_;
+};
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_SIM_TORQUE_PROFILE_H

@@ -1,0 +1,315 @@
+#include "kane_sim_node.h"
+
+#include <sys/prctl.h>
+
+#include <cmath>
+#include <sstream>
+#include <thread>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <ros/callback_queue.h>
+#include <ros/master.h>
+#include <rosgraph_msgs/Clock.h>
+#include <sensor_msgs/JointState.h>
+
+#include "kane_sim/MechanismState.h"
+#include "kane_sim/config/load_config.h"
+#include "kane_sim/ros/messages.h"
+#include "kane_sim/ros/param_yaml.h"
+
+namespace kane_sim {
+namespace {
+
+// Behind schedule by more than this, the loop stops bursting to catch up and re-anchors.
+constexpr double kMaxCatchUp = 0.1;         // [s]
+constexpr double kDiagnosticsPeriod = 1.0;  // [s] wall
+constexpr double kPausedPoll = 0.002;       // [s] wall, callback wait while paused
+
+double wallSeconds(std::chrono::steady_clock::duration d) {
+  return std::chrono::duration<double>(d).count();
+}
+
+}  // namespace
+
+Config KaneSimNode::loadParameters(const ros::NodeHandle& private_nh) {
+  XmlRpc::XmlRpcValue params;
+  if (!ros::param::get(private_nh.getNamespace(), params) ||
+      params.getType() != XmlRpc::XmlRpcValue::TypeStruct)
+    throw ConfigError(private_nh.getNamespace(),
+                      "has no parameters: load config/mechanism.yaml into the node's private "
+                      "namespace (launch/sim.launch does)");
+  LoadedConfig loaded = loadConfig(yamlFromXmlRpc(params));
+  for (const std::string& warning : loaded.warnings)
+    ROS_WARN("%s (in %s)", warning.c_str(), private_nh.getNamespace().c_str());
+  return loaded.config;
+}
+
+KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh)
+    : nh_(nh),
+      config_(loadParameters(private_nh)),
+      frames_(config_.frames),
+      driver_(config_, [this](const SimEvent& event) { logEvent(event); }),
+      scheduler_(config_.simulation.real_time_factor > 0
+                     ? 1.0 / (config_.simulation.physics_rate * config_.simulation.real_time_factor)
+                     : 0.0,
+                 kMaxCatchUp),
+      ticks_per_publish_(static_cast<std::uint64_t>(
+          std::lround(config_.simulation.physics_rate / config_.simulation.publish_rate))),
+      paused_(config_.simulation.start_paused) {
+  connect();
+
+  const SimulationSettings& s = config_.simulation;
+  ROS_INFO("kane_sim: %s at %g Hz, publishing every %lu steps (%g Hz), real_time_factor %g%s%s",
+           integratorName(s.integrator), s.physics_rate,
+           static_cast<unsigned long>(ticks_per_publish_), s.publish_rate, s.real_time_factor,
+           s.publish_clock ? ", publishing /clock" : "", paused_ ? ", paused" : "");
+}
+
+void KaneSimNode::connect() {
+  torque_sub_ = nh_.subscribe("torque_command", 10, &KaneSimNode::onTorqueCommand, this,
+                              ros::TransportHints().tcpNoDelay());
+  joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
+  mechanism_state_pub_ = nh_.advertise<kane_sim::MechanismState>("mechanism_state", 10);
+  marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("visualization_markers", 10);
+  diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  if (config_.simulation.publish_clock)
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  services_ = {nh_.advertiseService("reset", &KaneSimNode::onReset, this),
+               nh_.advertiseService("pause", &KaneSimNode::onPause, this),
+               nh_.advertiseService("unpause", &KaneSimNode::onUnpause, this),
+               nh_.advertiseService("step", &KaneSimNode::onStep, this)};
+  tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+  static_tf_broadcaster_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
+}
+
+void KaneSimNode::reconnect() {
+  // roscpp registers topics and services once; a new master knows nothing of them. Drop them
+  // (unregistering from a dead master fails quietly) and register everything again.
+  torque_sub_.shutdown();
+  for (ros::Publisher* pub :
+       {&joint_state_pub_, &mechanism_state_pub_, &marker_pub_, &diagnostics_pub_, &clock_pub_})
+    pub->shutdown();
+  for (ros::ServiceServer& service : services_) service.shutdown();
+  tf_broadcaster_.reset();
+  static_tf_broadcaster_.reset();
+  connect();
+  static_tf_broadcaster_->sendTransform(worldToMechanism(frames_, config_.frames, stamp()));
+  ROS_WARN(
+      "kane_sim: the ROS master restarted; topics and services registered again "
+      "(sim time %.3f s, state kept)",
+      driver_.time());
+}
+
+void KaneSimNode::watchMaster() {
+  // Runs beside the loop: an XML-RPC call per second must not delay a physics tick.
+  int last_pid = -1;
+  while (ros::ok()) {
+    XmlRpc::XmlRpcValue args, result, payload;
+    args[0] = ros::this_node::getName();
+    if (ros::master::execute("getPid", args, result, payload, false)) {
+      const int pid = payload;
+      if (last_pid != -1 && pid != last_pid) master_restarted_ = true;
+      last_pid = pid;
+    }
+    for (int i = 0; i < 10 && ros::ok(); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
+void KaneSimNode::run() {
+  std::thread master_watch(&KaneSimNode::watchMaster, this);
+  // Linux lets a sleeping thread wake up to 50 µs late by default ("timer slack") to batch
+  // wake-ups; a 1 kHz loop wants its deadlines kept to the microsecond.
+  prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+  static_tf_broadcaster_->sendTransform(worldToMechanism(frames_, config_.frames, stamp()));
+  publishState();
+  const auto now = SteadyClock::now();
+  scheduler_.anchor(now);
+  window_start_wall_ = last_publish_wall_ = now;
+  window_start_sim_ = last_publish_sim_ = driver_.time();
+  while (ros::ok()) {
+    if (master_restarted_.exchange(false)) reconnect();
+    ros::getGlobalCallbackQueue()->callAvailable();
+    if (paused_) {
+      waitWhilePaused();
+      continue;
+    }
+    runOneTick();
+  }
+  master_watch.join();
+}
+
+void KaneSimNode::runOneTick() {
+  if (!scheduler_.freeRunning()) std::this_thread::sleep_until(scheduler_.due());
+  const TickScheduler::Timing timing = scheduler_.start(SteadyClock::now());
+  stats_.recordTick(timing.lateness, timing.overrun, timing.skipped);
+  if (timing.skipped > 0)
+    ROS_WARN_THROTTLE(5.0,
+                      "kane_sim: fell %.3f s behind the %g Hz schedule; dropped that lag, so sim "
+                      "time now runs that much behind wall time (see /diagnostics)",
+                      timing.skipped, config_.simulation.physics_rate);
+  if (driver_.step() && driver_.ticks() % ticks_per_publish_ == 0) publishState();
+  maybeReportLoopHealth();
+}
+
+void KaneSimNode::waitWhilePaused() {
+  ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(kPausedPoll));
+  // Wall-stamped topics keep flowing while paused, so viewers keep a live tf tree; in /clock
+  // mode time stands still and nothing new is published.
+  if (!config_.simulation.publish_clock &&
+      wallSeconds(SteadyClock::now() - last_publish_wall_) >= 1.0 / config_.simulation.publish_rate)
+    publishState();
+  scheduler_.anchor(SteadyClock::now());  // resume on a fresh schedule
+  maybeReportLoopHealth();
+}
+
+void KaneSimNode::logEvent(const SimEvent& event) const {
+  // One throttled call site per kind: a flood of one kind never hides another.
+  const char* text = event.message.c_str();
+  switch (event.kind) {
+    case SimEvent::Kind::kCommandRejected:
+      ROS_WARN_THROTTLE(1.0, "kane_sim: %s", text);
+      break;
+    case SimEvent::Kind::kCommandClamped:
+      ROS_WARN_THROTTLE(1.0, "kane_sim: %s", text);
+      break;
+    case SimEvent::Kind::kStepRefused:
+      ROS_ERROR_THROTTLE(1.0, "kane_sim: %s", text);
+      break;
+    case SimEvent::Kind::kCommandTimedOut:
+    case SimEvent::Kind::kFirstSliderCrossing:
+    case SimEvent::Kind::kStepTooCoarse:
+      ROS_WARN("kane_sim: %s", text);
+      break;
+  }
+}
+
+ros::Time KaneSimNode::stamp() const {
+  return config_.simulation.publish_clock ? simStamp(driver_.time()) : ros::Time::now();
+}
+
+void KaneSimNode::publishState() {
+  const ros::Time now = stamp();
+  const auto wall_now = SteadyClock::now();
+  const double wall_elapsed = wallSeconds(wall_now - last_publish_wall_);
+  if (wall_elapsed > 0)
+    achieved_real_time_factor_ = (driver_.time() - last_publish_sim_) / wall_elapsed;
+  last_publish_wall_ = wall_now;
+  last_publish_sim_ = driver_.time();
+
+  if (config_.simulation.publish_clock) {
+    rosgraph_msgs::Clock clock;
+    clock.clock = now;
+    clock_pub_.publish(clock);
+  }
+  const PublishedMessages msgs =
+      buildMessages(driver_.snapshot(), frames_, achieved_real_time_factor_, now);
+  joint_state_pub_.publish(msgs.joint_state);
+  mechanism_state_pub_.publish(msgs.mechanism_state);
+  marker_pub_.publish(msgs.markers);
+  if (now > last_tf_stamp_) {
+    tf_broadcaster_->sendTransform(msgs.tf.transforms);
+    last_tf_stamp_ = now;
+  }
+}
+
+void KaneSimNode::maybeReportLoopHealth() {
+  const auto now = SteadyClock::now();
+  const double wall = wallSeconds(now - window_start_wall_);
+  if (wall < kDiagnosticsPeriod) return;
+  publishDiagnostics(stats_.takeSummary(wall, driver_.time() - window_start_sim_), wall);
+  window_start_wall_ = now;
+  window_start_sim_ = driver_.time();
+}
+
+void KaneSimNode::publishDiagnostics(const LoopStats::Summary& s, double wall_window) {
+  const SimulationSettings& cfg = config_.simulation;
+  diagnostic_msgs::DiagnosticStatus status;
+  status.name = "kane_sim: physics loop (" + ros::this_node::getName() + ")";
+  status.hardware_id = "kane_sim" + ros::this_node::getNamespace();
+  const bool on_time = s.overruns <= s.ticks / 1000 && s.skipped == 0.0;
+  status.level = (paused_ || on_time) ? diagnostic_msgs::DiagnosticStatus::OK
+                                      : diagnostic_msgs::DiagnosticStatus::WARN;
+  std::ostringstream msg;
+  if (paused_)
+    msg << "paused";
+  else if (on_time)
+    msg << "on schedule";
+  else
+    msg << s.overruns << " of " << s.ticks << " ticks overran, " << s.skipped << " s lag dropped";
+  status.message = msg.str();
+  auto add = [&status](const std::string& key, double value) {
+    diagnostic_msgs::KeyValue kv;
+    kv.key = key;
+    std::ostringstream v;
+    v << value;
+    kv.value = v.str();
+    status.values.push_back(kv);
+  };
+  add("physics rate achieved [Hz]", s.physics_rate);
+  add("physics rate target [Hz]", paused_ ? 0.0 : cfg.physics_rate * cfg.real_time_factor);
+  add("real-time factor achieved", s.real_time_factor);
+  add("real-time factor target", cfg.real_time_factor);
+  add("tick lateness p50 [us]", s.lateness_p50 * 1e6);
+  add("tick lateness p99 [us]", s.lateness_p99 * 1e6);
+  add("tick lateness max [us]", s.lateness_max * 1e6);
+  add("overruns", static_cast<double>(s.overruns));
+  add("ticks", static_cast<double>(s.ticks));
+  add("lag dropped [s]", s.skipped);
+  add("sim time [s]", driver_.time());
+  add("torque commands received [1/s]", wall_window > 0 ? commands_in_window_ / wall_window : 0.0);
+  add("torque commands rejected or clamped", static_cast<double>(commands_refused_in_window_));
+  commands_in_window_ = 0;
+  commands_refused_in_window_ = 0;
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = stamp();
+  array.status.push_back(status);
+  diagnostics_pub_.publish(array);
+}
+
+void KaneSimNode::onTorqueCommand(const std_msgs::Float64::ConstPtr& msg) {
+  ++commands_in_window_;
+  if (driver_.command(msg->data) != TorqueCommand::Verdict::kAccepted)
+    ++commands_refused_in_window_;
+}
+
+bool KaneSimNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  driver_.reset();
+  ROS_INFO("kane_sim: reset to the initial state (sim time runs on at %.3f s)", driver_.time());
+  publishState();
+  return true;
+}
+
+bool KaneSimNode::onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  paused_ = true;
+  return true;
+}
+
+bool KaneSimNode::onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  paused_ = false;
+  scheduler_.anchor(SteadyClock::now());
+  return true;
+}
+
+bool KaneSimNode::onStep(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  if (!paused_) {
+    res.success = false;
+    res.message = "not paused: call pause first (step advances a paused simulation)";
+    return true;
+  }
+  for (std::uint64_t i = 0; i < ticks_per_publish_; ++i) {
+    if (!driver_.step()) {
+      res.success = false;
+      res.message = "a physics step was refused; see the log";
+      return true;
+    }
+  }
+  publishState();
+  std::ostringstream msg;
+  msg << "advanced " << ticks_per_publish_ << " physics steps to t = " << driver_.time() << " s";
+  res.success = true;
+  res.message = msg.str();
+  return true;
+}
+
+}  // namespace kane_sim

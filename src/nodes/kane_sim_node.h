@@ -1,0 +1,92 @@
+// The virtual robot: a thin ROS layer over the ROS-free SimDriver. It paces ticks, turns ROS
+// input into driver calls and driver snapshots and events into messages and log lines.
+//
+// One thread runs the loop: callbacks (torque commands, services) are served between physics
+// ticks, so the driver is never touched concurrently and a command is applied from the next
+// physics step on.
+#ifndef KANE_SIM_NODES_KANE_SIM_NODE_H
+#define KANE_SIM_NODES_KANE_SIM_NODE_H
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include <ros/ros.h>
+#include <std_msgs/Float64.h>
+#include <std_srvs/Empty.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include "kane_sim/config/config.h"
+#include "kane_sim/ros/frame_names.h"
+#include "kane_sim/sim/loop_stats.h"
+#include "kane_sim/sim/sim_driver.h"
+#include "kane_sim/sim/tick_scheduler.h"
+
+namespace kane_sim {
+
+class KaneSimNode {
+ public:
+  // Reads and validates the private parameters; throws ConfigError naming a bad one.
+  KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh);
+
+  // Runs until ROS shuts down (SIGINT, SIGTERM, rosnode kill).
+  void run();
+
+ private:
+  using SteadyClock = std::chrono::steady_clock;
+
+  static Config loadParameters(const ros::NodeHandle& private_nh);
+
+  void onTorqueCommand(const std_msgs::Float64::ConstPtr& msg);
+  bool onReset(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
+  bool onPause(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
+  bool onUnpause(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
+  bool onStep(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+
+  void connect();          // advertise, subscribe, offer the services
+  void reconnect();        // the same again after the master restarted
+  void watchMaster();      // background thread: notices a restarted master
+  void runOneTick();       // paced physics tick (+ publishing on the publish grid)
+  void waitWhilePaused();  // serve callbacks, keep wall-clock topics alive
+  void logEvent(const SimEvent& event) const;  // the driver's events -> rosconsole
+  void publishState();                         // joint_states, tf, mechanism_state (+ /clock)
+  void publishDiagnostics(const LoopStats::Summary& summary, double wall_window);
+  void maybeReportLoopHealth();
+  ros::Time stamp() const;  // sim time on the epoch in /clock mode, else wall ROS time
+
+  ros::NodeHandle nh_;
+  Config config_;
+  FrameNames frames_;
+  SimDriver driver_;
+  TickScheduler scheduler_;
+  LoopStats stats_;
+  std::uint64_t ticks_per_publish_;
+  bool paused_;
+
+  ros::Subscriber torque_sub_;
+  ros::Publisher joint_state_pub_;
+  ros::Publisher mechanism_state_pub_;
+  ros::Publisher marker_pub_;
+  ros::Publisher clock_pub_;
+  ros::Publisher diagnostics_pub_;
+  std::vector<ros::ServiceServer> services_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
+  std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_broadcaster_;
+  std::atomic<bool> master_restarted_{false};  // set by watchMaster(), handled by the loop
+
+  ros::Time last_tf_stamp_;  // never two transforms of one frame with one stamp
+  SteadyClock::time_point last_publish_wall_;
+  double last_publish_sim_ = 0.0;
+  double achieved_real_time_factor_ = 0.0;
+  SteadyClock::time_point window_start_wall_;
+  double window_start_sim_ = 0.0;
+  std::uint64_t commands_in_window_ = 0;
+  std::uint64_t commands_refused_in_window_ = 0;
+};
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_NODES_KANE_SIM_NODE_H

@@ -1,0 +1,43 @@
+#include "kane_sim/sim/csv_format.h"
+
+#include <cstdio>
+
+namespace kane_sim {
+
+void writeCsvHeader(std::ostream& out) {
+  out << "t,q1,q2,u1,u2,energy,u1dot,u2dot,torque,motor_work,kinetic,gravitational,spring,"
+         "energy_minus_work,F1,F2,spring_elongation,motor_power\n";
+}
+
+void writeCsvRow(std::ostream& out, const Snapshot& s) {
+  const double values[] = {s.time,
+                           s.state.q1,
+                           s.state.q2,
+                           s.state.u1,
+                           s.state.u2,
+                           s.energy.total(),
+                           s.u_dot[0],
+                           s.u_dot[1],
+                           s.torque,
+                           s.motor_work,
+                           s.energy.kinetic,
+                           s.energy.gravitational,
+                           s.energy.spring,
+                           s.energy.total() - s.motor_work,
+                           s.active_forces[0],
+                           s.active_forces[1],
+                           s.spring_elongation,
+                           s.motor_power};
+  // %.17g round-trips every double exactly.
+  char buffer[32];
+  bool first = true;
+  for (double v : values) {
+    std::snprintf(buffer, sizeof(buffer), "%.17g", v);
+    if (!first) out << ',';
+    out << buffer;
+    first = false;
+  }
+  out << '\n';
+}
+
+}  // namespace kane_sim

@@ -1,0 +1,88 @@
+#include "kane_sim/sim/sim_driver.h"
+
+#include <cmath>
+#include <cstdio>
+#include <utility>
+
+namespace kane_sim {
+namespace {
+
+template <typename... Args>
+std::string format(const char* fmt, Args... args) {
+  char buffer[512];
+  std::snprintf(buffer, sizeof(buffer), fmt, args...);
+  return buffer;
+}
+
+}  // namespace
+
+SimDriver::SimDriver(const Config& config, EventHandler on_event)
+    : config_(config), sim_(config), command_(config.command), on_event_(std::move(on_event)) {}
+
+void SimDriver::applyCommand() {
+  bool timed_out_now = false;
+  const double torque = command_.applied(sim_.time(), &timed_out_now);
+  if (timed_out_now)
+    report(SimEvent::Kind::kCommandTimedOut,
+           format("no torque_command for %g s (command.timeout): applying 0 N m until the next "
+                  "command",
+                  config_.command.timeout));
+  sim_.setTorque(torque);  // finite and clamped by TorqueCommand
+}
+
+void SimDriver::report(SimEvent::Kind kind, std::string message) const {
+  if (on_event_) on_event_(SimEvent{kind, sim_.time(), std::move(message)});
+}
+
+TorqueCommand::Verdict SimDriver::command(double torque) {
+  std::string message;
+  const TorqueCommand::Verdict verdict = command_.receive(torque, sim_.time(), &message);
+  if (verdict == TorqueCommand::Verdict::kRejected)
+    report(SimEvent::Kind::kCommandRejected, std::move(message));
+  else if (verdict == TorqueCommand::Verdict::kClamped)
+    report(SimEvent::Kind::kCommandClamped, std::move(message));
+  applyCommand();
+  return verdict;
+}
+
+bool SimDriver::step() {
+  const std::uint64_t crossings_before = sim_.sliderCrossings();
+  const bool coarse_before = sim_.stepTooCoarse();
+  const Status result = sim_.step();
+  if (!result.ok) {
+    report(SimEvent::Kind::kStepRefused, result.error);
+    return false;
+  }
+  if (crossings_before == 0 && sim_.sliderCrossings() > 0)
+    report(SimEvent::Kind::kFirstSliderCrossing,
+           format("slider 4 passed through slider 3 at t = %.3f s: the textbook example models "
+                  "no contact between the sliders (counted in slider_crossings; reported once "
+                  "per start or reset)",
+                  sim_.time()));
+  if (!coarse_before && sim_.stepTooCoarse())
+    report(SimEvent::Kind::kStepTooCoarse,
+           format("the crank turns %.3f rad per physics step at t = %.3f s (u1 = %.1f rad/s): rk4 "
+                  "at %g Hz no longer resolves the motion and energy is not conserved; use "
+                  "simulation.integrator dopri5 or a higher simulation.physics_rate (reported "
+                  "once per start or reset)",
+                  std::abs(sim_.state().u1) * sim_.stepSize(), sim_.time(), sim_.state().u1,
+                  config_.simulation.physics_rate));
+  applyCommand();  // the timeout may lapse at the new time
+  return true;
+}
+
+void SimDriver::reset() {
+  sim_.reset();
+  command_.reset();
+  applyCommand();
+}
+
+Snapshot SimDriver::snapshot() const {
+  Snapshot snap = sim_.snapshot();
+  snap.command.commanded = command_.commanded();
+  snap.command.torque_limit = command_.torqueLimit();
+  snap.command.timed_out = command_.timedOut();
+  return snap;
+}
+
+}  // namespace kane_sim

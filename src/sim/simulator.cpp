@@ -1,0 +1,163 @@
+#include "kane_sim/sim/simulator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <boost/numeric/odeint.hpp>
+
+namespace kane_sim {
+namespace odeint = boost::numeric::odeint;
+
+namespace {
+
+// Odeint's view of the model's first-order system x' = f(x) at a held torque.
+struct EquationsOfMotion {
+  const MechanismModel* model;
+  double torque;
+
+  void operator()(const OdeState& x, OdeState& dxdt, double /*t*/) const {
+    dxdt = model->stateDerivative(fromOdeState(x), torque);
+  }
+};
+
+bool isFinite(const OdeState& x) {
+  return std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); });
+}
+
+// dopri5 gives up on a physics step after this many rejected or accepted sub-steps; reaching
+// it means the tolerances ask for more than double precision can give at this state.
+constexpr int kMaxSubstepsPerTick = 100000;
+
+}  // namespace
+
+class Simulator::Integrator {
+ public:
+  using Dopri5 = odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<OdeState>>;
+
+  explicit Integrator(const SimulationSettings& s)
+      : type_(s.integrator),
+        dopri5_(odeint::make_controlled(s.absolute_tolerance, s.relative_tolerance,
+                                        odeint::runge_kutta_dopri5<OdeState>())) {}
+
+  // Advances x from t to exactly t + dt. `reuse_last_derivative`: x is where the last
+  // successful call left it and the right-hand side (the torque) is unchanged.
+  Status advance(const EquationsOfMotion& system, OdeState& x, double t, double dt,
+                 bool reuse_last_derivative) {
+    if (type_ == IntegratorType::kRk4) {
+      rk4_.do_step(system, x, t, dt);
+      return {};
+    }
+    // dopri5 reuses the derivative at the end of its last step (first same as last); that is
+    // only valid for the same state and the same torque.
+    if (!reuse_last_derivative) dopri5_.reset();
+    const double t_end = t + dt;
+    double substep = std::min(dopri5_substep_, dt);
+    for (int n = 0; n < kMaxSubstepsPerTick; ++n) {
+      const double remaining = t_end - t;
+      if (remaining <= 1e-12 * dt) return {};
+      const bool last = substep >= remaining;
+      double h = last ? remaining : substep;
+      if (dopri5_.try_step(system, x, t, h) == odeint::success) {
+        if (!isFinite(x)) return {false, "dopri5 produced a non-finite state"};
+        // Keep the controller's suggestion for the next tick, unless this step was shortened
+        // only to land on the tick boundary.
+        if (!last) dopri5_substep_ = h;
+        if (last) return {};
+      }
+      substep = h;
+    }
+    std::ostringstream msg;
+    msg << "dopri5 needed more than " << kMaxSubstepsPerTick << " sub-steps for one physics step";
+    return {false, msg.str()};
+  }
+
+ private:
+  IntegratorType type_;
+  odeint::runge_kutta4<OdeState> rk4_;
+  Dopri5 dopri5_;
+  double dopri5_substep_ = 1e-3;
+};
+
+Simulator::Simulator(const Config& config)
+    : model_(mechanismModel(config)),
+      integrator_type_(config.simulation.integrator),
+      initial_state_(config.initial_state),
+      state_(config.initial_state),
+      step_size_(1.0 / config.simulation.physics_rate),
+      integrator_(std::make_unique<Integrator>(config.simulation)),
+      slider_separation_(model_.geometry(state_.q1, state_.q2).sliderSeparation()) {}
+
+Simulator::~Simulator() = default;
+
+Status Simulator::setTorque(double torque) {
+  if (!std::isfinite(torque)) {
+    std::ostringstream msg;
+    msg << "torque " << torque << " N m is not finite; keeping " << torque_ << " N m";
+    return {false, msg.str()};
+  }
+  if (torque != torque_) last_derivative_valid_ = false;
+  torque_ = torque;
+  return {};
+}
+
+Status Simulator::step() {
+  OdeState x = toOdeState(state_);
+  const EquationsOfMotion system{&model_, torque_};
+  Status result = integrator_->advance(system, x, time(), step_size_, last_derivative_valid_);
+  if (result.ok && !isFinite(x)) result = {false, "the step produced a non-finite state"};
+  last_derivative_valid_ = result.ok;
+  if (!result.ok) {
+    std::ostringstream msg;
+    msg << result.error << " at t = " << time() << " s (q1 = " << state_.q1
+        << ", q2 = " << state_.q2 << ", u1 = " << state_.u1 << ", u2 = " << state_.u2
+        << ", M_m = " << torque_ << "); step refused, state kept";
+    return {false, msg.str()};
+  }
+  const State next = fromOdeState(x);
+  motor_work_ += torque_ * (next.q1 - state_.q1);  // exact for a torque held over the step
+  const double separation = model_.geometry(next.q1, next.q2).sliderSeparation();
+  if ((separation > 0) != (slider_separation_ > 0)) ++slider_crossings_;
+  slider_separation_ = separation;
+  if (integrator_type_ == IntegratorType::kRk4 &&
+      std::abs(next.u1) * step_size_ > kMaxCrankAnglePerStep)
+    step_too_coarse_ = true;
+  state_ = next;
+  ++ticks_;
+  return result;
+}
+
+void Simulator::reset() {
+  state_ = initial_state_;
+  torque_ = 0.0;
+  motor_work_ = 0.0;
+  slider_crossings_ = 0;
+  step_too_coarse_ = false;
+  last_derivative_valid_ = false;
+  slider_separation_ = model_.geometry(state_.q1, state_.q2).sliderSeparation();
+}
+
+Snapshot Simulator::snapshot() const {
+  const MechanismKinematics k = model_.kinematics(state_);
+  const MechanismModel::Equations equations =
+      MechanismModel::equations(k, model_.loads(k, torque_), state_);
+  Snapshot snap;
+  snap.time = time();
+  snap.state = state_;
+  snap.torque = torque_;
+  snap.command.commanded = torque_;
+  snap.u_dot = equations.solveAccelerations();
+  snap.active_forces = equations.active_forces;
+  snap.inertia_forces = equations.inertiaForces(snap.u_dot);
+  snap.energy = model_.energy(k, state_);
+  snap.motor_work = motor_work_;
+  snap.motor_power = torque_ * state_.u1;
+  snap.spring_elongation = model_.springElongation(k.geometry);
+  snap.slider_separation = slider_separation_;
+  snap.slider_crossings = slider_crossings_;
+  snap.geometry = k.geometry;
+  snap.joints = MechanismModel::jointValues(k, state_, torque_);
+  return snap;
+}
+
+}  // namespace kane_sim

@@ -1,0 +1,132 @@
+#include "kane_sim/sim/torque_profile.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace kane_sim {
+namespace {
+
+double parseNumber(const std::string& text, const std::string& where) {
+  size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    throw std::invalid_argument(where + ": '" + text + "' is not a number");
+  }
+  if (text.find_first_not_of(" \t\r", used) != std::string::npos)
+    throw std::invalid_argument(where + ": '" + text + "' is not a number");
+  if (!std::isfinite(value)) throw std::invalid_argument(where + ": '" + text + "' is not finite");
+  return value;
+}
+
+}  // namespace
+
+TorqueProfile TorqueProfile::constant(double torque) {
+  TorqueProfile p;
+  p.kind_ = Kind::kConstant;
+  p.a_ = torque;
+  return p;
+}
+
+TorqueProfile TorqueProfile::step(double time, double before, double after) {
+  TorqueProfile p;
+  p.kind_ = Kind::kStep;
+  p.a_ = time;
+  p.b_ = before;
+  p.c_ = after;
+  return p;
+}
+
+TorqueProfile TorqueProfile::sine(double amplitude, double frequency, double offset) {
+  TorqueProfile p;
+  p.kind_ = Kind::kSine;
+  p.a_ = amplitude;
+  p.b_ = frequency;
+  p.c_ = offset;
+  return p;
+}
+
+TorqueProfile TorqueProfile::table(std::vector<std::pair<double, double>> points) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!std::isfinite(points[i].first) || !std::isfinite(points[i].second))
+      throw std::invalid_argument("torque table entry " + std::to_string(i + 1) + " is not finite");
+    if (i > 0 && points[i].first < points[i - 1].first)
+      throw std::invalid_argument("torque table entry " + std::to_string(i + 1) +
+                                  ": time goes backwards");
+  }
+  TorqueProfile p;
+  p.kind_ = Kind::kTable;
+  p.points_ = std::move(points);
+  return p;
+}
+
+TorqueProfile TorqueProfile::fromCsvFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument("torque CSV '" + path + "' cannot be read");
+  std::vector<std::pair<double, double>> points;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    const std::string where = path + ":" + std::to_string(number);
+    if (line.empty() || line[0] == '#' || line.find_first_not_of(" \t\r") == std::string::npos)
+      continue;
+    if (number == 1 && line.find_first_of("0123456789") != 0 && line[0] != '-' && line[0] != '+' &&
+        line[0] != '.')
+      continue;  // a header such as "t,torque"
+    const size_t comma = line.find(',');
+    if (comma == std::string::npos)
+      throw std::invalid_argument(where + ": expected 't,torque', got '" + line + "'");
+    const double t = parseNumber(line.substr(0, comma), where + " (time)");
+    const double torque = parseNumber(line.substr(comma + 1), where + " (torque)");
+    if (!points.empty() && t < points.back().first)
+      throw std::invalid_argument(where + ": time " + line.substr(0, comma) +
+                                  " goes backwards (previous " +
+                                  std::to_string(points.back().first) + ")");
+    points.emplace_back(t, torque);
+  }
+  if (points.empty()) throw std::invalid_argument("torque CSV '" + path + "' has no rows");
+  return table(std::move(points));
+}
+
+double TorqueProfile::at(double t) const {
+  switch (kind_) {
+    case Kind::kConstant:
+      return a_;
+    case Kind::kStep:
+      return t < a_ ? b_ : c_;
+    case Kind::kSine:
+      return c_ + a_ * std::sin(2 * M_PI * b_ * t);
+    case Kind::kTable: {
+      // The last entry whose time is <= t.
+      const auto after = std::upper_bound(points_.begin(), points_.end(), t,
+                                          [](double v, const auto& p) { return v < p.first; });
+      return after == points_.begin() ? 0.0 : std::prev(after)->second;
+    }
+  }
+  return 0.0;
+}
+
+std::string TorqueProfile::describe() const {
+  std::ostringstream out;
+  switch (kind_) {
+    case Kind::kConstant:
+      out << "constant " << a_ << " N m";
+      break;
+    case Kind::kStep:
+      out << "step at " << a_ << " s from " << b_ << " to " << c_ << " N m";
+      break;
+    case Kind::kSine:
+      out << c_ << " + " << a_ << " sin(2 pi " << b_ << " Hz t) N m";
+      break;
+    case Kind::kTable:
+      out << "table of " << points_.size() << " points";
+      break;
+  }
+  return out.str();
+}
+
+}  // namespace kane_sim

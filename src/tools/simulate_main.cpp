@@ -1,0 +1,296 @@
+// `simulate`: runs the mechanism offline (no ROS master) and writes a CSV and/or a bag.
+//
+// Exit codes: 0 ok, 1 bad config, 2 bad command line, 3 the simulation refused a step,
+// 4 the output could not be written.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <boost/program_options.hpp>
+
+#include "kane_sim/config/load_config.h"
+#include "kane_sim/ros/bag_writer.h"
+#include "kane_sim/sim/csv_format.h"
+#include "kane_sim/sim/sim_driver.h"
+#include "kane_sim/sim/torque_profile.h"
+
+namespace po = boost::program_options;
+using kane_sim::ConfigError;
+
+namespace {
+
+constexpr int kExitConfig = 1;
+constexpr int kExitUsage = 2;
+constexpr int kExitStepRefused = 3;
+constexpr int kExitOutput = 4;
+constexpr double kMaxDuration = 1e7;  // [s] ~4 months of sim time; beyond that is a typo
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Options {
+  std::string config_path;
+  double duration = 0.0;
+  double output_rate = 100.0;
+  std::optional<kane_sim::TorqueProfile> profile;  // resolved after parsing
+  std::string integrator;                          // empty: the config's
+  std::string csv_path;                            // empty: stdout (unless only a bag is asked for)
+  std::string bag_path;
+};
+
+po::options_description describeOptions() {
+  po::options_description desc(
+      "Usage: simulate --config FILE --duration SECONDS [options]\n\n"
+      "Simulates the textbook example's mechanism (Kane equations - Example 1) offline (no ROS "
+      "master). Writes a CSV with the\n"
+      "header t,q1,q2,u1,u2,energy,... (rows every 1/output-rate s from t = 0 to the duration)\n"
+      "to stdout or --csv FILE, and/or a bag (--bag FILE) with the topics the node publishes,\n"
+      "stamped in sim time from 1000000000 s. With --bag and no --csv, no CSV is written.\n\n"
+      "Torque (at most one; default 0; clamped to command.torque_limit like the node):\n"
+      "  --torque NM                 constant\n"
+      "  --torque-step T,BEFORE,AFTER  BEFORE N m until T s, then AFTER N m\n"
+      "  --torque-sine AMP,FREQ[,OFFSET]  OFFSET + AMP sin(2 pi FREQ t)\n"
+      "  --torque-csv FILE           lines 't,torque' (optional header), each value held from\n"
+      "                              its time on, 0 before the first; times non-decreasing\n\n"
+      "Options");
+  desc.add_options()("help,h", "print this help and exit")(
+      "config", po::value<std::string>()->required(), "mechanism YAML (config/mechanism.yaml)")(
+      "duration", po::value<double>()->required(), "simulated time [s], >= 0")(
+      "torque", po::value<double>(), "constant driver moment M_m [N m]")(
+      "torque-step", po::value<std::string>(), "T,BEFORE,AFTER")(
+      "torque-sine", po::value<std::string>(), "AMP,FREQ[,OFFSET]")(
+      "torque-csv", po::value<std::string>(), "FILE of t,torque lines")(
+      "output-rate", po::value<double>()->default_value(100.0),
+      "rows / bag messages per simulated second [Hz]; must divide simulation.physics_rate")(
+      "integrator", po::value<std::string>(), "rk4 | dopri5 (default: the config's)")(
+      "csv", po::value<std::string>(), "write the CSV to this file instead of stdout")(
+      "bag", po::value<std::string>(), "also write a bag of the node's topics to this file");
+  return desc;
+}
+
+std::string num(double value) {  // shortest exact-enough form for messages: 1e+12, 0.5, 300
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.15g", value);
+  return buffer;
+}
+
+double requireFinite(const std::string& flag, double value) {
+  if (!std::isfinite(value)) throw UsageError("--" + flag + " must be finite, got " + num(value));
+  return value;
+}
+
+std::vector<double> parseList(const std::string& flag, const std::string& text, size_t min_count,
+                              size_t max_count) {
+  std::vector<double> values;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    try {
+      size_t used = 0;
+      values.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw UsageError("--" + flag + ": '" + item + "' is not a number");
+    }
+    requireFinite(flag, values.back());
+  }
+  if (values.size() < min_count || values.size() > max_count)
+    throw UsageError("--" + flag + " takes " + std::to_string(min_count) +
+                     (max_count > min_count ? " to " + std::to_string(max_count) : "") +
+                     " comma-separated numbers, got '" + text + "'");
+  return values;
+}
+
+kane_sim::TorqueProfile parseProfile(const po::variables_map& vm) {
+  int given = 0;
+  for (const char* flag : {"torque", "torque-step", "torque-sine", "torque-csv"})
+    given += static_cast<int>(vm.count(flag));
+  if (given > 1)
+    throw UsageError("give at most one of --torque, --torque-step, --torque-sine, --torque-csv");
+  if (vm.count("torque-step")) {
+    const auto v = parseList("torque-step", vm["torque-step"].as<std::string>(), 3, 3);
+    return kane_sim::TorqueProfile::step(v[0], v[1], v[2]);
+  }
+  if (vm.count("torque-sine")) {
+    const auto v = parseList("torque-sine", vm["torque-sine"].as<std::string>(), 2, 3);
+    return kane_sim::TorqueProfile::sine(v[0], v[1], v.size() > 2 ? v[2] : 0.0);
+  }
+  if (vm.count("torque-csv")) {
+    try {
+      return kane_sim::TorqueProfile::fromCsvFile(vm["torque-csv"].as<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--torque-csv: ") + e.what());
+    }
+  }
+  const double torque =
+      vm.count("torque") ? requireFinite("torque", vm["torque"].as<double>()) : 0.0;
+  return kane_sim::TorqueProfile::constant(torque);
+}
+
+// Returns false when --help was asked for.
+bool parseOptions(int argc, char** argv, Options* options) {
+  const po::options_description desc = describeOptions();
+  po::variables_map vm;
+  try {
+    po::store(po::parse_command_line(argc, argv, desc), vm);
+    if (vm.count("help")) {
+      std::cout << desc << "\n";
+      return false;
+    }
+    po::notify(vm);
+  } catch (const po::error& e) {
+    throw UsageError(e.what());
+  }
+  options->config_path = vm["config"].as<std::string>();
+  options->duration = requireFinite("duration", vm["duration"].as<double>());
+  options->output_rate = requireFinite("output-rate", vm["output-rate"].as<double>());
+  options->profile = parseProfile(vm);
+  if (vm.count("integrator")) options->integrator = vm["integrator"].as<std::string>();
+  if (vm.count("csv")) options->csv_path = vm["csv"].as<std::string>();
+  if (vm.count("bag")) options->bag_path = vm["bag"].as<std::string>();
+  if (options->duration < 0 || options->duration > kMaxDuration)
+    throw UsageError("--duration must be in [0, " + num(kMaxDuration) + "] s, got " +
+                     num(options->duration));
+  if (!(options->output_rate > 0))
+    throw UsageError("--output-rate must be > 0, got " + num(options->output_rate));
+  return true;
+}
+
+// Physics steps per output row; the output grid must sit on the physics grid.
+long stepsPerRow(double physics_rate, double output_rate) {
+  const double ratio = physics_rate / output_rate;
+  const double whole = std::round(ratio);
+  if (whole < 1 || std::abs(ratio - whole) > 1e-9 * ratio)
+    throw UsageError("--output-rate " + num(output_rate) +
+                     " Hz must divide simulation.physics_rate " + num(physics_rate) +
+                     " Hz into a whole number of physics steps");
+  return static_cast<long>(whole);
+}
+
+// Where the rows go: a CSV stream and/or a bag, both fed from the same snapshots.
+class Outputs {
+ public:
+  Outputs(const Options& options, const kane_sim::Config& config) : frames_(config.frames) {
+    if (!options.csv_path.empty()) {
+      file_.open(options.csv_path);
+      if (!file_) throw OutputError("cannot write --csv '" + options.csv_path + "'");
+      csv_ = &file_;
+    } else if (options.bag_path.empty()) {
+      csv_ = &std::cout;
+    }
+    if (!options.bag_path.empty()) {
+      try {
+        bag_ = std::make_unique<kane_sim::BagWriter>(options.bag_path);
+      } catch (const std::exception& e) {
+        throw OutputError("cannot write --bag '" + options.bag_path + "': " + e.what());
+      }
+      bag_->writeStatic(kane_sim::worldToMechanism(frames_, config.frames, kane_sim::simStamp(0)));
+    }
+    if (csv_) kane_sim::writeCsvHeader(*csv_);
+  }
+
+  void write(const kane_sim::Snapshot& snapshot) {
+    if (csv_) kane_sim::writeCsvRow(*csv_, snapshot);
+    if (bag_) {
+      const ros::Time stamp = kane_sim::simStamp(snapshot.time);
+      // real_time_factor 0: offline, not paced against any wall clock.
+      bag_->write(kane_sim::buildMessages(snapshot, frames_, 0.0, stamp), stamp);
+    }
+  }
+
+  void finish() {
+    if (bag_) bag_->close();
+    if (csv_) {
+      csv_->flush();
+      if (!*csv_) throw OutputError("writing the CSV failed");
+    }
+  }
+
+ private:
+  kane_sim::FrameNames frames_;
+  std::ofstream file_;
+  std::ostream* csv_ = nullptr;
+  std::unique_ptr<kane_sim::BagWriter> bag_;
+};
+
+int run(const Options& options) {
+  kane_sim::LoadedConfig loaded = kane_sim::loadConfigFile(options.config_path);
+  for (const std::string& warning : loaded.warnings) std::cerr << "warning: " << warning << "\n";
+  kane_sim::Config& config = loaded.config;
+  if (!options.integrator.empty())
+    config.simulation.integrator =
+        kane_sim::parseIntegratorName(options.integrator, "--integrator");
+
+  const long steps_per_row = stepsPerRow(config.simulation.physics_rate, options.output_rate);
+  const long rows = static_cast<long>(std::floor(options.duration * options.output_rate + 1e-9));
+
+  // The same driver as the node: the profile is a stream of commands, clamped alike; each
+  // kind of event is printed once.
+  std::set<kane_sim::SimEvent::Kind> reported;
+  kane_sim::SimDriver driver(config, [&reported](const kane_sim::SimEvent& event) {
+    if (event.kind == kane_sim::SimEvent::Kind::kStepRefused)
+      std::cerr << "error: " << event.message << "\n";
+    else if (reported.insert(event.kind).second)
+      std::cerr << "warning: " << event.message << " (at t = " << event.time << " s)\n";
+  });
+
+  Outputs out(options, config);
+  const auto wall_start = std::chrono::steady_clock::now();
+  driver.command(options.profile->at(driver.time()));
+  out.write(driver.snapshot());
+  for (long row = 1; row <= rows; ++row) {
+    for (long i = 0; i < steps_per_row; ++i) {
+      if (!driver.step()) {
+        out.finish();
+        return kExitStepRefused;
+      }
+      driver.command(options.profile->at(driver.time()));
+    }
+    out.write(driver.snapshot());
+  }
+  out.finish();
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  std::cerr << "simulated " << driver.time() << " s in " << driver.ticks() << " physics steps ("
+            << kane_sim::integratorName(config.simulation.integrator) << " at "
+            << config.simulation.physics_rate << " Hz, torque " << options.profile->describe()
+            << "), " << rows + 1 << " outputs, wall time " << wall << " s, "
+            << (wall > 0 ? static_cast<double>(driver.ticks()) / wall : 0.0) << " steps/s\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::Time::init();  // ros::Time without a master, for the bag writer
+  Options options;
+  try {
+    if (!parseOptions(argc, argv, &options)) return 0;
+    return run(options);
+  } catch (const UsageError& e) {
+    std::cerr << "error: " << e.what() << "\n\n" << describeOptions() << "\n";
+    return kExitUsage;
+  } catch (const OutputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitOutput;
+  } catch (const ConfigError& e) {
+    if (e.key() == "--integrator") {
+      std::cerr << "error: " << e.what() << "\n\n" << describeOptions() << "\n";
+      return kExitUsage;
+    }
+    std::cerr << "error: " << options.config_path << ": " << e.what() << "\n";
+    return kExitConfig;
+  }
+}

@@ -1,0 +1,207 @@
+// The config loader: the shipped files, defaults, and one test per kind of bad input, each
+// checking that the error names the key (and the value where there is one).
+#include <cmath>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "kane_sim/config/load_config.h"
+#include "test_helpers.h"
+
+namespace kane_sim {
+namespace {
+
+YAML::Node defaultYaml() { return YAML::LoadFile(test::configPath("mechanism.yaml")); }
+
+// Expects loadConfig(root) to throw a ConfigError for `key` whose message contains `text`.
+void expectError(const YAML::Node& root, const std::string& key, const std::string& text) {
+  try {
+    loadConfig(root);
+    ADD_FAILURE() << "no error for " << key;
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), key) << e.what();
+    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+  }
+}
+
+TEST(LoadConfig, ShippedFilesLoadWithoutWarnings) {
+  for (const char* file : {"mechanism.yaml", "textbook.yaml"}) {
+    const LoadedConfig loaded = loadConfigFile(test::configPath(file));
+    EXPECT_TRUE(loaded.warnings.empty()) << file << ": " << loaded.warnings.front();
+  }
+}
+
+TEST(LoadConfig, DefaultsMatchTheTextbooksParameterSet) {
+  const Config c = loadConfigFile(test::configPath("mechanism.yaml")).config;
+  EXPECT_EQ(c.mechanism.rod_mass, 1.0);
+  EXPECT_EQ(c.mechanism.rod_half_length, 0.25);
+  EXPECT_EQ(c.mechanism.slider3_mass, 0.5);
+  EXPECT_EQ(c.mechanism.slider4_mass, 0.8);
+  EXPECT_EQ(c.mechanism.spring_stiffness, 200.0);
+  EXPECT_EQ(c.mechanism.gravity, 9.81);
+  EXPECT_DOUBLE_EQ(c.mechanism.rod_inertia, 1.0 * 0.5 * 0.5 / 12);  // m (2L)^2 / 12
+  EXPECT_DOUBLE_EQ(c.initial_state.q1, M_PI / 6);
+  EXPECT_DOUBLE_EQ(c.initial_state.q2, 4 * 0.25 * std::cos(M_PI / 6) + 0.3);
+  EXPECT_EQ(c.simulation.physics_rate, 1000.0);
+  EXPECT_EQ(c.simulation.integrator, IntegratorType::kRk4);
+  const Config t = loadConfigFile(test::configPath("textbook.yaml")).config;
+  EXPECT_DOUBLE_EQ(t.mechanism.rod_inertia, 1.0 * 0.25 * 0.25 / 12);  // m L^2 / 12
+}
+
+// Two files, one source of truth each: textbook.yaml is mechanism.yaml with the textbook's rod
+// inertia and nothing else (the loader reads one file, so the shared values are repeated and
+// this test keeps them from drifting apart).
+void expectSameTree(const YAML::Node& a, const YAML::Node& b, const std::string& path) {
+  ASSERT_EQ(a.Type(), b.Type()) << path;
+  if (a.IsScalar()) {
+    EXPECT_EQ(a.Scalar(), b.Scalar()) << path;
+    return;
+  }
+  ASSERT_TRUE(a.IsMap()) << path;
+  EXPECT_EQ(a.size(), b.size()) << path;
+  for (const auto& entry : a) {
+    const std::string key = entry.first.as<std::string>();
+    ASSERT_TRUE(b[key]) << path << "." << key << " only in one file";
+    expectSameTree(entry.second, b[key], path + "." + key);
+  }
+}
+
+TEST(LoadConfig, TextbookFileDiffersFromTheDefaultOnlyInRodInertia) {
+  YAML::Node physical = YAML::LoadFile(test::configPath("mechanism.yaml"));
+  YAML::Node textbook = YAML::LoadFile(test::configPath("textbook.yaml"));
+  ASSERT_TRUE(textbook["mechanism"]["rod_inertia"]);
+  EXPECT_FALSE(physical["mechanism"]["rod_inertia"]) << "the default file uses m (2L)^2/12";
+  textbook["mechanism"].remove("rod_inertia");
+  expectSameTree(physical, textbook, "");
+}
+
+// The struct defaults of the optional settings are what the shipped file states: a file without
+// those sections behaves exactly like config/mechanism.yaml.
+TEST(LoadConfig, OptionalDefaultsEqualTheShippedFile) {
+  const Config file = test::defaultConfig();
+  YAML::Node root = defaultYaml();
+  for (const char* section : {"simulation", "command", "frames"}) root.remove(section);
+  const Config bare = loadConfig(root).config;
+  const SimulationSettings &a = file.simulation, &b = bare.simulation;
+  EXPECT_EQ(a.physics_rate, b.physics_rate);
+  EXPECT_EQ(a.integrator, b.integrator);
+  EXPECT_EQ(a.absolute_tolerance, b.absolute_tolerance);
+  EXPECT_EQ(a.relative_tolerance, b.relative_tolerance);
+  EXPECT_EQ(a.publish_rate, b.publish_rate);
+  EXPECT_EQ(a.real_time_factor, b.real_time_factor);
+  EXPECT_EQ(a.publish_clock, b.publish_clock);
+  EXPECT_EQ(a.start_paused, b.start_paused);
+  EXPECT_EQ(file.command.torque_limit, bare.command.torque_limit);
+  EXPECT_EQ(file.command.timeout, bare.command.timeout);
+  EXPECT_EQ(file.frames.prefix, bare.frames.prefix);
+  EXPECT_EQ(file.frames.world, bare.frames.world);
+  EXPECT_EQ(file.frames.pivot_height, bare.frames.pivot_height);
+}
+
+TEST(LoadConfig, OptionalSectionsMayBeOmitted) {
+  YAML::Node root = defaultYaml();
+  root.remove("simulation");
+  root.remove("command");
+  root.remove("frames");
+  root["mechanism"].remove("rod_inertia");
+  const LoadedConfig loaded = loadConfig(root);
+  EXPECT_EQ(loaded.config.simulation.physics_rate, SimulationSettings().physics_rate);
+  EXPECT_EQ(loaded.config.frames.world, "world");
+}
+
+TEST(LoadConfig, MissingRequiredKey) {
+  YAML::Node root = defaultYaml();
+  root["mechanism"].remove("slider4_mass");
+  expectError(root, "mechanism.slider4_mass", "is missing");
+  YAML::Node no_state = defaultYaml();
+  no_state.remove("initial_state");
+  expectError(no_state, "initial_state", "is missing");
+}
+
+TEST(LoadConfig, WrongTypes) {
+  YAML::Node root = defaultYaml();
+  root["mechanism"]["rod_mass"] = "heavy";
+  expectError(root, "mechanism.rod_mass", "must be a number, got 'heavy'");
+
+  root = defaultYaml();
+  root["initial_state"]["q1"] = YAML::Load("[1, 2]");
+  expectError(root, "initial_state.q1", "must be a number, got a list");
+
+  root = defaultYaml();
+  root["simulation"] = YAML::Load("[1, 2]");
+  expectError(root, "simulation", "must be a map, got a list");
+
+  root = defaultYaml();
+  root["simulation"]["publish_clock"] = "sometimes";
+  expectError(root, "simulation.publish_clock", "must be true or false, got 'sometimes'");
+}
+
+TEST(LoadConfig, OutOfRangeValuesNameKeyAndValue) {
+  struct Case {
+    const char* section;
+    const char* key;
+    const char* value;
+    const char* message;
+  };
+  const Case cases[] = {
+      {"mechanism", "rod_mass", "-1", "must be > 0, got -1"},
+      {"mechanism", "slider3_mass", "0", "must be > 0, got 0"},
+      {"mechanism", "rod_half_length", "-0.25", "must be > 0, got -0.25"},
+      {"mechanism", "rod_inertia", "0", "must be > 0, got 0"},
+      {"mechanism", "spring_stiffness", "-3", "must be >= 0, got -3"},
+      {"mechanism", "gravity", ".nan", "must be finite, got '.nan'"},
+      {"initial_state", "u1", ".inf", "must be finite, got '.inf'"},
+      {"simulation", "physics_rate", "0", "must be > 0, got 0"},
+      {"simulation", "physics_rate", "-100", "must be > 0, got -100"},
+      {"simulation", "physics_rate", "1e9", "must be <= 1000000 Hz, got 1000000000"},
+      {"simulation", "publish_rate", "2000", "must be <= simulation.physics_rate"},
+      {"simulation", "publish_rate", "300", "whole number of physics steps, got 300"},
+      {"simulation", "real_time_factor", "-1", "must be >= 0, got -1"},
+      {"command", "torque_limit", "-5", "must be >= 0, got -5"},
+      {"command", "timeout", "-0.1", "must be >= 0, got -0.10000000000000001"},
+      {"frames", "world", "''", "must not be empty"},
+      {"frames", "prefix", "'robot 1'", "letters, digits, '_' and '/', got 'robot 1'"},
+      {"frames", "world", "/world", "must not start with '/'"},
+  };
+  for (const Case& c : cases) {
+    YAML::Node root = defaultYaml();
+    root[c.section][c.key] = YAML::Load(c.value);
+    expectError(root, std::string(c.section) + "." + c.key, c.message);
+  }
+}
+
+TEST(LoadConfig, UnknownIntegratorListsTheValidOnes) {
+  YAML::Node root = defaultYaml();
+  root["simulation"]["integrator"] = "euler";
+  expectError(root, "simulation.integrator", "unknown integrator 'euler' (valid: rk4, dopri5)");
+}
+
+TEST(LoadConfig, UnknownKeysAreWarningsNamingThem) {
+  YAML::Node root = defaultYaml();
+  root["mechanism"]["rod_colour"] = "red";
+  root["extras"] = 1;
+  const LoadedConfig loaded = loadConfig(root);
+  ASSERT_EQ(loaded.warnings.size(), 2u);
+  const std::string all = loaded.warnings[0] + loaded.warnings[1];
+  EXPECT_NE(all.find("'mechanism.rod_colour'"), std::string::npos) << all;
+  EXPECT_NE(all.find("'extras'"), std::string::npos) << all;
+}
+
+TEST(LoadConfig, UnreadableOrMalformedFile) {
+  EXPECT_THROW(loadConfigFile("/nonexistent/mechanism.yaml"), ConfigError);
+  const std::string path = ::testing::TempDir() + "/malformed.yaml";
+  std::ofstream(path) << "mechanism: {rod_mass: [1,\n";
+  try {
+    loadConfigFile(path);
+    ADD_FAILURE() << "malformed YAML accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("not valid YAML"), std::string::npos) << e.what();
+  }
+  const std::string list_path = ::testing::TempDir() + "/list.yaml";
+  std::ofstream(list_path) << "- 1\n- 2\n";
+  EXPECT_THROW(loadConfigFile(list_path), ConfigError);
+}
+
+}  // namespace
+}  // namespace kane_sim

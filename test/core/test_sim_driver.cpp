@@ -1,0 +1,145 @@
+// The one simulation driver: commands, stepping and the events it reports, without a master.
+// The same events reach the node's log and `simulate`'s stderr (test/tools/test_simulate_cli,
+// test/node/test_robustness and test_commands).
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "kane_sim/sim/sim_driver.h"
+#include "test_helpers.h"
+
+namespace kane_sim {
+namespace {
+
+using Kind = SimEvent::Kind;
+
+class SimDriverTest : public ::testing::Test {
+ protected:
+  SimDriver makeDriver(const Config& config) {
+    return SimDriver(config, [this](const SimEvent& e) { events_.push_back(e); });
+  }
+  int count(Kind kind) const {
+    int n = 0;
+    for (const SimEvent& e : events_) n += e.kind == kind;
+    return n;
+  }
+  const SimEvent* first(Kind kind) const {
+    for (const SimEvent& e : events_)
+      if (e.kind == kind) return &e;
+    return nullptr;
+  }
+  std::vector<SimEvent> events_;
+};
+
+TEST_F(SimDriverTest, CommandIsInForceFromThisInstantAndShowsInTheSnapshot) {
+  SimDriver driver = makeDriver(test::defaultConfig());
+  EXPECT_EQ(driver.command(3.0), TorqueCommand::Verdict::kAccepted);
+  Snapshot s = driver.snapshot();
+  EXPECT_EQ(s.torque, 3.0);
+  EXPECT_EQ(s.command.commanded, 3.0);
+  EXPECT_EQ(s.command.torque_limit, 50.0);
+  EXPECT_FALSE(s.command.timed_out);
+  EXPECT_EQ(s.joints.effort[kCrankJoint], 3.0);
+  // F_1 carries M_m: the snapshot is consistent with the torque it reports.
+  const double q1 = s.state.q1;
+  ASSERT_TRUE(driver.step());
+  EXPECT_GT(driver.snapshot().state.q1, q1 - 1e-3);
+  EXPECT_TRUE(events_.empty());
+}
+
+TEST_F(SimDriverTest, NonFiniteCommandsAreRejectedAndClampingReportedEveryTime) {
+  SimDriver driver = makeDriver(test::defaultConfig());
+  driver.command(5.0);
+  for (double bad : {std::nan(""), std::numeric_limits<double>::infinity()})
+    EXPECT_EQ(driver.command(bad), TorqueCommand::Verdict::kRejected);
+  EXPECT_EQ(driver.snapshot().torque, 5.0);
+  EXPECT_EQ(driver.command(80.0), TorqueCommand::Verdict::kClamped);
+  EXPECT_EQ(driver.command(-80.0), TorqueCommand::Verdict::kClamped);
+  EXPECT_EQ(driver.snapshot().torque, -50.0);
+  EXPECT_EQ(count(Kind::kCommandRejected), 2);
+  EXPECT_EQ(count(Kind::kCommandClamped), 2);
+  EXPECT_NE(first(Kind::kCommandRejected)->message.find("still applying 5 N m"), std::string::npos)
+      << first(Kind::kCommandRejected)->message;
+  EXPECT_NE(first(Kind::kCommandClamped)->message.find("command.torque_limit 50"),
+            std::string::npos);
+}
+
+// command.timeout is 0.5 s in config/mechanism.yaml: the command lapses once, at the first
+// instant more than 0.5 s after it, and the torque drops to 0 from that instant on.
+TEST_F(SimDriverTest, TimeoutIsReportedOnceAndTheNextCommandResumes) {
+  SimDriver driver = makeDriver(test::defaultConfig());
+  driver.command(4.0);
+  for (int i = 0; i < 1000; ++i) ASSERT_TRUE(driver.step());
+  ASSERT_EQ(count(Kind::kCommandTimedOut), 1);
+  EXPECT_NEAR(first(Kind::kCommandTimedOut)->time, 0.501, 1e-9);
+  EXPECT_NE(first(Kind::kCommandTimedOut)->message.find("command.timeout"), std::string::npos);
+  Snapshot s = driver.snapshot();
+  EXPECT_EQ(s.torque, 0.0);
+  EXPECT_TRUE(s.command.timed_out);
+  EXPECT_EQ(s.command.commanded, 4.0);
+  driver.command(2.0);
+  EXPECT_EQ(driver.snapshot().torque, 2.0);
+  EXPECT_FALSE(driver.snapshot().command.timed_out);
+}
+
+// Driven at the limit the crank spins up until the sliders cross and rk4 at 1 kHz no longer
+// follows it; each is reported once, and again after a reset.
+TEST_F(SimDriverTest, SliderCrossingAndCoarseStepAreReportedOncePerStartOrReset) {
+  Config c = test::defaultConfig();
+  c.command.timeout = 0;
+  SimDriver driver = makeDriver(c);
+  driver.command(50.0);
+  for (int i = 0; i < 20000 && count(Kind::kStepTooCoarse) == 0; ++i) ASSERT_TRUE(driver.step());
+  for (int i = 0; i < 1000; ++i) ASSERT_TRUE(driver.step());
+  EXPECT_GE(driver.simulator().sliderCrossings(), 2u);
+  EXPECT_EQ(count(Kind::kFirstSliderCrossing), 1);
+  EXPECT_EQ(count(Kind::kStepTooCoarse), 1);
+  EXPECT_NE(first(Kind::kStepTooCoarse)->message.find("dopri5"), std::string::npos);
+  EXPECT_NE(first(Kind::kFirstSliderCrossing)->message.find("passed through slider 3"),
+            std::string::npos);
+
+  driver.reset();
+  EXPECT_EQ(driver.snapshot().torque, 0.0);
+  driver.command(50.0);
+  for (int i = 0; i < 20000 && count(Kind::kStepTooCoarse) < 2; ++i) ASSERT_TRUE(driver.step());
+  EXPECT_EQ(count(Kind::kFirstSliderCrossing), 2);
+  EXPECT_EQ(count(Kind::kStepTooCoarse), 2);
+}
+
+TEST_F(SimDriverTest, RefusedStepIsReportedAndTheStateKept) {
+  Config c = test::defaultConfig();
+  c.command.torque_limit = 1e300;
+  SimDriver driver = makeDriver(c);
+  driver.command(1e300);
+  bool refused = false;
+  for (int i = 0; i < 50 && !refused; ++i) refused = !driver.step();
+  ASSERT_TRUE(refused);
+  ASSERT_EQ(count(Kind::kStepRefused), 1);
+  EXPECT_NE(first(Kind::kStepRefused)->message.find("state kept"), std::string::npos);
+  EXPECT_TRUE(driver.snapshot().state.isFinite());
+}
+
+TEST_F(SimDriverTest, SnapshotIsConsistentWithTheModel) {
+  const Config c = test::defaultConfig();
+  SimDriver driver = makeDriver(c);
+  driver.command(2.0);
+  for (int i = 0; i < 250; ++i) ASSERT_TRUE(driver.step());
+  const Snapshot s = driver.snapshot();
+  const MechanismModel model = mechanismModel(c);
+  const MechanismGeometry g = model.geometry(s.state.q1, s.state.q2);
+  EXPECT_EQ(s.geometry.pin_a, g.pin_a);
+  EXPECT_EQ(s.geometry.point_c, g.point_c);
+  EXPECT_EQ(s.slider_separation, g.sliderSeparation());
+  EXPECT_EQ(s.spring_elongation, model.springElongation(g));
+  EXPECT_EQ(s.u_dot, model.accelerations(s.state, 2.0));
+  EXPECT_DOUBLE_EQ(s.energy.total(), model.energy(s.state).total());
+  EXPECT_EQ(s.joints.position[kCrankJoint], s.state.q1);
+  EXPECT_EQ(s.joints.position[kSlider4Joint], s.state.q2);
+  EXPECT_EQ(s.joints.velocity[kSlider4Joint], s.state.u2);
+  EXPECT_LT((s.inertia_forces + s.active_forces).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace kane_sim

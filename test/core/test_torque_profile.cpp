@@ -1,0 +1,70 @@
+// Torque profiles of the offline tool.
+#include <cmath>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "kane_sim/sim/torque_profile.h"
+
+namespace kane_sim {
+namespace {
+
+TEST(TorqueProfile, ConstantStepSine) {
+  EXPECT_EQ(TorqueProfile::constant(2.5).at(100.0), 2.5);
+  const auto step = TorqueProfile::step(1.0, -1.0, 3.0);
+  EXPECT_EQ(step.at(0.999), -1.0);
+  EXPECT_EQ(step.at(1.0), 3.0);
+  const auto sine = TorqueProfile::sine(2.0, 0.5, 1.0);
+  EXPECT_NEAR(sine.at(0.5), 1.0 + 2.0, 1e-12);  // quarter period of 0.5 Hz
+  EXPECT_NEAR(sine.at(1.0), 1.0, 1e-12);
+}
+
+TEST(TorqueProfile, TableHoldsEachValueFromItsTime) {
+  const auto t = TorqueProfile::table({{0.5, 1.0}, {1.0, -2.0}, {1.0, 4.0}, {2.0, 0.0}});
+  EXPECT_EQ(t.at(0.0), 0.0);  // before the first entry
+  EXPECT_EQ(t.at(0.5), 1.0);
+  EXPECT_EQ(t.at(0.99), 1.0);
+  EXPECT_EQ(t.at(1.0), 4.0);  // the later of two entries at one time wins
+  EXPECT_EQ(t.at(10.0), 0.0);
+}
+
+std::string writeFile(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+void expectCsvError(const std::string& text, const std::string& message) {
+  const std::string path = writeFile("profile.csv", text);
+  try {
+    TorqueProfile::fromCsvFile(path);
+    ADD_FAILURE() << "accepted: " << text;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+  }
+}
+
+TEST(TorqueProfile, CsvWithHeaderAndComments) {
+  const auto p =
+      TorqueProfile::fromCsvFile(writeFile("ok.csv", "t,torque\n# ramp\n0,1\n0.5, 2.5\n1e0,-3\n"));
+  EXPECT_EQ(p.at(0.25), 1.0);
+  EXPECT_EQ(p.at(0.75), 2.5);
+  EXPECT_EQ(p.at(2.0), -3.0);
+}
+
+TEST(TorqueProfile, MalformedCsvNamesLineAndValue) {
+  expectCsvError("0,1\n0.5,abc\n", "profile.csv:2 (torque): 'abc' is not a number");
+  expectCsvError("0,1\n1,2\n0.5,3\n", "profile.csv:3: time 0.5 goes backwards");
+  expectCsvError("0,1\n1;2\n", "profile.csv:2: expected 't,torque'");
+  expectCsvError("0,nan\n", "profile.csv:1 (torque): 'nan' is not finite");
+  expectCsvError("t,torque\n", "has no rows");
+  try {
+    TorqueProfile::fromCsvFile("/nonexistent.csv");
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot be read"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace kane_sim

@@ -1,0 +1,191 @@
+// The message-filling path, without a master: rosparam -> config, joint_states, tf, state.
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+#include "kane_sim/config/load_config.h"
+#include "kane_sim/ros/messages.h"
+#include "kane_sim/ros/param_yaml.h"
+#include "kane_sim/sim/simulator.h"
+#include "test_helpers.h"
+
+namespace kane_sim {
+namespace {
+
+XmlRpc::XmlRpcValue rosparamView() {
+  // What `rosparam load config/mechanism.yaml` puts on the server, as the node reads it back.
+  XmlRpc::XmlRpcValue root;
+  root["mechanism"]["rod_mass"] = 1.0;
+  root["mechanism"]["rod_half_length"] = 0.25;
+  root["mechanism"]["slider3_mass"] = 0.5;
+  root["mechanism"]["slider4_mass"] = 0.8;
+  root["mechanism"]["spring_stiffness"] = 200;  // an int, as rosparam stores "200"
+  root["mechanism"]["gravity"] = 9.81;
+  root["initial_state"]["q1"] = 0.5235987755982988;
+  root["initial_state"]["q2"] = 1.1660254037844386;
+  root["initial_state"]["u1"] = 0.0;
+  root["initial_state"]["u2"] = 0.0;
+  root["simulation"]["publish_clock"] = true;
+  root["simulation"]["integrator"] = std::string("dopri5");
+  root["frames"]["prefix"] = std::string("robot_a");
+  return root;
+}
+
+TEST(RosParams, RosparamViewLoadsLikeTheFile) {
+  XmlRpc::XmlRpcValue params = rosparamView();
+  const Config c = loadConfig(yamlFromXmlRpc(params)).config;
+  const Config f = test::defaultConfig();
+  EXPECT_EQ(c.mechanism.rod_mass, f.mechanism.rod_mass);
+  EXPECT_EQ(c.mechanism.spring_stiffness, 200.0);
+  EXPECT_EQ(c.mechanism.rod_inertia, f.mechanism.rod_inertia);
+  EXPECT_EQ(c.initial_state.q2, f.initial_state.q2);
+  EXPECT_TRUE(c.simulation.publish_clock);
+  EXPECT_EQ(c.simulation.integrator, IntegratorType::kDopri5);
+  EXPECT_EQ(c.frames.prefix, "robot_a");
+}
+
+TEST(RosParams, BadRosparamValuesNameTheKey) {
+  XmlRpc::XmlRpcValue params = rosparamView();
+  params["mechanism"]["rod_mass"] = std::string("heavy");
+  EXPECT_THROW(
+      {
+        try {
+          loadConfig(yamlFromXmlRpc(params));
+        } catch (const ConfigError& e) {
+          EXPECT_EQ(e.key(), "mechanism.rod_mass");
+          throw;
+        }
+      },
+      ConfigError);
+  params = rosparamView();
+  params["initial_state"]["q1"] = std::nan("");
+  try {
+    loadConfig(yamlFromXmlRpc(params));
+    ADD_FAILURE() << "NaN accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "initial_state.q1");
+    EXPECT_NE(std::string(e.what()).find("finite"), std::string::npos) << e.what();
+  }
+}
+
+class MessagesTest : public ::testing::Test {
+ protected:
+  MessagesTest() : config_(test::defaultConfig()), sim_(config_), frames_(config_.frames) {
+    sim_.setTorque(3.0);
+    for (int i = 0; i < 437; ++i) sim_.step();
+  }
+  Config config_;
+  Simulator sim_;
+  FrameNames frames_;
+};
+
+TEST_F(MessagesTest, JointStateHasFourJointsWithConsistentValues) {
+  const Snapshot s = sim_.snapshot();
+  const auto msg = jointStateMessage(s, ros::Time(12, 5));
+  const double L = config_.mechanism.rod_half_length;
+  ASSERT_EQ(msg.name, (std::vector<std::string>{"crank_joint", "coupler_joint", "slider3_joint",
+                                                "slider4_joint"}));
+  ASSERT_EQ(msg.position.size(), 4u);
+  ASSERT_EQ(msg.velocity.size(), 4u);
+  ASSERT_EQ(msg.effort.size(), 4u);
+  EXPECT_EQ(msg.header.stamp, ros::Time(12, 5));
+  EXPECT_DOUBLE_EQ(msg.position[0], s.state.q1);
+  EXPECT_DOUBLE_EQ(msg.position[1], -2 * s.state.q1);
+  EXPECT_DOUBLE_EQ(msg.position[2], 4 * L * std::cos(s.state.q1));
+  EXPECT_DOUBLE_EQ(msg.position[3], s.state.q2);
+  EXPECT_DOUBLE_EQ(msg.effort[0], 3.0);
+  EXPECT_EQ(msg.effort[1], 0.0);
+
+  // Velocities agree with the change of positions over one more short step (to O(dt)).
+  const double dt = sim_.stepSize();
+  sim_.step();
+  const auto next = jointStateMessage(sim_.snapshot(), ros::Time(12, 6));
+  for (int j = 0; j < 4; ++j) {
+    const double mean_velocity = 0.5 * (msg.velocity[j] + next.velocity[j]);
+    EXPECT_NEAR((next.position[j] - msg.position[j]) / dt, mean_velocity,
+                1e-4 * (1 + std::abs(mean_velocity)))
+        << msg.name[j];
+  }
+}
+
+Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t) {
+  Eigen::Isometry3d iso = Eigen::Isometry3d::Identity();
+  iso.translate(Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z));
+  iso.rotate(Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z));
+  return iso;
+}
+
+TEST_F(MessagesTest, WorldToMechanismPutsGravityAlongWorldMinusZ) {
+  const auto t = worldToMechanism(frames_, config_.frames, ros::Time(1));
+  EXPECT_EQ(t.header.frame_id, "world");
+  EXPECT_EQ(t.child_frame_id, "mechanism");
+  const Eigen::Isometry3d world_T_mech = toEigen(t.transform);
+  // O sits pivot_height above the world origin; one metre along the textbook's x (down) is lower.
+  EXPECT_TRUE(world_T_mech.translation().isApprox(Eigen::Vector3d(0, 0, 2.0)));
+  const Eigen::Vector3d below = world_T_mech * Eigen::Vector3d(1, 0, 0);
+  EXPECT_TRUE(below.isApprox(Eigen::Vector3d(0, 0, 1.0), 1e-12)) << below.transpose();
+  // Right-handed: the textbook's k = i x j maps to world x.
+  EXPECT_NEAR(world_T_mech.linear().determinant(), 1.0, 1e-12);
+}
+
+TEST_F(MessagesTest, BodyFramesSitAtTheMassCentersAlongTheRods) {
+  const State x = sim_.state();
+  const double L = config_.mechanism.rod_half_length;
+  const auto transforms = bodyTransforms(sim_.snapshot(), frames_, ros::Time(3));
+  ASSERT_EQ(transforms.size(), 4u);
+  const char* names[] = {"rod1", "rod2", "slider3", "slider4"};
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(transforms[i].header.frame_id, "mechanism");
+    EXPECT_EQ(transforms[i].child_frame_id, names[i]);
+  }
+  const Eigen::Isometry3d rod1 = toEigen(transforms[0].transform);
+  const Eigen::Isometry3d rod2 = toEigen(transforms[1].transform);
+  EXPECT_TRUE(rod1.translation().isApprox(Eigen::Vector3d(L * cos(x.q1), L * sin(x.q1), 0)));
+  EXPECT_TRUE(rod2.translation().isApprox(Eigen::Vector3d(3 * L * cos(x.q1), L * sin(x.q1), 0)));
+  // Rod ends: rod1's +L end is A, rod2's -L end is A and its +L end is B on the x axis.
+  const Eigen::Vector3d a1 = rod1 * Eigen::Vector3d(L, 0, 0);
+  const Eigen::Vector3d a2 = rod2 * Eigen::Vector3d(-L, 0, 0);
+  const Eigen::Vector3d b = rod2 * Eigen::Vector3d(L, 0, 0);
+  EXPECT_TRUE(a1.isApprox(a2, 1e-12));
+  EXPECT_NEAR(b.y(), 0.0, 1e-12);
+  EXPECT_NEAR(b.x(), transforms[2].transform.translation.x, 1e-12);
+  EXPECT_DOUBLE_EQ(transforms[3].transform.translation.x, x.q2);
+}
+
+TEST(FrameNames, PrefixIsJoinedWithASlashAndWorldIsShared) {
+  FrameSettings s;
+  s.prefix = "robot_a";
+  const FrameNames a(s);
+  EXPECT_EQ(a.mechanism, "robot_a/mechanism");
+  EXPECT_EQ(a.bodies[kRod2], "robot_a/rod2");
+  EXPECT_EQ(a.world, "world");
+  s.prefix = "robot_b/";
+  EXPECT_EQ(FrameNames(s).bodies[kSlider4], "robot_b/slider4");
+}
+
+TEST_F(MessagesTest, MechanismStateCarriesTheSnapshot) {
+  Snapshot s = sim_.snapshot();
+  s.command.commanded = 80.0;  // a command beyond the limit: the applied torque differs
+  const auto msg = mechanismStateMessage(s, 0.97, ros::Time(5), "mechanism");
+  EXPECT_EQ(msg.header.frame_id, "mechanism");
+  EXPECT_DOUBLE_EQ(msg.sim_time, s.time);
+  EXPECT_DOUBLE_EQ(msg.q[0], s.state.q1);
+  EXPECT_DOUBLE_EQ(msg.u[1], s.state.u2);
+  EXPECT_DOUBLE_EQ(msg.u_dot[0], s.u_dot[0]);
+  EXPECT_EQ(msg.commanded_torque, 80.0);
+  EXPECT_EQ(msg.applied_torque, 3.0);
+  EXPECT_NEAR(msg.active_forces[0] + msg.inertia_forces[0], 0.0, 1e-12);
+  EXPECT_DOUBLE_EQ(msg.total_energy,
+                   msg.kinetic_energy + msg.gravitational_energy + msg.spring_energy);
+  EXPECT_DOUBLE_EQ(msg.motor_work, s.motor_work);
+  EXPECT_EQ(msg.real_time_factor, 0.97);
+}
+
+TEST(SimStamp, FixedEpochPlusSimTime) {
+  EXPECT_EQ(simStamp(0.0), ros::Time(1000000000, 0));
+  EXPECT_EQ(simStamp(1.25), ros::Time(1000000001, 250000000));
+}
+
+}  // namespace
+}  // namespace kane_sim

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# plot_bag makes a 1200x900 PNG from a small bag and from a CSV of `simulate`, and fails
+# clearly on a file without data.  Usage: plot_bag_test.sh BUILD_DIR
+set -euo pipefail
+build_dir=$(cd "$1" && pwd)
+here=$(cd "$(dirname "$0")" && pwd)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+set +u
+# shellcheck disable=SC1091
+source "$build_dir/devel/setup.bash"
+set -u
+simulate="$build_dir/devel/lib/kane_sim/simulate"
+"$simulate" --config "$here/../../config/mechanism.yaml" --duration 2 --torque-sine 5,1 \
+  --bag "$work/run.bag" --csv "$work/run.csv" 2>/dev/null
+
+failures=0
+for input in run.bag run.csv; do
+  "$here/../../scripts/plot_bag" "$work/$input" -o "$work/$input.png"
+  size=$(/usr/bin/python3 -c "import matplotlib.image as m, sys; i = m.imread(sys.argv[1]); print('%dx%d' % (i.shape[1], i.shape[0]))" "$work/$input.png")
+  if [ "$size" = "1200x900" ]; then echo "ok   $input -> $size PNG"; else echo "FAIL $input -> $size"; failures=$((failures + 1)); fi
+done
+echo "t,q1" > "$work/empty.csv"
+if "$here/../../scripts/plot_bag" "$work/empty.csv" -o "$work/empty.png" 2>"$work/err"; then
+  echo "FAIL a CSV without the columns was accepted"; failures=$((failures + 1))
+elif grep -q "cannot read" "$work/err"; then echo "ok   bad CSV refused: $(cat "$work/err")"
+else echo "FAIL unclear error: $(cat "$work/err")"; failures=$((failures + 1)); fi
+
+if [ "$failures" -eq 0 ]; then echo "3 passed, 0 failed"; else echo "$((3 - failures)) passed, $failures failed"; exit 1; fi

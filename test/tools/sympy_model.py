@@ -1,0 +1,58 @@
+"""The textbook example's mechanism built independently with SymPy's KanesMethod (sympy.physics.mechanics),
+from the geometry in doc/mechanism.md only. Used by test/tools/sympy_crosscheck_test.py and
+bench/compare_sympy.py."""
+import math
+
+import numpy as np
+import sympy as sp
+import sympy.physics.mechanics as me
+
+
+def sympy_model(params, x0, torque=0.0):
+    """params: the config's mechanism map; x0: (q10, q20, ...), where the spring is unstretched.
+    Returns f(t, x) with x' = f for x = (q1, q2, u1, u2) and a constant driver moment."""
+    q1, q2, u1, u2 = me.dynamicsymbols("q1 q2 u1 u2")
+    frame = me.ReferenceFrame("N")  # N.x = i points down, gravity along +x
+    rod1 = frame.orientnew("R1", "Axis", [q1, frame.z])
+    rod2 = frame.orientnew("R2", "Axis", [-q1, frame.z])
+    rod1.set_ang_vel(frame, u1 * frame.z)
+    rod2.set_ang_vel(frame, -u1 * frame.z)
+    o = me.Point("O")
+    o.set_vel(frame, 0)
+    p = params
+    L = p["rod_half_length"]
+    points = {
+        "C1": o.locatenew("C1", L * rod1.x),
+        "C2": o.locatenew("C2", 2 * L * rod1.x + L * rod2.x),
+        "B": o.locatenew("B", 4 * L * sp.cos(q1) * frame.x),
+        "C": o.locatenew("C", q2 * frame.x),
+    }
+    qdot = {q1.diff(): u1, q2.diff(): u2}
+    for point in points.values():
+        point.set_vel(frame, point.pos_from(o).dt(frame).subs(qdot))
+    m, g, k = p["rod_mass"], p["gravity"], p["spring_stiffness"]
+    inertia = p.get("rod_inertia", m * (2 * L) ** 2 / 12)
+    bodies = [
+        me.RigidBody("rod1", points["C1"], rod1, m, (me.inertia(rod1, 0, 0, inertia), points["C1"])),
+        me.RigidBody("rod2", points["C2"], rod2, m, (me.inertia(rod2, 0, 0, inertia), points["C2"])),
+        me.Particle("slider3", points["B"], p["slider3_mass"]),
+        me.Particle("slider4", points["C"], p["slider4_mass"]),
+    ]
+    elongation = (4 * L * sp.cos(q1) - q2) - (4 * L * math.cos(x0[0]) - x0[1])
+    loads = [
+        (points["C1"], m * g * frame.x),
+        (points["C2"], m * g * frame.x),
+        (points["B"], p["slider3_mass"] * g * frame.x - k * elongation * frame.x),
+        (points["C"], p["slider4_mass"] * g * frame.x + k * elongation * frame.x),
+        (rod1, torque * frame.z),
+    ]
+    kane = me.KanesMethod(frame, q_ind=[q1, q2], u_ind=[u1, u2],
+                          kd_eqs=[q1.diff() - u1, q2.diff() - u2])
+    kane.kanes_equations(bodies, loads)
+    mass = sp.lambdify([q1, q2, u1, u2], kane.mass_matrix_full, "numpy")
+    forcing = sp.lambdify([q1, q2, u1, u2], kane.forcing_full, "numpy")
+
+    def rhs(_t, x):
+        return np.linalg.solve(mass(*x), forcing(*x)).ravel()
+
+    return rhs

@@ -1,0 +1,129 @@
+// The `simulate` executable, run as a user would: CSV layout, time grid, exit codes.
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "test_helpers.h"
+
+namespace {
+
+using RunResult = kane_sim::test::CommandResult;
+
+RunResult runSimulate(const std::string& args) {
+  return kane_sim::test::runCommand(std::string(KANE_SIM_SIMULATE_EXE) + " " + args);
+}
+
+std::vector<std::vector<double>> parseRows(const std::string& csv, std::string* header) {
+  return kane_sim::test::parseCsv(csv, header);
+}
+
+const std::string kConfig = "--config " + kane_sim::test::configPath("mechanism.yaml");
+
+TEST(SimulateCli, HeaderRowsAndTimeGrid) {
+  const RunResult r = runSimulate(kConfig + " --duration 2 --output-rate 50 --torque 1");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string header;
+  const auto rows = parseRows(r.out, &header);
+  EXPECT_EQ(header.rfind("t,q1,q2,u1,u2,energy", 0), 0u) << header;
+  ASSERT_EQ(rows.size(), 101u);  // t = 0, 0.02, ..., 2.0
+  for (size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_NEAR(rows[i][0], i / 50.0, 1e-12);
+    EXPECT_EQ(rows[i].size(), rows[0].size());
+  }
+  EXPECT_NEAR(rows[0][1], M_PI / 6, 1e-15);  // q1 at t = 0 is the configured q10
+  EXPECT_NE(r.err.find("steps/s"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("2000 physics steps"), std::string::npos) << r.err;
+}
+
+// The driver's events reach stderr once each, whatever the run length: a command over the
+// limit, the sliders crossing and rk4 falling behind the crank (50 N m spins it past 50 rad/s
+// within 5 s).
+TEST(SimulateCli, DriverEventsArePrintedOnceEach) {
+  const RunResult r = runSimulate(kConfig + " --duration 5 --output-rate 10 --torque 80");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto count = [&r](const std::string& text) {
+    int n = 0;
+    for (size_t at = r.err.find(text); at != std::string::npos; at = r.err.find(text, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("exceeds command.torque_limit 50 N m: clamped to 50 N m"), 1) << r.err;
+  EXPECT_EQ(count("slider 4 passed through slider 3"), 1) << r.err;
+  EXPECT_EQ(count("rk4 at 1000 Hz no longer resolves the motion"), 1) << r.err;
+  EXPECT_EQ(count("warning: "), 3) << r.err;
+}
+
+TEST(SimulateCli, DefaultOutputRateIs100HzAndCsvFileWorks) {
+  const std::string path = ::testing::TempDir() + "/run.csv";
+  const RunResult r = runSimulate(kConfig + " --duration 0.5 --integrator dopri5 --csv " + path);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  std::ifstream file(path);
+  const std::string csv((std::istreambuf_iterator<char>(file)), {});
+  std::string header;
+  EXPECT_EQ(parseRows(csv, &header).size(), 51u);
+}
+
+TEST(SimulateCli, BadFlagsExitWithUsage) {
+  for (const std::string& args :
+       {std::string("--duration 1"), kConfig, kConfig + " --duration -1",
+        kConfig + " --duration abc", kConfig + " --duration 1 --output-rate 0",
+        kConfig + " --duration 1 --output-rate 300", kConfig + " --duration 1 --integrator euler",
+        kConfig + " --duration 1 --bogus", kConfig + " --duration nan"}) {
+    const RunResult r = runSimulate(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("Usage: simulate"), std::string::npos) << args << "\n" << r.err;
+  }
+}
+
+TEST(SimulateCli, BadConfigExitsOneNamingTheKey) {
+  const RunResult missing = runSimulate("--config /nonexistent.yaml --duration 1");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("cannot open '/nonexistent.yaml'"), std::string::npos) << missing.err;
+
+  const std::string path = ::testing::TempDir() + "/bad.yaml";
+  std::ifstream in(kane_sim::test::configPath("mechanism.yaml"));
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  text.replace(text.find("rod_mass: 1.0"), 13, "rod_mass: -2");
+  std::ofstream(path) << text;
+  const RunResult bad = runSimulate("--config " + path + " --duration 1");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("mechanism.rod_mass' must be > 0, got -2"), std::string::npos) << bad.err;
+}
+
+TEST(SimulateCli, UnwritableOutputExitsFour) {
+  const RunResult r = runSimulate(kConfig + " --duration 1 --csv /nonexistent/dir/out.csv");
+  EXPECT_EQ(r.exit_code, 4);
+  EXPECT_NE(r.err.find("/nonexistent/dir/out.csv"), std::string::npos) << r.err;
+  const RunResult bag = runSimulate(kConfig + " --duration 1 --bag /nonexistent/dir/out.bag");
+  EXPECT_EQ(bag.exit_code, 4);
+  EXPECT_NE(bag.err.find("cannot write --bag '/nonexistent/dir/out.bag'"), std::string::npos)
+      << bag.err;
+}
+
+TEST(SimulateCli, AbsurdValuesAndBadTorqueProfilesAreUsageErrors) {
+  const std::string csv = ::testing::TempDir() + "/backwards.csv";
+  std::ofstream(csv) << "t,torque\n0,1\n1,2\n0.5,3\n";
+  const struct {
+    std::string args;
+    std::string message;
+  } cases[] = {
+      {" --duration 1e12", "--duration must be in [0, 10000000] s"},
+      {" --duration 1 --output-rate 1e300", "must divide simulation.physics_rate"},
+      {" --duration 1 --torque-csv " + csv, "backwards.csv:4: time 0.5 goes backwards"},
+      {" --duration 1 --torque-csv /nonexistent.csv", "cannot be read"},
+      {" --duration 1 --torque-step 1,2", "--torque-step takes 3 comma-separated numbers"},
+      {" --duration 1 --torque-sine 1,x", "--torque-sine: 'x' is not a number"},
+      {" --duration 1 --torque 1 --torque-sine 1,2", "give at most one of --torque"},
+      {" --duration 1 --torque inf", "--torque must be finite"},
+  };
+  for (const auto& c : cases) {
+    const RunResult r = runSimulate(kConfig + c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
+  }
+}
+
+}  // namespace
