@@ -24,29 +24,19 @@ double parseNumber(const std::string& text, const std::string& where) {
 
 }  // namespace
 
+TorqueProfile::TorqueProfile(Kind kind, double a, double b, double c)
+    : kind_(kind), a_(a), b_(b), c_(c) {}
+
 TorqueProfile TorqueProfile::constant(double torque) {
-  TorqueProfile p;
-  p.kind_ = Kind::kConstant;
-  p.a_ = torque;
-  return p;
+  return TorqueProfile(Kind::kConstant, torque, 0.0, 0.0);
 }
 
 TorqueProfile TorqueProfile::step(double time, double before, double after) {
-  TorqueProfile p;
-  p.kind_ = Kind::kStep;
-  p.a_ = time;
-  p.b_ = before;
-  p.c_ = after;
-  return p;
+  return TorqueProfile(Kind::kStep, time, before, after);
 }
 
 TorqueProfile TorqueProfile::sine(double amplitude, double frequency, double offset) {
-  TorqueProfile p;
-  p.kind_ = Kind::kSine;
-  p.a_ = amplitude;
-  p.b_ = frequency;
-  p.c_ = offset;
-  return p;
+  return TorqueProfile(Kind::kSine, amplitude, frequency, offset);
 }
 
 TorqueProfile TorqueProfile::table(std::vector<std::pair<double, double>> points) {
@@ -57,8 +47,7 @@ TorqueProfile TorqueProfile::table(std::vector<std::pair<double, double>> points
       throw std::invalid_argument("torque table entry " + std::to_string(i + 1) +
                                   ": time goes backwards");
   }
-  TorqueProfile p;
-  p.kind_ = Kind::kTable;
+  TorqueProfile p(Kind::kTable, 0.0, 0.0, 0.0);
   p.points_ = std::move(points);
   return p;
 }

@@ -26,9 +26,11 @@ class TorqueProfile {
 
  private:
   enum class Kind { kConstant, kStep, kSine, kTable };
-  Kind kind_ = Kind::kConstant;
-  double a_ = 0.0, b_ = 0.0,
-         c_ = 0.0;  // constant: a; step: a=time b=before c=after; sine: a,f,offset
+  TorqueProfile(Kind kind, double a, double b, double c);
+
+  Kind kind_;
+  // constant: a; step: a = time, b = before, c = after; sine: a = amplitude, b = f, c = offset
+  double a_, b_, c_;
   std::vector<std::pair<double, double>> points_;
 };
 
