@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -9,7 +10,33 @@
 namespace kane_sim {
 namespace {
 
+// The documented ranges; every check is written so that NaN fails it.
+constexpr double kMinPhysicsRate = 1.0;  // [Hz]; a slower "physics step" is not a simulation
 constexpr double kMaxPhysicsRate = 1e6;  // [Hz]; beyond this a step is below double's useful dt
+// At most this many physics steps per publish: a `step` service call (one publish period) then
+// stays well under a second of work.
+constexpr double kMaxStepsPerPublish = 1e5;
+constexpr double kMinRealTimeFactor = 1e-3;  // besides 0 (free-running)
+constexpr double kMaxRealTimeFactor = 1e6;
+// rk4's region of absolute stability reaches 2.785 along the imaginary axis: an undamped mode
+// of angular frequency ω is integrated stably only while ω h stays below it. Keep a margin.
+constexpr double kRk4StabilityLimit = 2.5;
+
+// The keys of a map, each a plain name and each once (yaml-cpp would keep one of two
+// duplicates silently).
+void checkKeys(const YAML::Node& map, const std::string& path) {
+  std::set<std::string> seen;
+  for (const auto& entry : map) {
+    const std::string where = path.empty() ? "<root>" : path;
+    if (!entry.first.IsScalar())
+      throw ConfigError(where, "has a key that is not a plain name (" +
+                                   std::string(entry.first.IsMap() ? "a map" : "a list") + ")");
+    const std::string key = entry.first.Scalar();
+    if (!seen.insert(key).second)
+      throw ConfigError(path.empty() ? key : path + "." + key,
+                        "appears twice: keep one (the loader would otherwise ignore one)");
+  }
+}
 
 std::string formatValue(double value) {
   std::ostringstream out;
@@ -41,11 +68,13 @@ class Section {
       : path_(name), warnings_(warnings) {
     // yaml-cpp's lookup of a missing key gives an invalid node that must not be stored.
     const YAML::Node child = parent[name];
-    if (!child) {
+    // An optional section whose keys are all commented out is null: an empty map.
+    if (!child || (child.IsNull() && !required)) {
       if (required) throw ConfigError(name, "is missing (a map of parameters is required)");
       return;
     }
     if (!child.IsMap()) throw ConfigError(name, "must be a map, got " + describe(child));
+    checkKeys(child, name);
     node_.reset(child);
     present_ = true;
   }
@@ -83,7 +112,7 @@ class Section {
   void warnAboutUnknownKeys() const {
     if (!present_) return;
     for (const auto& entry : node_) {
-      const std::string key = entry.first.as<std::string>();
+      const std::string key = entry.first.Scalar();
       if (!used_.count(key))
         warnings_->push_back("unknown config key '" + keyPath(key) + "' is ignored");
     }
@@ -122,6 +151,14 @@ void requireNonNegative(const std::string& key, double value) {
   if (!(value >= 0.0)) throw ConfigError(key, "must be >= 0, got " + formatValue(value));
 }
 
+// lo <= value <= hi, written so that NaN fails.
+void requireRange(const std::string& key, double value, double lo, double hi,
+                  const std::string& unit) {
+  if (!(value >= lo && value <= hi))
+    throw ConfigError(key, "must be in [" + formatValue(lo) + ", " + formatValue(hi) + "] " + unit +
+                               ", got " + formatValue(value));
+}
+
 void requireFrameName(const std::string& key, const std::string& name, bool allow_empty) {
   if (name.empty() && !allow_empty) throw ConfigError(key, "must not be empty");
   for (char c : name) {
@@ -141,14 +178,26 @@ void readMechanism(Section& s, MechanismParameters* p) {
   p->slider4_mass = s.number("slider4_mass");
   p->spring_stiffness = s.number("spring_stiffness");
   p->gravity = s.number("gravity");
-  p->rod_inertia = MechanismParameters::slenderRodInertia(p->rod_mass, p->rod_half_length);
-  s.number("rod_inertia", &p->rod_inertia);
-
   requirePositive(s.keyPath("rod_mass"), p->rod_mass);
   requirePositive(s.keyPath("rod_half_length"), p->rod_half_length);
   requirePositive(s.keyPath("slider3_mass"), p->slider3_mass);
   requirePositive(s.keyPath("slider4_mass"), p->slider4_mass);
   requireNonNegative(s.keyPath("spring_stiffness"), p->spring_stiffness);
+
+  p->rod_inertia = MechanismParameters::kUnset;  // stays NaN without a rod_inertia key
+  s.number("rod_inertia", &p->rod_inertia);
+  if (std::isnan(p->rod_inertia)) {
+    // The default follows from m and L: name them when it cannot be represented.
+    p->rod_inertia = MechanismParameters::slenderRodInertia(p->rod_mass, p->rod_half_length);
+    if (!(p->rod_inertia > 0.0 && std::isfinite(p->rod_inertia)))
+      throw ConfigError(s.keyPath("rod_half_length"),
+                        "and mechanism.rod_mass give a rod inertia m (2L)^2/12 of " +
+                            formatValue(p->rod_inertia) +
+                            " kg m^2, which is not a usable positive "
+                            "number (rod_mass " +
+                            formatValue(p->rod_mass) + ", rod_half_length " +
+                            formatValue(p->rod_half_length) + ")");
+  }
   requirePositive(s.keyPath("rod_inertia"), p->rod_inertia);
 }
 
@@ -171,24 +220,21 @@ void readSimulation(Section& s, SimulationSettings* sim) {
   s.boolean("publish_clock", &sim->publish_clock);
   s.boolean("start_paused", &sim->start_paused);
 
-  requirePositive(s.keyPath("physics_rate"), sim->physics_rate);
-  if (sim->physics_rate > kMaxPhysicsRate)
-    throw ConfigError(s.keyPath("physics_rate"), "must be <= " + formatValue(kMaxPhysicsRate) +
-                                                     " Hz, got " + formatValue(sim->physics_rate));
+  requireRange(s.keyPath("physics_rate"), sim->physics_rate, kMinPhysicsRate, kMaxPhysicsRate,
+               "Hz");
   requirePositive(s.keyPath("absolute_tolerance"), sim->absolute_tolerance);
   requirePositive(s.keyPath("relative_tolerance"), sim->relative_tolerance);
-  requirePositive(s.keyPath("publish_rate"), sim->publish_rate);
-  if (sim->publish_rate > sim->physics_rate)
-    throw ConfigError(s.keyPath("publish_rate"), "must be <= simulation.physics_rate (" +
-                                                     formatValue(sim->physics_rate) + " Hz), got " +
-                                                     formatValue(sim->publish_rate));
+  requireRange(s.keyPath("publish_rate"), sim->publish_rate,
+               sim->physics_rate / kMaxStepsPerPublish, sim->physics_rate, "Hz");
   const double ticks_per_publish = sim->physics_rate / sim->publish_rate;
   if (std::abs(ticks_per_publish - std::round(ticks_per_publish)) > 1e-9 * ticks_per_publish)
     throw ConfigError(s.keyPath("publish_rate"),
                       "must divide simulation.physics_rate (" + formatValue(sim->physics_rate) +
                           " Hz) into a whole number of physics steps, got " +
                           formatValue(sim->publish_rate));
-  requireNonNegative(s.keyPath("real_time_factor"), sim->real_time_factor);
+  if (sim->real_time_factor != 0.0)
+    requireRange(s.keyPath("real_time_factor"), sim->real_time_factor, kMinRealTimeFactor,
+                 kMaxRealTimeFactor, "(or 0 = as fast as possible)");
 }
 
 void readCommand(Section& s, CommandSettings* c) {
@@ -204,6 +250,64 @@ void readFrames(Section& s, FrameSettings* f) {
   s.number("pivot_height", &f->pivot_height);
   requireFrameName(s.keyPath("prefix"), f->prefix, true);
   requireFrameName(s.keyPath("world"), f->world, false);
+  // world is the parent of the mechanism's frames: naming it like one of them makes a loop.
+  std::string prefix = f->prefix;
+  if (!prefix.empty() && prefix.back() != '/') prefix += '/';
+  for (const char* own : {"mechanism", "rod1", "rod2", "slider3", "slider4"})
+    if (f->world == prefix + own)
+      throw ConfigError(s.keyPath("world"), "'" + f->world +
+                                                "' is one of the mechanism's own frames (a tf "
+                                                "loop); name the fixed world frame, e.g. 'world'");
+}
+
+// The initial state must have a finite geometry and energy (1e308 is a finite number whose
+// potential energy is not).
+void checkInitialState(const Config& c) {
+  const State& x = c.initial_state;
+  const EnergyTerms e = mechanismModel(c).energy(x);
+  if (!std::isfinite(e.total()))
+    throw ConfigError("initial_state", "gives a non-finite energy (q1 " + formatValue(x.q1) +
+                                           ", q2 " + formatValue(x.q2) + ", u1 " +
+                                           formatValue(x.u1) + ", u2 " + formatValue(x.u2) +
+                                           "): use values of the mechanism's size");
+}
+
+// ω_max of the linearisation at the initial configuration: ω² are the eigenvalues of M⁻¹ K,
+// K = -∂(forcing)/∂q at u = 0 by central differences. Only an estimate (the motion moves the
+// operating point), but the spring mode sqrt(k/M2) that makes a model stiff is nearly constant.
+double highestNaturalFrequency(const Config& c) {
+  const MechanismModel model = mechanismModel(c);
+  State x = c.initial_state;
+  x.u1 = x.u2 = 0.0;
+  const Eigen::Matrix2d mass = model.equations(x, 0.0).mass_matrix;
+  Eigen::Matrix2d stiffness;
+  for (int j = 0; j < 2; ++j) {
+    double& q = j == 0 ? x.q1 : x.q2;
+    const double q0 = q, h = 1e-6 * (1.0 + std::abs(q0));
+    q = q0 + h;
+    const SpeedVector plus = model.equations(x, 0.0).forcing();
+    q = q0 - h;
+    const SpeedVector minus = model.equations(x, 0.0).forcing();
+    q = q0;
+    stiffness.col(j) = -(plus - minus) / (2 * h);
+  }
+  const Eigen::Vector2cd lambda = (mass.inverse() * stiffness).eigenvalues();
+  return std::sqrt(std::max(std::abs(lambda[0]), std::abs(lambda[1])));
+}
+
+void checkIntegrable(const Config& c) {
+  if (c.simulation.integrator != IntegratorType::kRk4) return;  // dopri5 adapts its step
+  const double omega = highestNaturalFrequency(c);
+  const double h = 1.0 / c.simulation.physics_rate;
+  if (!(omega * h <= kRk4StabilityLimit))
+    throw ConfigError("simulation.physics_rate",
+                      "is too low for rk4 on this mechanism: its stiffest mode (" +
+                          formatValue(omega) +
+                          " rad/s, from spring_stiffness and the masses) needs omega h <= " +
+                          formatValue(kRk4StabilityLimit) + ", got " + formatValue(omega * h) +
+                          " at " + formatValue(c.simulation.physics_rate) +
+                          " Hz; use simulation.integrator dopri5 or a physics_rate of at least " +
+                          formatValue(std::ceil(omega / kRk4StabilityLimit)) + " Hz");
 }
 
 }  // namespace
@@ -220,6 +324,7 @@ IntegratorType parseIntegratorName(const std::string& name, const std::string& k
 LoadedConfig loadConfig(const YAML::Node& root) {
   if (!root || !root.IsMap())
     throw ConfigError("<root>", "must be a map with sections mechanism, initial_state, ...");
+  checkKeys(root, "");
   LoadedConfig loaded;
   std::vector<std::string>* warnings = &loaded.warnings;
   Config& config = loaded.config;
@@ -238,24 +343,37 @@ LoadedConfig loadConfig(const YAML::Node& root) {
   const std::set<std::string> sections = {"mechanism", "initial_state", "simulation", "command",
                                           "frames"};
   for (const auto& entry : root) {
-    const std::string key = entry.first.as<std::string>();
+    const std::string key = entry.first.Scalar();
     if (!sections.count(key)) warnings->push_back("unknown config key '" + key + "' is ignored");
   }
   for (const Section* s : {&mechanism, &initial_state, &simulation, &command, &frames})
     s->warnAboutUnknownKeys();
+  checkInitialState(config);
+  checkIntegrable(config);
   return loaded;
 }
 
-LoadedConfig loadConfigFile(const std::string& path) {
+YAML::Node loadYamlFile(const std::string& path) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error))
+    throw ConfigError("file", "cannot open '" + path + "' (not a readable file)");
   std::ifstream file(path);
   if (!file) throw ConfigError("file", "cannot open '" + path + "'");
-  YAML::Node root;
+  std::vector<YAML::Node> documents;
   try {
-    root = YAML::Load(file);
+    documents = YAML::LoadAll(file);
   } catch (const YAML::Exception& e) {
     throw ConfigError("file", "'" + path + "' is not valid YAML: " + e.what());
+  } catch (const std::exception& e) {  // I/O errors, yaml-cpp's recursion limit, ...
+    throw ConfigError("file", "'" + path + "' cannot be read as YAML: " + e.what());
   }
-  return loadConfig(root);
+  if (documents.size() > 1)
+    throw ConfigError("file", "'" + path + "' holds " + std::to_string(documents.size()) +
+                                  " YAML documents; a config is one document (no '---' between "
+                                  "sections)");
+  return documents.empty() ? YAML::Node() : documents.front();
 }
+
+LoadedConfig loadConfigFile(const std::string& path) { return loadConfig(loadYamlFile(path)); }
 
 }  // namespace kane_sim

@@ -3,11 +3,34 @@
 #include <rosgraph_msgs/Clock.h>
 #include <boost/make_shared.hpp>
 
+#include <memory>
+
 namespace kane_sim {
 
-BagWriter::BagWriter(const std::string& path) { bag_.open(path, rosbag::bagmode::Write); }
+// rosbag::Bag's destructor closes an open file again, and throws from there when the disk is
+// full, which ends the process. After any failed operation the Bag is therefore abandoned
+// (deliberately not destroyed): the caller reports the error and exits.
+template <typename Operation>
+void BagWriter::guarded(Operation operation) {
+  try {
+    operation(*bag_);
+  } catch (...) {
+    static_cast<void>(bag_.release());  // abandoned, see above
+    throw;
+  }
+}
 
-BagWriter::~BagWriter() { close(); }
+BagWriter::BagWriter(const std::string& path) : bag_(std::make_unique<rosbag::Bag>()) {
+  guarded([&path](rosbag::Bag& bag) { bag.open(path, rosbag::bagmode::Write); });
+}
+
+BagWriter::~BagWriter() {
+  // A destructor must not throw (a failed close was already reported by an explicit close()).
+  try {
+    close();
+  } catch (const std::exception&) {
+  }
+}
 
 void BagWriter::writeStatic(const geometry_msgs::TransformStamped& world_to_mechanism) {
   tf2_msgs::TFMessage msg;
@@ -20,21 +43,25 @@ void BagWriter::writeStatic(const geometry_msgs::TransformStamped& world_to_mech
   (*header)["type"] = ros::message_traits::datatype<tf2_msgs::TFMessage>();
   (*header)["md5sum"] = ros::message_traits::md5sum<tf2_msgs::TFMessage>();
   (*header)["message_definition"] = ros::message_traits::definition<tf2_msgs::TFMessage>();
-  bag_.write("/tf_static", world_to_mechanism.header.stamp, msg, header);
+  guarded([&](rosbag::Bag& bag) {
+    bag.write("/tf_static", world_to_mechanism.header.stamp, msg, header);
+  });
 }
 
 void BagWriter::write(const PublishedMessages& m, const ros::Time& stamp) {
   rosgraph_msgs::Clock clock;
   clock.clock = stamp;
-  bag_.write("/clock", stamp, clock);
-  bag_.write("/joint_states", stamp, m.joint_state);
-  bag_.write("/tf", stamp, m.tf);
-  bag_.write("/mechanism_state", stamp, m.mechanism_state);
-  bag_.write("/visualization_markers", stamp, m.markers);
+  guarded([&](rosbag::Bag& bag) {
+    bag.write("/clock", stamp, clock);
+    bag.write("/joint_states", stamp, m.joint_state);
+    bag.write("/tf", stamp, m.tf);
+    bag.write("/mechanism_state", stamp, m.mechanism_state);
+    bag.write("/visualization_markers", stamp, m.markers);
+  });
 }
 
 void BagWriter::close() {
-  if (bag_.isOpen()) bag_.close();
+  if (bag_ && bag_->isOpen()) guarded([](rosbag::Bag& bag) { bag.close(); });
 }
 
 }  // namespace kane_sim

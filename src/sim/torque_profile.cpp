@@ -2,24 +2,38 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
 namespace kane_sim {
 namespace {
 
+// The whole of `text` (surrounding blanks allowed) as a number; strtod, unlike std::stod, also
+// takes values below the normal range (1e-320) instead of calling them out of range.
+bool readNumber(const std::string& text, double* value) {
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  *value = std::strtod(begin, &end);
+  return end != begin && text.find_first_not_of(" \t\r", end - begin) == std::string::npos;
+}
+
 double parseNumber(const std::string& text, const std::string& where) {
-  size_t used = 0;
   double value = 0.0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    throw std::invalid_argument(where + ": '" + text + "' is not a number");
-  }
-  if (text.find_first_not_of(" \t\r", used) != std::string::npos)
+  if (!readNumber(text, &value))
     throw std::invalid_argument(where + ": '" + text + "' is not a number");
   if (!std::isfinite(value)) throw std::invalid_argument(where + ": '" + text + "' is not finite");
   return value;
+}
+
+// A header is recognised by its content: no field of it reads as a number ("t,torque").
+bool isHeader(const std::string& line) {
+  std::istringstream fields(line);
+  std::string field;
+  double value = 0.0;
+  while (std::getline(fields, field, ','))
+    if (readNumber(field, &value)) return false;
+  return true;
 }
 
 }  // namespace
@@ -58,14 +72,18 @@ TorqueProfile TorqueProfile::fromCsvFile(const std::string& path) {
   std::vector<std::pair<double, double>> points;
   std::string line;
   int number = 0;
+  bool first_row = true;
   while (std::getline(in, line)) {
     ++number;
     const std::string where = path + ":" + std::to_string(number);
-    if (line.empty() || line[0] == '#' || line.find_first_not_of(" \t\r") == std::string::npos)
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // UTF-8 BOM
+    const size_t start = line.find_first_not_of(" \t\r");
+    if (start == std::string::npos || line[start] == '#') continue;
+    if (first_row && isHeader(line)) {
+      first_row = false;
       continue;
-    if (number == 1 && line.find_first_of("0123456789") != 0 && line[0] != '-' && line[0] != '+' &&
-        line[0] != '.')
-      continue;  // a header such as "t,torque"
+    }
+    first_row = false;
     const size_t comma = line.find(',');
     if (comma == std::string::npos)
       throw std::invalid_argument(where + ": expected 't,torque', got '" + line + "'");

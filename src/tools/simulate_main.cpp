@@ -1,10 +1,13 @@
 // `simulate`: runs the mechanism offline (no ROS master) and writes a CSV and/or a bag.
 //
 // Exit codes: 0 ok, 1 bad config, 2 bad command line, 3 the simulation refused a step,
-// 4 the output could not be written.
+// 4 the output could not be written, 5 an unexpected internal failure.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -31,7 +34,10 @@ constexpr int kExitConfig = 1;
 constexpr int kExitUsage = 2;
 constexpr int kExitStepRefused = 3;
 constexpr int kExitOutput = 4;
+constexpr int kExitInternal = 5;      // a bug: please report the message
 constexpr double kMaxDuration = 1e7;  // [s] ~4 months of sim time; beyond that is a typo
+// More physics steps than this between two rows is no output grid (and would overflow a long).
+constexpr double kMaxStepsPerRow = 1e12;
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -106,6 +112,8 @@ std::vector<double> parseList(const std::string& flag, const std::string& text, 
     }
     requireFinite(flag, values.back());
   }
+  if (!text.empty() && text.back() == ',')
+    throw UsageError("--" + flag + ": '" + text + "' ends with a comma (a value is missing)");
   if (values.size() < min_count || values.size() > max_count)
     throw UsageError("--" + flag + " takes " + std::to_string(min_count) +
                      (max_count > min_count ? " to " + std::to_string(max_count) : "") +
@@ -157,9 +165,31 @@ bool parseOptions(int argc, char** argv, Options* options) {
   options->duration = requireFinite("duration", vm["duration"].as<double>());
   options->output_rate = requireFinite("output-rate", vm["output-rate"].as<double>());
   options->profile = parseProfile(vm);
-  if (vm.count("integrator")) options->integrator = vm["integrator"].as<std::string>();
+  if (vm.count("integrator")) {
+    options->integrator = vm["integrator"].as<std::string>();
+    if (options->integrator != kane_sim::integratorName(kane_sim::IntegratorType::kRk4) &&
+        options->integrator != kane_sim::integratorName(kane_sim::IntegratorType::kDopri5))
+      throw UsageError("--integrator must be rk4 or dopri5, got '" + options->integrator + "'");
+  }
   if (vm.count("csv")) options->csv_path = vm["csv"].as<std::string>();
   if (vm.count("bag")) options->bag_path = vm["bag"].as<std::string>();
+  for (const char* flag : {"csv", "bag"})
+    if (vm.count(flag) && vm[flag].as<std::string>().empty())
+      throw UsageError(std::string("--") + flag + " needs a file name, got ''");
+  // Two outputs, or an output and the config, in one file would destroy each other.
+  const auto same = [](const std::string& a, const std::string& b) {
+    std::error_code error;
+    return !a.empty() && !b.empty() &&
+           (a == b || std::filesystem::weakly_canonical(a, error) ==
+                          std::filesystem::weakly_canonical(b, error));
+  };
+  if (same(options->csv_path, options->config_path) ||
+      same(options->bag_path, options->config_path))
+    throw UsageError("--csv and --bag must not name the --config file '" + options->config_path +
+                     "'");
+  if (same(options->csv_path, options->bag_path))
+    throw UsageError("--csv and --bag must name different files, got '" + options->csv_path +
+                     "' for both");
   if (options->duration < 0 || options->duration > kMaxDuration)
     throw UsageError("--duration must be in [0, " + num(kMaxDuration) + "] s, got " +
                      num(options->duration));
@@ -172,7 +202,7 @@ bool parseOptions(int argc, char** argv, Options* options) {
 long stepsPerRow(double physics_rate, double output_rate) {
   const double ratio = physics_rate / output_rate;
   const double whole = std::round(ratio);
-  if (whole < 1 || std::abs(ratio - whole) > 1e-9 * ratio)
+  if (!(whole >= 1 && whole <= kMaxStepsPerRow) || std::abs(ratio - whole) > 1e-9 * ratio)
     throw UsageError("--output-rate " + num(output_rate) +
                      " Hz must divide simulation.physics_rate " + num(physics_rate) +
                      " Hz into a whole number of physics steps");
@@ -191,6 +221,7 @@ class Outputs {
       csv_ = &std::cout;
     }
     if (!options.bag_path.empty()) {
+      bag_path_ = options.bag_path;
       try {
         bag_ = std::make_unique<kane_sim::BagWriter>(options.bag_path);
       } catch (const std::exception& e) {
@@ -202,39 +233,71 @@ class Outputs {
   }
 
   void write(const kane_sim::Snapshot& snapshot) {
-    if (csv_) kane_sim::writeCsvRow(*csv_, snapshot);
+    if (csv_) {
+      kane_sim::writeCsvRow(*csv_, snapshot);
+      if (!*csv_) throw OutputError("writing the CSV failed (disk full?)");
+    }
     if (bag_) {
       const ros::Time stamp = kane_sim::simStamp(snapshot.time);
-      // real_time_factor 0: offline, not paced against any wall clock.
-      bag_->write(kane_sim::buildMessages(snapshot, frames_, 0.0, stamp), stamp);
+      try {
+        // real_time_factor 0: offline, not paced against any wall clock.
+        bag_->write(kane_sim::buildMessages(snapshot, frames_, 0.0, stamp), stamp);
+      } catch (const std::exception& e) {
+        throw OutputError("writing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
+      }
     }
   }
 
   void finish() {
-    if (bag_) bag_->close();
+    if (bag_) {
+      try {
+        bag_->close();
+      } catch (const std::exception& e) {
+        throw OutputError("closing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
+      }
+    }
     if (csv_) {
       csv_->flush();
-      if (!*csv_) throw OutputError("writing the CSV failed");
+      if (!*csv_) throw OutputError("writing the CSV failed (disk full?)");
     }
   }
 
  private:
   kane_sim::FrameNames frames_;
+  std::string bag_path_;
   std::ofstream file_;
   std::ostream* csv_ = nullptr;
   std::unique_ptr<kane_sim::BagWriter> bag_;
 };
 
+// The row count of a run; a duration off the output grid is refused rather than cut short.
+long rowCount(double duration, double output_rate) {
+  const double periods = duration * output_rate;
+  const double whole = std::round(periods);
+  if (std::abs(periods - whole) > 1e-9 * std::max(1.0, periods))
+    throw UsageError("--duration " + num(duration) +
+                     " s is not a whole number of output periods (" + num(1.0 / output_rate) +
+                     " s at --output-rate " + num(output_rate) + " Hz): use " +
+                     num(std::floor(periods) / output_rate) + " or " +
+                     num(std::ceil(periods) / output_rate) + " s");
+  return static_cast<long>(whole);
+}
+
 int run(const Options& options) {
-  kane_sim::LoadedConfig loaded = kane_sim::loadConfigFile(options.config_path);
+  // --integrator goes into the tree before validation, so the stability check judges the
+  // integrator that will run.
+  YAML::Node root = kane_sim::loadYamlFile(options.config_path);
+  if (!options.integrator.empty() && root.IsMap()) {
+    if (!root["simulation"] || root["simulation"].IsNull())
+      root["simulation"] = YAML::Node(YAML::NodeType::Map);
+    if (root["simulation"].IsMap()) root["simulation"]["integrator"] = options.integrator;
+  }
+  kane_sim::LoadedConfig loaded = kane_sim::loadConfig(root);
   for (const std::string& warning : loaded.warnings) std::cerr << "warning: " << warning << "\n";
-  kane_sim::Config& config = loaded.config;
-  if (!options.integrator.empty())
-    config.simulation.integrator =
-        kane_sim::parseIntegratorName(options.integrator, "--integrator");
+  const kane_sim::Config& config = loaded.config;
 
   const long steps_per_row = stepsPerRow(config.simulation.physics_rate, options.output_rate);
-  const long rows = static_cast<long>(std::floor(options.duration * options.output_rate + 1e-9));
+  const long rows = rowCount(options.duration, options.output_rate);
 
   // The same driver as the node: the profile is a stream of commands, clamped alike; each
   // kind of event is printed once.
@@ -253,7 +316,7 @@ int run(const Options& options) {
   for (long row = 1; row <= rows; ++row) {
     for (long i = 0; i < steps_per_row; ++i) {
       if (!driver.step()) {
-        out.finish();
+        out.finish();  // what was simulated up to the refusal stays readable
         return kExitStepRefused;
       }
       driver.command(options.profile->at(driver.time()));
@@ -275,6 +338,8 @@ int run(const Options& options) {
 
 int main(int argc, char** argv) {
   ros::Time::init();  // ros::Time without a master, for the bag writer
+  // Past a file-size limit (ulimit -f) a write should fail (exit 4), not kill the process.
+  std::signal(SIGXFSZ, SIG_IGN);
   Options options;
   try {
     if (!parseOptions(argc, argv, &options)) return 0;
@@ -286,11 +351,10 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitOutput;
   } catch (const ConfigError& e) {
-    if (e.key() == "--integrator") {
-      std::cerr << "error: " << e.what() << "\n\n" << describeOptions() << "\n";
-      return kExitUsage;
-    }
     std::cerr << "error: " << options.config_path << ": " << e.what() << "\n";
     return kExitConfig;
+  } catch (const std::exception& e) {  // nothing above should let one through; never abort
+    std::cerr << "error: unexpected failure: " << e.what() << "\n";
+    return kExitInternal;
   }
 }

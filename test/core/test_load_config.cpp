@@ -152,12 +152,22 @@ TEST(LoadConfig, OutOfRangeValuesNameKeyAndValue) {
       {"mechanism", "spring_stiffness", "-3", "must be >= 0, got -3"},
       {"mechanism", "gravity", ".nan", "must be finite, got '.nan'"},
       {"initial_state", "u1", ".inf", "must be finite, got '.inf'"},
-      {"simulation", "physics_rate", "0", "must be > 0, got 0"},
-      {"simulation", "physics_rate", "-100", "must be > 0, got -100"},
-      {"simulation", "physics_rate", "1e9", "must be <= 1000000 Hz, got 1000000000"},
-      {"simulation", "publish_rate", "2000", "must be <= simulation.physics_rate"},
+      // Rates, ratios and periods: documented finite ranges, checked without NaN holes.
+      {"simulation", "physics_rate", "0", "must be in [1, 1000000] Hz, got 0"},
+      {"simulation", "physics_rate", "-100", "must be in [1, 1000000] Hz, got -100"},
+      {"simulation", "physics_rate", "1e9", "must be in [1, 1000000] Hz, got 1000000000"},
+      {"simulation", "physics_rate", "1e-6",
+       "must be in [1, 1000000] Hz, got 9.9999999999999995e-07"},
+      {"simulation", "publish_rate", "2000", "must be in [0.01, 1000] Hz, got 2000"},
+      {"simulation", "publish_rate", "1e-300", "must be in [0.01, 1000] Hz, got 1e-300"},
+      {"simulation", "publish_rate", "1e-308", "must be in [0.01, 1000] Hz"},
       {"simulation", "publish_rate", "300", "whole number of physics steps, got 300"},
-      {"simulation", "real_time_factor", "-1", "must be >= 0, got -1"},
+      {"simulation", "real_time_factor", "-1", "must be in [0.001, 1000000]"},
+      {"simulation", "real_time_factor", "1e-13", "must be in [0.001, 1000000]"},
+      {"simulation", "real_time_factor", "1e300", "must be in [0.001, 1000000]"},
+      // Values whose derived quantities are not finite numbers.
+      {"mechanism", "rod_half_length", "1e-200", "give a rod inertia m (2L)^2/12 of 0"},
+      {"frames", "world", "mechanism", "one of the mechanism's own frames (a tf loop)"},
       {"command", "torque_limit", "-5", "must be >= 0, got -5"},
       {"command", "timeout", "-0.1", "must be >= 0, got -0.10000000000000001"},
       {"frames", "world", "''", "must not be empty"},
@@ -169,6 +179,52 @@ TEST(LoadConfig, OutOfRangeValuesNameKeyAndValue) {
     root[c.section][c.key] = YAML::Load(c.value);
     expectError(root, std::string(c.section) + "." + c.key, c.message);
   }
+}
+
+// A finite initial state whose energy is not (V_g = -M2 g q2 overflows).
+TEST(LoadConfig, InitialStateWithNonFiniteEnergyIsRefused) {
+  YAML::Node root = defaultYaml();
+  root["initial_state"]["q2"] = 1e308;
+  expectError(root, "initial_state", "gives a non-finite energy");
+}
+
+// k = 1e9 N/m on the 0.8 kg slider: a mode near 43 000 rad/s, so rk4 at 1 kHz (ω h ≈ 43, far
+// past its stability limit 2.78) would diverge within milliseconds. Refused at start-up with
+// the limit and the fix; dopri5 or a fast enough rate are accepted.
+TEST(LoadConfig, StiffMechanismIsRefusedForRk4AtTooLowARate) {
+  YAML::Node root = defaultYaml();
+  root["mechanism"]["spring_stiffness"] = 1e9;
+  expectError(root, "simulation.physics_rate",
+              "use simulation.integrator dopri5 or a physics_rate of at least 17205 Hz");
+}
+
+TEST(LoadConfig, StiffMechanismIsFineWithDopri5OrAFastEnoughRate) {
+  YAML::Node root = defaultYaml();
+  root["mechanism"]["spring_stiffness"] = 1e9;
+  root["simulation"]["integrator"] = "dopri5";
+  EXPECT_NO_THROW(loadConfig(root));
+  root["simulation"]["integrator"] = "rk4";
+  root["simulation"]["physics_rate"] = 20000;
+  root["simulation"]["publish_rate"] = 100;
+  EXPECT_NO_THROW(loadConfig(root));
+}
+
+TEST(LoadConfig, KeysAreNamesEachGivenOnce) {
+  expectError(YAML::Load("mechanism: {rod_mass: 1.0, rod_mass: -5}\ninitial_state: {}"),
+              "mechanism.rod_mass", "appears twice");
+  YAML::Node complex = defaultYaml();
+  complex["simulation"][YAML::Load("[a, b]")] = 1;
+  expectError(complex, "simulation", "has a key that is not a plain name (a list)");
+  expectError(YAML::Load("? [a, b]\n: 1\nmechanism: {}"), "<root>", "not a plain name");
+}
+
+TEST(LoadConfig, OptionalSectionWithEveryKeyCommentedOutIsEmpty) {
+  YAML::Node root = defaultYaml();
+  root["command"] = YAML::Node(YAML::NodeType::Null);
+  const Config c = loadConfig(root).config;
+  EXPECT_EQ(c.command.torque_limit, CommandSettings().torque_limit);
+  root["mechanism"] = YAML::Node(YAML::NodeType::Null);
+  expectError(root, "mechanism", "must be a map, got null");  // required: not optional
 }
 
 TEST(LoadConfig, UnknownIntegratorListsTheValidOnes) {
@@ -201,6 +257,20 @@ TEST(LoadConfig, UnreadableOrMalformedFile) {
   const std::string list_path = ::testing::TempDir() + "/list.yaml";
   std::ofstream(list_path) << "- 1\n- 2\n";
   EXPECT_THROW(loadConfigFile(list_path), ConfigError);
+  try {
+    loadConfigFile("/etc");
+    ADD_FAILURE() << "a directory accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("not a readable file"), std::string::npos) << e.what();
+  }
+  const std::string two_path = ::testing::TempDir() + "/two.yaml";
+  std::ofstream(two_path) << "mechanism: {}\n---\nmechanism: {}\n";
+  try {
+    loadConfigFile(two_path);
+    ADD_FAILURE() << "two documents accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("holds 2 YAML documents"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

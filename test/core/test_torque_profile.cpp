@@ -52,6 +52,24 @@ TEST(TorqueProfile, CsvWithHeaderAndComments) {
   EXPECT_EQ(p.at(2.0), -3.0);
 }
 
+// A header is recognised by its content, never by its first character: a first data row with a
+// leading blank, after a UTF-8 byte-order mark, or with a non-finite value is data.
+TEST(TorqueProfile, FirstDataRowIsNeverTakenForAHeader) {
+  for (const char* text : {" 0,20\n0.5,-5\n",
+                           "\xEF\xBB\xBF"
+                           "0,20\n0.5,-5\n",
+                           "\t0 , 20\n0.5,-5\n", "\xEF\xBB\xBFt,torque\n0,20\n0.5,-5\n"}) {
+    const auto p = TorqueProfile::fromCsvFile(writeFile("first.csv", text));
+    EXPECT_EQ(p.at(0.0), 20.0) << text;
+    EXPECT_EQ(p.at(0.6), -5.0) << text;
+  }
+  expectCsvError("nan,5\n1,2\n", "profile.csv:1 (time): 'nan' is not finite");
+  expectCsvError("inf,5\n", "profile.csv:1 (time): 'inf' is not finite");
+  expectCsvError("e,5\n", "profile.csv:1 (time): 'e' is not a number");
+  // Values below double's normal range are numbers (as --torque 1e-320 is).
+  EXPECT_EQ(TorqueProfile::fromCsvFile(writeFile("tiny.csv", "0,1e-320\n")).at(1.0), 1e-320);
+}
+
 TEST(TorqueProfile, MalformedCsvNamesLineAndValue) {
   expectCsvError("0,1\n0.5,abc\n", "profile.csv:2 (torque): 'abc' is not a number");
   expectCsvError("0,1\n1,2\n0.5,3\n", "profile.csv:3: time 0.5 goes backwards");

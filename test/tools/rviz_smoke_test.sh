@@ -26,21 +26,33 @@ rosrun kane_sim simulate --config "$here/../../config/mechanism.yaml" --duration
 
 shot="$artifacts/rviz_smoke.png"
 log="$artifacts/rviz_smoke.log"
-rm -f "$shot"
+rm -f "$shot" "$work"/shot_*.png
+# Three screenshots 2 s apart, from the second pass on: right after a loop rewinds /clock, rviz
+# clears its tf buffer and may draw nothing for a moment, and a single shot can land there
+# (seen on loaded machines). The mechanism must be drawn in at least one of them.
 xvfb-run -a -s "-screen 0 1280x800x24" bash -c "
   roslaunch -p $port kane_sim view_bag.launch bag:=$work/run.bag > '$log' 2>&1 &
   launch=\$!
-  sleep 16
-  import -window root '$shot'
+  sleep 12
+  for i in 1 2 3; do import -window root '$work'/shot_\$i.png; sleep 2; done
   kill -INT \$launch
   wait \$launch || true
 "
 
 failures=0
+shown=0
+for candidate in "$work"/shot_*.png; do
+  [ -s "$candidate" ] || continue
+  cp "$candidate" "$shot"
+  if /usr/bin/python3 "$here/check_screenshot.py" "$candidate"; then
+    shown=1
+    break
+  fi
+done
 if [ ! -s "$shot" ]; then
   echo "FAIL: no screenshot taken"; failures=$((failures + 1))
-elif ! /usr/bin/python3 "$here/check_screenshot.py" "$shot"; then
-  failures=$((failures + 1))
+elif [ "$shown" -eq 0 ]; then
+  echo "FAIL: the mechanism is not drawn in any of the screenshots"; failures=$((failures + 1))
 fi
 for pattern in "too old" TF_OLD_DATA TF_REPEATED_DATA "Could not load"; do
   if grep -q "$pattern" "$log"; then

@@ -126,4 +126,48 @@ TEST(SimulateCli, AbsurdValuesAndBadTorqueProfilesAreUsageErrors) {
   }
 }
 
+// Hostile input never aborts: each case ends with its documented exit code and a message, never
+// a signal (exit_code -1) or an uncaught exception (134).
+TEST(SimulateCli, HostileInputEndsWithItsExitCode) {
+  const std::string dir = ::testing::TempDir();
+  std::ifstream in(kane_sim::test::configPath("mechanism.yaml"));
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  const auto variant = [&](const std::string& name, const std::string& extra_first) {
+    std::ofstream(dir + "/" + name) << extra_first << text;
+    return "--config " + dir + "/" + name;
+  };
+  const struct {
+    std::string args;
+    int exit_code;
+    std::string message;
+  } cases[] = {
+      {variant("complex_key.yaml", "? [a, b]\n: 1\n") + " --duration 1", 1, "not a plain name"},
+      {"--config /etc --duration 1", 1, "not a readable file"},
+      {variant("dup.yaml", "command: {}\n") + " --duration 1", 1, "'command' appears twice"},
+      {kConfig + " --duration 1 --bag /dev/full", 4, "--bag '/dev/full'"},
+      {kConfig + " --duration 1 --output-rate 1e-300", 2, "must divide"},
+      {kConfig + " --duration 0.015", 2, "not a whole number of output periods"},
+      {kConfig + " --duration 1 --integrator euler", 2, "--integrator must be rk4 or dopri5"},
+      {kConfig + " --duration 1 --csv " + kane_sim::test::configPath("mechanism.yaml"), 2,
+       "must not name the --config file"},
+      {kConfig + " --duration 1 --csv " + dir + "/same --bag " + dir + "/same", 2,
+       "must name different files"},
+      {kConfig + " --duration 1 --bag ''", 2, "--bag needs a file name"},
+      {kConfig + " --duration 1 --torque-step 1,2,3,", 2, "ends with a comma"},
+  };
+  for (const auto& c : cases) {
+    const RunResult r = runSimulate(c.args);
+    EXPECT_EQ(r.exit_code, c.exit_code) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
+  }
+  // A file-size limit mid-run (a full disk): exit 4 for the CSV and the bag alike.
+  for (const std::string& output : {" --csv " + dir + "/big.csv", " --bag " + dir + "/big.bag"}) {
+    const RunResult r =
+        kane_sim::test::runCommand("ulimit -f 200; " + std::string(KANE_SIM_SIMULATE_EXE) + " " +
+                                   kConfig + " --duration 300" + output);
+    EXPECT_EQ(r.exit_code, 4) << output << "\n" << r.err;
+    EXPECT_NE(r.err.find("disk full?"), std::string::npos) << output << "\n" << r.err;
+  }
+}
+
 }  // namespace

@@ -30,7 +30,9 @@ struct LoadedConfig {
 
 // Throws ConfigError on a missing required key, a wrong type or an out-of-range value.
 LoadedConfig loadConfig(const YAML::Node& root);
-// As loadConfig, and a ConfigError (key "file") when the file cannot be read or parsed.
+// One YAML document from a file; ConfigError (key "file") when it cannot be read or parsed.
+YAML::Node loadYamlFile(const std::string& path);
+// loadConfig(loadYamlFile(path)).
 LoadedConfig loadConfigFile(const std::string& path);
 
 // "rk4" -> kRk4, ...; throws ConfigError(key, ...) listing the valid names otherwise.

@@ -3,6 +3,7 @@
 #ifndef KANE_SIM_ROS_BAG_WRITER_H
 #define KANE_SIM_ROS_BAG_WRITER_H
 
+#include <memory>
 #include <string>
 
 #include <rosbag/bag.h>
@@ -24,7 +25,10 @@ class BagWriter {
   void close();
 
  private:
-  rosbag::Bag bag_;
+  template <typename Operation>
+  void guarded(Operation operation);
+
+  std::unique_ptr<rosbag::Bag> bag_;  // null once abandoned after a failure
 };
 
 }  // namespace kane_sim
