@@ -12,6 +12,7 @@ catkin_add_executable_with_gtest(node_tests
   test/node/test_namespaces.cpp
   test/node/test_controller.cpp
   test/node/test_robustness.cpp
+  test/node/test_hostile.cpp
   EXCLUDE_FROM_ALL)
 if(TARGET node_tests)
   target_link_libraries(node_tests kane_sim_ros kane_sim_warnings)
@@ -20,7 +21,8 @@ if(TARGET node_tests)
   target_compile_definitions(node_tests PRIVATE
     KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config"
     KANE_SIM_SIMULATE_EXE="$<TARGET_FILE:simulate>")
-  foreach(case topics torque commands services clock_mode bad_param namespaces controller robustness)
+  foreach(case topics torque commands services clock_mode bad_param namespaces controller robustness
+      stalled leftover_sim_time slow_ticks)
     add_rostest(test/node/${case}.test DEPENDENCIES node_tests kane_sim_node pd_controller simulate)
   endforeach()
 endif()

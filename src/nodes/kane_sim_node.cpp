@@ -2,6 +2,7 @@
 
 #include <sys/prctl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <thread>
@@ -24,6 +25,10 @@ namespace {
 constexpr double kMaxCatchUp = 0.1;         // [s]
 constexpr double kDiagnosticsPeriod = 1.0;  // [s] wall
 constexpr double kPausedPoll = 0.002;       // [s] wall, callback wait while paused
+// Waiting for a tick serves callbacks in slices of at most this, then sleeps the last
+// kPreciseWait exactly: a slow tick (a low real_time_factor) never makes the node deaf.
+constexpr double kWaitSlice = 0.05;     // [s] wall
+constexpr double kPreciseWait = 0.002;  // [s] wall
 
 double wallSeconds(std::chrono::steady_clock::duration d) {
   return std::chrono::duration<double>(d).count();
@@ -48,7 +53,7 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
     : nh_(nh),
       config_(loadParameters(private_nh)),
       frames_(config_.frames),
-      driver_(config_, [this](const SimEvent& event) { logEvent(event); }),
+      driver_(config_, [this](const SimEvent& event) { onEvent(event); }),
       scheduler_(config_.simulation.real_time_factor > 0
                      ? 1.0 / (config_.simulation.physics_rate * config_.simulation.real_time_factor)
                      : 0.0,
@@ -121,6 +126,7 @@ void KaneSimNode::run() {
   // Linux lets a sleeping thread wake up to 50 µs late by default ("timer slack") to batch
   // wake-ups; a 1 kHz loop wants its deadlines kept to the microsecond.
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+  checkSimTimeSetting();
   static_tf_broadcaster_->sendTransform(worldToMechanism(frames_, config_.frames, stamp()));
   publishState();
   const auto now = SteadyClock::now();
@@ -139,8 +145,38 @@ void KaneSimNode::run() {
   master_watch.join();
 }
 
+void KaneSimNode::waitForTick() {
+  if (scheduler_.freeRunning()) return;
+  const auto due = scheduler_.due();
+  const auto precise = std::chrono::duration_cast<SteadyClock::duration>(
+      std::chrono::duration<double>(kPreciseWait));
+  for (auto now = SteadyClock::now(); now + precise < due && ros::ok() && !paused_;
+       now = SteadyClock::now()) {
+    const double remaining = wallSeconds(due - now) - kPreciseWait;
+    ros::getGlobalCallbackQueue()->callAvailable(
+        ros::WallDuration(std::min(remaining, kWaitSlice)));
+  }
+  if (ros::ok() && !paused_) std::this_thread::sleep_until(due);
+}
+
+bool KaneSimNode::publishDueByWallClock() const {
+  return wallSeconds(SteadyClock::now() - last_publish_wall_) >=
+         1.0 / config_.simulation.publish_rate;
+}
+
 void KaneSimNode::runOneTick() {
-  if (!scheduler_.freeRunning()) std::this_thread::sleep_until(scheduler_.due());
+  waitForTick();
+  if (!ros::ok() || paused_) return;
+  if (!isStampable(driver_.time() + 1.0 / config_.simulation.physics_rate)) {
+    // Stamps would leave ROS's time range: stop stepping, say why, keep serving.
+    if (!stopped_at_time_limit_)
+      ROS_ERROR(
+          "kane_sim: sim time %.0f s reached the largest ROS can stamp (%.0f s after the sim "
+          "epoch): physics stopped, the last state stays published; restart the node",
+          driver_.time(), kMaxStampableSimTime);
+    stopped_at_time_limit_ = paused_ = true;
+    return;
+  }
   const TickScheduler::Timing timing = scheduler_.start(SteadyClock::now());
   stats_.recordTick(timing.lateness, timing.overrun, timing.skipped);
   if (timing.skipped > 0)
@@ -148,7 +184,11 @@ void KaneSimNode::runOneTick() {
                       "kane_sim: fell %.3f s behind the %g Hz schedule; dropped that lag, so sim "
                       "time now runs that much behind wall time (see /diagnostics)",
                       timing.skipped, config_.simulation.physics_rate);
-  if (driver_.step() && driver_.ticks() % ticks_per_publish_ == 0) publishState();
+  if (driver_.step()) {
+    if (driver_.ticks() % ticks_per_publish_ == 0) publishState();
+  } else if (publishDueByWallClock()) {
+    publishState();  // refused steps: the last good state, freshly stamped, keeps flowing
+  }
   maybeReportLoopHealth();
 }
 
@@ -156,14 +196,12 @@ void KaneSimNode::waitWhilePaused() {
   ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(kPausedPoll));
   // Wall-stamped topics keep flowing while paused, so viewers keep a live tf tree; in /clock
   // mode time stands still and nothing new is published.
-  if (!config_.simulation.publish_clock &&
-      wallSeconds(SteadyClock::now() - last_publish_wall_) >= 1.0 / config_.simulation.publish_rate)
-    publishState();
+  if (!config_.simulation.publish_clock && publishDueByWallClock()) publishState();
   scheduler_.anchor(SteadyClock::now());  // resume on a fresh schedule
   maybeReportLoopHealth();
 }
 
-void KaneSimNode::logEvent(const SimEvent& event) const {
+void KaneSimNode::onEvent(const SimEvent& event) {
   // One throttled call site per kind: a flood of one kind never hides another.
   const char* text = event.message.c_str();
   switch (event.kind) {
@@ -174,7 +212,12 @@ void KaneSimNode::logEvent(const SimEvent& event) const {
       ROS_WARN_THROTTLE(1.0, "kane_sim: %s", text);
       break;
     case SimEvent::Kind::kStepRefused:
-      ROS_ERROR_THROTTLE(1.0, "kane_sim: %s", text);
+      ++steps_refused_in_window_;
+      last_refusal_ = event.message;
+      ROS_ERROR_THROTTLE(1.0,
+                         "kane_sim: %s. The last good state stays published; lower the torque or "
+                         "call the reset service",
+                         text);
       break;
     case SimEvent::Kind::kCommandTimedOut:
     case SimEvent::Kind::kFirstSliderCrossing:
@@ -184,8 +227,44 @@ void KaneSimNode::logEvent(const SimEvent& event) const {
   }
 }
 
-ros::Time KaneSimNode::stamp() const {
-  return config_.simulation.publish_clock ? simStamp(driver_.time()) : ros::Time::now();
+ros::Time KaneSimNode::stamp() {
+  if (config_.simulation.publish_clock) return simStamp(driver_.time());
+  // Wall-clock mode stamps wall time itself: ros::Time::now() would read a /clock that a
+  // leftover /use_sim_time asks for (0 without one). A system clock stepped backwards would make
+  // stamps go back and tf drop them: hold them just after the last one instead, and say so.
+  const ros::WallTime wall = ros::WallTime::now();
+  ros::Time now(wall.sec, wall.nsec);
+  if (now <= last_wall_stamp_) {
+    if ((last_wall_stamp_ - now).toSec() > 0.01)
+      ROS_WARN_THROTTLE(10.0,
+                        "kane_sim: the system clock went back by %.3f s; stamps are held "
+                        "monotonic until it catches up",
+                        (last_wall_stamp_ - now).toSec());
+    now = last_wall_stamp_ + ros::Duration(0, 1000);
+  }
+  last_wall_stamp_ = now;
+  return now;
+}
+
+void KaneSimNode::checkSimTimeSetting() {
+  bool use_sim_time = false;
+  ros::param::getCached("/use_sim_time", use_sim_time);
+  const bool ours = config_.simulation.publish_clock;
+  if (use_sim_time == ours) {
+    warned_sim_time_setting_ = false;
+    return;
+  }
+  if (warned_sim_time_setting_) return;
+  warned_sim_time_setting_ = true;
+  if (use_sim_time)
+    ROS_WARN(
+        "kane_sim: /use_sim_time is true but this node runs on the wall clock "
+        "(simulation/publish_clock false) and stamps wall time; other nodes wait for a /clock. "
+        "Set /use_sim_time false (rosparam set /use_sim_time false) or publish_clock true");
+  else
+    ROS_WARN(
+        "kane_sim: this node publishes /clock and stamps sim time, but /use_sim_time is false: "
+        "other nodes will not follow its clock. Set /use_sim_time true before they start");
 }
 
 void KaneSimNode::publishState() {
@@ -217,6 +296,7 @@ void KaneSimNode::maybeReportLoopHealth() {
   const auto now = SteadyClock::now();
   const double wall = wallSeconds(now - window_start_wall_);
   if (wall < kDiagnosticsPeriod) return;
+  checkSimTimeSetting();
   publishDiagnostics(stats_.takeSummary(wall, driver_.time() - window_start_sim_), wall);
   window_start_wall_ = now;
   window_start_sim_ = driver_.time();
@@ -231,7 +311,14 @@ void KaneSimNode::publishDiagnostics(const LoopStats::Summary& s, double wall_wi
   status.level = (paused_ || on_time) ? diagnostic_msgs::DiagnosticStatus::OK
                                       : diagnostic_msgs::DiagnosticStatus::WARN;
   std::ostringstream msg;
-  if (paused_)
+  if (steps_refused_in_window_ > 0) {
+    status.level = diagnostic_msgs::DiagnosticStatus::ERROR;
+    msg << "physics stalled: " << steps_refused_in_window_
+        << " steps refused (the last good state is published); lower the torque or call reset. "
+        << last_refusal_;
+  } else if (stopped_at_time_limit_)
+    msg << "stopped: sim time reached the largest stampable value; restart the node";
+  else if (paused_)
     msg << "paused";
   else if (on_time)
     msg << "on schedule";
@@ -259,8 +346,10 @@ void KaneSimNode::publishDiagnostics(const LoopStats::Summary& s, double wall_wi
   add("sim time [s]", driver_.time());
   add("torque commands received [1/s]", wall_window > 0 ? commands_in_window_ / wall_window : 0.0);
   add("torque commands rejected or clamped", static_cast<double>(commands_refused_in_window_));
+  add("physics steps refused", static_cast<double>(steps_refused_in_window_));
   commands_in_window_ = 0;
   commands_refused_in_window_ = 0;
+  steps_refused_in_window_ = 0;
   diagnostic_msgs::DiagnosticArray array;
   array.header.stamp = stamp();
   array.status.push_back(status);

@@ -46,16 +46,20 @@ class KaneSimNode {
   bool onUnpause(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool onStep(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
 
-  void connect();          // advertise, subscribe, offer the services
-  void reconnect();        // the same again after the master restarted
-  void watchMaster();      // background thread: notices a restarted master
-  void runOneTick();       // paced physics tick (+ publishing on the publish grid)
-  void waitWhilePaused();  // serve callbacks, keep wall-clock topics alive
-  void logEvent(const SimEvent& event) const;  // the driver's events -> rosconsole
-  void publishState();                         // joint_states, tf, mechanism_state (+ /clock)
+  void connect();                       // advertise, subscribe, offer the services
+  void reconnect();                     // the same again after the master restarted
+  void watchMaster();                   // background thread: notices a restarted master
+  void runOneTick();                    // paced physics tick (+ publishing on the publish grid)
+  void waitWhilePaused();               // serve callbacks, keep wall-clock topics alive
+  void onEvent(const SimEvent& event);  // the driver's events -> rosconsole (and diagnostics)
+  void waitForTick();                   // until the next tick is due; serves callbacks meanwhile
+  bool publishDueByWallClock() const;   // a publish period of wall time since the last one
+  void checkSimTimeSetting();           // warn once when /use_sim_time contradicts our stamps
+  void publishState();                  // joint_states, tf, mechanism_state (+ /clock)
   void publishDiagnostics(const LoopStats::Summary& summary, double wall_window);
   void maybeReportLoopHealth();
-  ros::Time stamp() const;  // sim time on the epoch in /clock mode, else wall ROS time
+  // Sim time on the epoch in /clock mode; else wall time, never older than the last stamp.
+  ros::Time stamp();
 
   ros::NodeHandle nh_;
   Config config_;
@@ -77,7 +81,12 @@ class KaneSimNode {
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_broadcaster_;
   std::atomic<bool> master_restarted_{false};  // set by watchMaster(), handled by the loop
 
-  ros::Time last_tf_stamp_;  // never two transforms of one frame with one stamp
+  ros::Time last_tf_stamp_;    // never two transforms of one frame with one stamp
+  ros::Time last_wall_stamp_;  // wall-clock stamps never go backwards
+  bool warned_sim_time_setting_ = false;
+  bool stopped_at_time_limit_ = false;
+  std::uint64_t steps_refused_in_window_ = 0;
+  std::string last_refusal_;  // the driver's message for the last refused step
   SteadyClock::time_point last_publish_wall_;
   double last_publish_sim_ = 0.0;
   double achieved_real_time_factor_ = 0.0;

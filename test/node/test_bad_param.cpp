@@ -55,6 +55,29 @@ TEST(BadParam, ListWhereAMapBelongsUnknownIntegratorBadFrameName) {
   }
 }
 
+// Configurations that used to freeze the node (a `step` of 1e9 physics steps, a publish period
+// that never comes), abort it (sim time past ROS's stamp range within minutes) or let it
+// diverge in milliseconds (rk4 on a 43 000 rad/s mode) stop it at start-up instead.
+TEST(BadParam, AbsurdRatesAndStiffnessStopTheNodeNamingTheLimit) {
+  const struct {
+    const char* node;
+    const char* message;
+  } cases[] = {
+      {"tiny_publish",
+       "simulation/publish_rate: config key 'simulation.publish_rate' must be in "
+       "[0.01, 1000] Hz, got 1e-300"},
+      {"huge_ratio", "simulation.publish_rate' must be in [10, 1000000] Hz, got 0.001"},
+      {"slow_clock", "simulation.physics_rate' must be in [1, 1000000] Hz"},
+      {"tiny_factor", "simulation.real_time_factor' must be in [0.001, 1000000]"},
+      {"stiff_spring", "use simulation.integrator dopri5 or a physics_rate of at least 17205 Hz"},
+  };
+  for (const auto& c : cases) {
+    const Outcome out = runNode(c.node);
+    EXPECT_EQ(out.exit_code, 1) << c.node << ": " << out.output;
+    EXPECT_NE(out.output.find(c.message), std::string::npos) << c.node << ": " << out.output;
+  }
+}
+
 TEST(BadParam, NoParametersAtAllSaysWhatToLoad) {
   const Outcome out = runNode("no_params");
   EXPECT_EQ(out.exit_code, 1) << out.output;

@@ -185,6 +185,12 @@ TEST_F(MessagesTest, MechanismStateCarriesTheSnapshot) {
 TEST(SimStamp, FixedEpochPlusSimTime) {
   EXPECT_EQ(simStamp(0.0), ros::Time(1000000000, 0));
   EXPECT_EQ(simStamp(1.25), ros::Time(1000000001, 250000000));
+  // Past ROS's range (ros::Duration aborted there before): clamped, never thrown.
+  EXPECT_TRUE(isStampable(kMaxStampableSimTime));
+  EXPECT_FALSE(isStampable(2.2e9));
+  EXPECT_FALSE(isStampable(std::nan("")));
+  EXPECT_EQ(simStamp(2.2e9), simStamp(kMaxStampableSimTime));
+  EXPECT_EQ(simStamp(std::nan("")), simStamp(0.0));
 }
 
 }  // namespace

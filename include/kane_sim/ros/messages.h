@@ -23,8 +23,16 @@ namespace kane_sim {
 // In /clock mode and in bags written offline, stamps are this fixed epoch plus sim time, so that
 // no stamp is 0 (which tf reads as "latest") and runs of one config share their stamps.
 constexpr std::uint32_t kSimEpochSeconds = 1000000000;  // 2001-09-09T01:46:40Z
+// ros::Duration holds at most 2^31 s: sim time past this cannot be stamped. The node stops
+// there (and `simulate` limits --duration far below it).
+constexpr double kMaxStampableSimTime = 2.0e9;  // [s], about 63 years
+inline bool isStampable(double sim_time) {
+  return sim_time >= 0.0 && sim_time <= kMaxStampableSimTime;
+}
+// Precondition: isStampable(sim_time); outside the range the nearest end is used.
 inline ros::Time simStamp(double sim_time) {
-  return ros::Time(kSimEpochSeconds, 0) + ros::Duration(sim_time);
+  const double t = isStampable(sim_time) ? sim_time : (sim_time > 0 ? kMaxStampableSimTime : 0.0);
+  return ros::Time(kSimEpochSeconds, 0) + ros::Duration(t);
 }
 
 sensor_msgs::JointState jointStateMessage(const Snapshot& snapshot, const ros::Time& stamp);
