@@ -1,5 +1,6 @@
 // A bad parameter stops the node with a non-zero exit and a message naming it
 // (test/node/bad_param.test puts the bad values on the parameter server).
+#include <initializer_list>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -17,6 +18,19 @@ Outcome runNode(const std::string& name) {
   const kane_sim::test::CommandResult r =
       kane_sim::test::runCommand("timeout 30 rosrun kane_sim kane_sim_node __name:=" + name);
   return {r.exit_code, r.out + r.err};
+}
+
+struct BadCase {
+  const char* node;     // the node name, whose private namespace holds the bad values
+  const char* message;  // what the fatal message must say
+};
+
+void expectEachStopsTheNode(std::initializer_list<BadCase> cases) {
+  for (const BadCase& c : cases) {
+    const Outcome out = runNode(c.node);
+    EXPECT_EQ(out.exit_code, 1) << c.node << ": " << out.output;
+    EXPECT_NE(out.output.find(c.message), std::string::npos) << c.node << ": " << out.output;
+  }
 }
 
 TEST(BadParam, NegativeMassStopsTheNodeNamingIt) {
@@ -40,29 +54,18 @@ TEST(BadParam, PublishRateAbovePhysicsRateStopsTheNode) {
 }
 
 TEST(BadParam, ListWhereAMapBelongsUnknownIntegratorBadFrameName) {
-  const struct {
-    const char* node;
-    const char* message;
-  } cases[] = {
+  expectEachStopsTheNode({
       {"list_section", "config key 'simulation' must be a map, got a list"},
       {"bad_integrator", "unknown integrator 'euler' (valid: rk4, dopri5)"},
       {"bad_frame", "frames.prefix' must hold only letters, digits, '_' and '/', got 'robot 1'"},
-  };
-  for (const auto& c : cases) {
-    const Outcome out = runNode(c.node);
-    EXPECT_EQ(out.exit_code, 1) << c.node << ": " << out.output;
-    EXPECT_NE(out.output.find(c.message), std::string::npos) << c.node << ": " << out.output;
-  }
+  });
 }
 
 // Configurations that used to freeze the node (a `step` of 1e9 physics steps, a publish period
 // that never comes), abort it (sim time past ROS's stamp range within minutes) or let it
 // diverge in milliseconds (rk4 on a 43 000 rad/s mode) stop it at start-up instead.
 TEST(BadParam, AbsurdRatesAndStiffnessStopTheNodeNamingTheLimit) {
-  const struct {
-    const char* node;
-    const char* message;
-  } cases[] = {
+  expectEachStopsTheNode({
       {"tiny_publish",
        "simulation/publish_rate: config key 'simulation.publish_rate' must be in "
        "[0.01, 1000] Hz, got 1e-300"},
@@ -70,12 +73,7 @@ TEST(BadParam, AbsurdRatesAndStiffnessStopTheNodeNamingTheLimit) {
       {"slow_clock", "simulation.physics_rate' must be in [1, 1000000] Hz"},
       {"tiny_factor", "simulation.real_time_factor' must be in [0.001, 1000000]"},
       {"stiff_spring", "use simulation.integrator dopri5 or a physics_rate of at least 17205 Hz"},
-  };
-  for (const auto& c : cases) {
-    const Outcome out = runNode(c.node);
-    EXPECT_EQ(out.exit_code, 1) << c.node << ": " << out.output;
-    EXPECT_NE(out.output.find(c.message), std::string::npos) << c.node << ": " << out.output;
-  }
+  });
 }
 
 TEST(BadParam, NoParametersAtAllSaysWhatToLoad) {

@@ -103,9 +103,6 @@ class MechanismModel {
   // The mechanism as the four joints of joint_states.
   static JointValues jointValues(const MechanismKinematics& k, const State& x, double motor_torque);
 
-  const MechanismParameters& parameters() const { return parameters_; }
-  double springRestLength() const { return spring_rest_length_; }
-
  private:
   MechanismParameters parameters_;
   double spring_rest_length_;  // x_C0 - x_B0 [m]
