@@ -363,8 +363,14 @@ YAML::Node loadYamlFile(const std::string& path) {
   try {
     documents = YAML::LoadAll(file);
   } catch (const YAML::Exception& e) {
+    // yaml-cpp says only "bad file" when it stops at its nesting limit.
+    if (e.msg == "bad file")
+      throw ConfigError("file", "'" + path + "' is nested too deeply at line " +
+                                    std::to_string(e.mark.line + 1) + ", column " +
+                                    std::to_string(e.mark.column + 1) +
+                                    " (a config needs two levels: section, key)");
     throw ConfigError("file", "'" + path + "' is not valid YAML: " + e.what());
-  } catch (const std::exception& e) {  // I/O errors, yaml-cpp's recursion limit, ...
+  } catch (const std::exception& e) {  // I/O errors and the like
     throw ConfigError("file", "'" + path + "' cannot be read as YAML: " + e.what());
   }
   if (documents.size() > 1)

@@ -263,6 +263,15 @@ TEST(LoadConfig, UnreadableOrMalformedFile) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("not a readable file"), std::string::npos) << e.what();
   }
+  const std::string deep_path = ::testing::TempDir() + "/deep.yaml";
+  std::ofstream(deep_path) << "mechanism: " << std::string(5000, '[') << std::string(5000, ']');
+  try {
+    loadConfigFile(deep_path);
+    ADD_FAILURE() << "5000 levels of nesting accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("nested too deeply at line 1"), std::string::npos)
+        << e.what();
+  }
   const std::string two_path = ::testing::TempDir() + "/two.yaml";
   std::ofstream(two_path) << "mechanism: {}\n---\nmechanism: {}\n";
   try {

@@ -93,11 +93,13 @@ TEST_F(Commands, TimeoutZeroesTheTorqueAndNextCommandResumes) {
   EXPECT_EQ(state_.last().commanded_torque, 3.0);
   send(torque_, 4.0);
   ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 4.0; }, 2.0));
-  send(torque_, 80.0);  // over the 20 N m limit of commands.yaml
+  send(torque_, std::nan(""));  // refused, then a clamp right after: both are logged (one
+  send(torque_, 80.0);          // throttled call site per kind); 80 is over the 20 N m limit
   ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 20.0; }, 2.0));
   test::sleepWall(0.3);  // the log reaches us; still inside the 0.5 s timeout
   EXPECT_EQ(countInLog(rosout, "no torque_command for 0.5 s (command.timeout)"), 1);
   EXPECT_GE(countInLog(rosout, "exceeds command.torque_limit 20 N m: clamped to 20 N m"), 1);
+  EXPECT_GE(countInLog(rosout, "torque_command nan N m is not finite"), 1);
 }
 
 }  // namespace
