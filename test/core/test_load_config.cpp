@@ -244,42 +244,35 @@ TEST(LoadConfig, UnknownKeysAreWarningsNamingThem) {
   EXPECT_NE(all.find("'extras'"), std::string::npos) << all;
 }
 
-TEST(LoadConfig, UnreadableOrMalformedFile) {
-  EXPECT_THROW(loadConfigFile("/nonexistent/mechanism.yaml"), ConfigError);
-  const std::string path = ::testing::TempDir() + "/malformed.yaml";
-  std::ofstream(path) << "mechanism: {rod_mass: [1,\n";
+// Writes `text` to a temporary file (unless it is empty: then `name` is the path) and expects
+// loading it to fail with a message holding `expected`.
+void expectFileError(const std::string& name, const std::string& text,
+                     const std::string& expected) {
+  std::string path = name;
+  if (!text.empty()) {
+    path = ::testing::TempDir() + "/" + name;
+    std::ofstream(path) << text;
+  }
   try {
     loadConfigFile(path);
-    ADD_FAILURE() << "malformed YAML accepted";
+    ADD_FAILURE() << path << " accepted";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("not valid YAML"), std::string::npos) << e.what();
+    EXPECT_EQ(e.key(), "file");
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
   }
+}
+
+TEST(LoadConfig, UnreadableOrMalformedFile) {
+  EXPECT_THROW(loadConfigFile("/nonexistent/mechanism.yaml"), ConfigError);
+  expectFileError("malformed.yaml", "mechanism: {rod_mass: [1,\n", "not valid YAML");
   const std::string list_path = ::testing::TempDir() + "/list.yaml";
   std::ofstream(list_path) << "- 1\n- 2\n";
   EXPECT_THROW(loadConfigFile(list_path), ConfigError);
-  try {
-    loadConfigFile("/etc");
-    ADD_FAILURE() << "a directory accepted";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("not a readable file"), std::string::npos) << e.what();
-  }
-  const std::string deep_path = ::testing::TempDir() + "/deep.yaml";
-  std::ofstream(deep_path) << "mechanism: " << std::string(5000, '[') << std::string(5000, ']');
-  try {
-    loadConfigFile(deep_path);
-    ADD_FAILURE() << "5000 levels of nesting accepted";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("nested too deeply at line 1"), std::string::npos)
-        << e.what();
-  }
-  const std::string two_path = ::testing::TempDir() + "/two.yaml";
-  std::ofstream(two_path) << "mechanism: {}\n---\nmechanism: {}\n";
-  try {
-    loadConfigFile(two_path);
-    ADD_FAILURE() << "two documents accepted";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("holds 2 YAML documents"), std::string::npos) << e.what();
-  }
+  expectFileError("/etc", "", "not a readable file");
+  expectFileError("deep.yaml",
+                  "mechanism: " + std::string(5000, '[') + std::string(5000, ']') + "\n",
+                  "nested too deeply at line 1");
+  expectFileError("two.yaml", "mechanism: {}\n---\nmechanism: {}\n", "holds 2 YAML documents");
 }
 
 }  // namespace
