@@ -121,10 +121,11 @@ visualization_msgs::MarkerArray mechanismMarkers(const Snapshot& snapshot, const
   const double length = std::max(1e-3, kArrowLength * fraction);
   arrow.points = {point(g.pin_a + Eigen::Vector3d(0, 0, 0.03)),
                   point(g.pin_a + sense * length * tangent + Eigen::Vector3d(0, 0, 0.03))};
-  arrow.scale.x = 0.015;                       // shaft diameter
-  arrow.scale.y = 0.035;                       // head diameter
-  arrow.scale.z = std::min(0.06, length);      // head length
-  arrow.color.a = fraction > 0 ? 1.0f : 0.0f;  // no torque, no arrow
+  arrow.scale.x = 0.015;                   // shaft diameter
+  arrow.scale.y = 0.035;                   // head diameter
+  arrow.scale.z = std::min(0.06, length);  // head length
+  // No torque, no arrow: DELETE (a transparent ADD makes rviz warn on every message).
+  if (fraction == 0.0) arrow.action = visualization_msgs::Marker::DELETE;
   out.push_back(arrow);
   return array;
 }

@@ -1,10 +1,12 @@
 // The message-filling path, without a master: rosparam -> config, joint_states, tf, state.
 #include <cmath>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/ros/markers.h"
 #include "kane_sim/ros/messages.h"
 #include "kane_sim/ros/param_yaml.h"
 #include "kane_sim/sim/simulator.h"
@@ -180,6 +182,28 @@ TEST_F(MessagesTest, MechanismStateCarriesTheSnapshot) {
                    msg.kinetic_energy + msg.gravitational_energy + msg.spring_energy);
   EXPECT_DOUBLE_EQ(msg.motor_work, s.motor_work);
   EXPECT_EQ(msg.real_time_factor, 0.97);
+}
+
+visualization_msgs::Marker torqueArrow(const visualization_msgs::MarkerArray& array) {
+  for (const auto& m : array.markers)
+    if (m.ns == "torque") return m;
+  throw std::runtime_error("no torque marker");
+}
+
+// The torque arrow is drawn while a torque acts and deleted (not made transparent, which rviz
+// warns about) when none does; same namespace and id either way.
+TEST_F(MessagesTest, TorqueArrowIsDeletedAtZeroTorque) {
+  Snapshot s = sim_.snapshot();
+  s.command.torque_limit = 50.0;
+  s.torque = 10.0;
+  const auto on = torqueArrow(mechanismMarkers(s, frames_, ros::Time(1)));
+  EXPECT_EQ(on.action, visualization_msgs::Marker::ADD);
+  EXPECT_EQ(on.color.a, 1.0f);
+  EXPECT_NEAR(on.points[0].x, s.geometry.pin_a.x(), 1e-12);
+  s.torque = 0.0;
+  const auto off = torqueArrow(mechanismMarkers(s, frames_, ros::Time(2)));
+  EXPECT_EQ(off.action, visualization_msgs::Marker::DELETE);
+  EXPECT_EQ(off.id, on.id);
 }
 
 TEST(SimStamp, FixedEpochPlusSimTime) {
