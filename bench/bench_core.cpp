@@ -2,7 +2,7 @@
 // generic Kane assembly, one rk4 step, dopri5 per simulated second, and - in the same binary -
 // the floor: a hand-written closed-form rk4 step of the same equations, so that the cost of
 // the general assembly and of odeint shows as a ratio.
-//   _build/devel/lib/kane_sim/bench_core --benchmark_min_time=0.5
+//   $KANE_SIM_BUILD_DIR/devel/lib/kane_sim/bench_core --benchmark_min_time=0.5
 #include <cmath>
 
 #include <benchmark/benchmark.h>

@@ -124,4 +124,4 @@ def main(build_dir):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, "..", "_build"))
+    main(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("KANE_SIM_BUILD_DIR", ""))

@@ -14,7 +14,7 @@ from node_perf import Master, cpu_model, run_case
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("build_dir", nargs="?", default=os.path.join(os.path.dirname(__file__), "..", "_build"))
+    parser.add_argument("build_dir", nargs="?", default=os.environ.get("KANE_SIM_BUILD_DIR", ""))
     parser.add_argument("--seconds", type=float, default=60.0)
     parser.add_argument("--rate", type=float, default=10000.0, help="[Hz] per publisher")
     parser.add_argument("--publishers", type=int, default=3)

@@ -127,7 +127,7 @@ def cpu_model():
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("build_dir", nargs="?", default=os.path.join(HERE, "..", "_build"))
+    parser.add_argument("build_dir", nargs="?", default=os.environ.get("KANE_SIM_BUILD_DIR", ""))
     parser.add_argument("--seconds", type=float, default=60.0, help="measured window per case")
     args = parser.parse_args()
     exe = os.path.join(args.build_dir, "devel/lib/kane_sim/kane_sim_node")

@@ -15,17 +15,20 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 scripts/build.sh
+# shellcheck source=scripts/build_dir.sh
+source scripts/build_dir.sh
+build=$KANE_SIM_BUILD_DIR
 export ROS_HOSTNAME=${ROS_HOSTNAME:-localhost}
 set +u
 # shellcheck disable=SC1091
-source _build/devel/setup.bash
+source "$build/devel/setup.bash"
 set -u
 echo "## Core throughput (Google Benchmark)"
-_build/devel/lib/kane_sim/bench_core --benchmark_min_time=1 --benchmark_repetitions=3 \
+"$build/devel/lib/kane_sim/bench_core" --benchmark_min_time=1 --benchmark_repetitions=3 \
   --benchmark_report_aggregates_only=true 2>/dev/null
 echo; echo "## simulate, 600 s simulated at 1 kHz"
-bench/simulate_perf.sh _build
+bench/simulate_perf.sh "$build"
 echo; echo "## Against SymPy + SciPy; accuracy"
-/usr/bin/python3 bench/compare_sympy.py _build
+/usr/bin/python3 bench/compare_sympy.py "$build"
 echo; echo "## Live node"
-/usr/bin/python3 bench/node_perf.py _build --seconds "${1:-60}"
+/usr/bin/python3 bench/node_perf.py "$build" --seconds "${1:-60}"

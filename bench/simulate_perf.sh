@@ -2,7 +2,7 @@
 # The offline tool at length: 600 s simulated at 1 kHz, as CSV at 1 Hz and as a bag at 100 Hz.
 # Usage: bench/simulate_perf.sh BUILD_DIR
 set -euo pipefail
-build_dir=$(cd "${1:-$(dirname "$0")/../_build}" && pwd)
+build_dir=$(cd "${1:-$KANE_SIM_BUILD_DIR}" && pwd)
 config="$(dirname "$0")/../config/mechanism.yaml"
 simulate="$build_dir/devel/lib/kane_sim/simulate"
 work=$(mktemp -d)

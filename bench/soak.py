@@ -23,7 +23,7 @@ from std_msgs.msg import Float64
 
 from node_perf import Master, cpu_model, rss_mib
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "_build",
+sys.path.insert(0, os.path.join(os.environ.get("KANE_SIM_BUILD_DIR", ""),
                                 "devel", "lib", "python3", "dist-packages"))
 from kane_sim.msg import MechanismState  # noqa: E402
 
@@ -75,7 +75,7 @@ def phase(master, exe, name, settings, done, limit_s):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("build_dir", nargs="?", default=os.path.join(os.path.dirname(__file__), "..", "_build"))
+    parser.add_argument("build_dir", nargs="?", default=os.environ.get("KANE_SIM_BUILD_DIR", ""))
     parser.add_argument("--sim-hours", type=float, default=1.0)
     parser.add_argument("--wall-minutes", type=float, default=10.0)
     parser.add_argument("--integrator", default="rk4", help="rk4 | dopri5 (simulation/integrator)")

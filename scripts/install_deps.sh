@@ -8,11 +8,14 @@ PACKAGES=(
   build-essential cmake ros-core-dev libtf2-ros-dev libeigen3-dev libboost-dev
   libboost-program-options-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev
   librosbag-dev libstd-srvs-dev ros-std-srvs libdiagnostic-msgs-dev ros-diagnostic-msgs
-  libros-rosgraph-msgs-dev
+  libros-rosgraph-msgs-dev libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
+  libinteractive-markers-dev liburdfdom-dev
   # node tests and command-line tools
   python3-rostest rosbash python3-rostopic python3-rosnode python3-rosparam python3-rosbag
   python3-sensor-msgs python3-tf2-msgs python3-geometry-msgs python3-visualization-msgs
-  python3-diagnostic-msgs python3-std-msgs python3-std-srvs
+  python3-diagnostic-msgs python3-std-msgs python3-std-srvs python3-rospy python3-roslaunch
+  # robot_description: robot_state_publisher, check_urdf; package checks: catkin_lint
+  ros-robot-state-publisher liburdfdom-tools catkin-lint
   # rviz (also headless under Xvfb for the smoke test), plots
   rviz xvfb xauth imagemagick python3-matplotlib python3-numpy python3-rosgraph-msgs
   # the independent SymPy derivation test; tools the test scripts call

@@ -248,6 +248,7 @@ void readFrames(Section& s, FrameSettings* f) {
   s.text("prefix", &f->prefix);
   s.text("world", &f->world);
   s.number("pivot_height", &f->pivot_height);
+  s.boolean("publish_tf", &f->publish_tf);
   requireFrameName(s.keyPath("prefix"), f->prefix, true);
   requireFrameName(s.keyPath("world"), f->world, false);
   // world is the parent of the mechanism's frames: naming it like one of them makes a loop.

@@ -15,6 +15,7 @@
 
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/description/urdf.h"
 #include "kane_sim/ros/messages.h"
 #include "kane_sim/ros/param_yaml.h"
 
@@ -30,20 +31,31 @@ constexpr double kPausedPoll = 0.002;       // [s] wall, callback wait while pau
 constexpr double kWaitSlice = 0.05;     // [s] wall
 constexpr double kPreciseWait = 0.002;  // [s] wall
 
+// Wall seconds per physics tick; 0 runs free (real_time_factor 0).
+double tickPeriod(const SimulationSettings& s) {
+  return s.real_time_factor > 0 ? 1.0 / (s.physics_rate * s.real_time_factor) : 0.0;
+}
+
 double wallSeconds(std::chrono::steady_clock::duration d) {
   return std::chrono::duration<double>(d).count();
 }
 
 }  // namespace
 
-Config KaneSimNode::loadParameters(const ros::NodeHandle& private_nh) {
+YAML::Node KaneSimNode::readParameterTree(const ros::NodeHandle& private_nh) {
   XmlRpc::XmlRpcValue params;
   if (!ros::param::get(private_nh.getNamespace(), params) ||
       params.getType() != XmlRpc::XmlRpcValue::TypeStruct)
     throw ConfigError(private_nh.getNamespace(),
                       "has no parameters: load config/mechanism.yaml into the node's private "
                       "namespace (launch/sim.launch does)");
-  LoadedConfig loaded = loadConfig(yamlFromXmlRpc(params));
+  YAML::Node tree = yamlFromXmlRpc(params);
+  RuntimeParameters::removeServerKeys(&tree);
+  return tree;
+}
+
+Config KaneSimNode::loadParameters(const YAML::Node& tree, const ros::NodeHandle& private_nh) {
+  LoadedConfig loaded = loadConfig(tree);
   for (const std::string& warning : loaded.warnings)
     ROS_WARN("%s (in %s)", warning.c_str(), private_nh.getNamespace().c_str());
   return loaded.config;
@@ -51,17 +63,18 @@ Config KaneSimNode::loadParameters(const ros::NodeHandle& private_nh) {
 
 KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh)
     : nh_(nh),
-      config_(loadParameters(private_nh)),
-      frames_(config_.frames),
+      private_nh_(private_nh),
+      parameter_tree_(readParameterTree(private_nh)),
+      config_(loadParameters(parameter_tree_, private_nh)),
+      robot_(describeRobot(config_)),
       driver_(config_, [this](const SimEvent& event) { onEvent(event); }),
-      scheduler_(config_.simulation.real_time_factor > 0
-                     ? 1.0 / (config_.simulation.physics_rate * config_.simulation.real_time_factor)
-                     : 0.0,
-                 kMaxCatchUp),
+      scheduler_(tickPeriod(config_.simulation), kMaxCatchUp),
       ticks_per_publish_(static_cast<std::uint64_t>(
           std::lround(config_.simulation.physics_rate / config_.simulation.publish_rate))),
       paused_(config_.simulation.start_paused) {
   connect();
+  runtime_parameters_ = std::make_unique<RuntimeParameters>(
+      private_nh_, parameter_tree_, config_, [this](const Config& c) { onReconfigure(c); });
 
   const SimulationSettings& s = config_.simulation;
   ROS_INFO("kane_sim: %s at %g Hz, publishing every %lu steps (%g Hz), real_time_factor %g%s%s",
@@ -79,12 +92,23 @@ void KaneSimNode::connect() {
   diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
   if (config_.simulation.publish_clock)
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
-  services_ = {nh_.advertiseService("reset", &KaneSimNode::onReset, this),
-               nh_.advertiseService("pause", &KaneSimNode::onPause, this),
-               nh_.advertiseService("unpause", &KaneSimNode::onUnpause, this),
-               nh_.advertiseService("step", &KaneSimNode::onStep, this)};
-  tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
-  static_tf_broadcaster_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
+  // Private, as Gazebo's /gazebo/pause_physics: two sims (or turtlesim's /reset) never collide.
+  services_ = {private_nh_.advertiseService("reset", &KaneSimNode::onReset, this),
+               private_nh_.advertiseService("pause", &KaneSimNode::onPause, this),
+               private_nh_.advertiseService("unpause", &KaneSimNode::onUnpause, this),
+               private_nh_.advertiseService("step", &KaneSimNode::onStep, this),
+               private_nh_.advertiseService("set_state", &KaneSimNode::onSetState, this)};
+  if (config_.frames.publish_tf) {
+    tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+    static_tf_broadcaster_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
+  }
+}
+
+void KaneSimNode::publishRobotDescription() {
+  // Relative: under ns:=robot_a it is /robot_a/robot_description, beside that robot's topics.
+  nh_.setParam("robot_description", toUrdf(robot_));
+  if (static_tf_broadcaster_)
+    static_tf_broadcaster_->sendTransform(staticTransforms(robot_, stamp()));
 }
 
 void KaneSimNode::reconnect() {
@@ -98,7 +122,7 @@ void KaneSimNode::reconnect() {
   tf_broadcaster_.reset();
   static_tf_broadcaster_.reset();
   connect();
-  static_tf_broadcaster_->sendTransform(worldToMechanism(frames_, config_.frames, stamp()));
+  publishRobotDescription();  // a new master has no parameters either
   ROS_WARN(
       "kane_sim: the ROS master restarted; topics and services registered again "
       "(sim time %.3f s, state kept)",
@@ -127,7 +151,7 @@ void KaneSimNode::run() {
   // wake-ups; a 1 kHz loop wants its deadlines kept to the microsecond.
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   checkSimTimeSetting();
-  static_tf_broadcaster_->sendTransform(worldToMechanism(frames_, config_.frames, stamp()));
+  publishRobotDescription();
   publishState();
   const auto now = SteadyClock::now();
   scheduler_.anchor(now);
@@ -282,11 +306,11 @@ void KaneSimNode::publishState() {
     clock_pub_.publish(clock);
   }
   const PublishedMessages msgs =
-      buildMessages(driver_.snapshot(), frames_, achieved_real_time_factor_, now);
+      buildMessages(driver_.snapshot(), robot_, achieved_real_time_factor_, now);
   joint_state_pub_.publish(msgs.joint_state);
   mechanism_state_pub_.publish(msgs.mechanism_state);
   marker_pub_.publish(msgs.markers);
-  if (now > last_tf_stamp_) {
+  if (tf_broadcaster_ && now > last_tf_stamp_) {
     tf_broadcaster_->sendTransform(msgs.tf.transforms);
     last_tf_stamp_ = now;
   }
@@ -367,6 +391,43 @@ bool KaneSimNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
   ROS_INFO("kane_sim: reset to the initial state (sim time runs on at %.3f s)", driver_.time());
   publishState();
   return true;
+}
+
+bool KaneSimNode::onSetState(SetState::Request& req, SetState::Response& res) {
+  const Status result = driver_.setState(State{req.q1, req.q2, req.u1, req.u2});
+  res.success = result.ok;
+  if (!result.ok) {
+    res.message = "set_state refused: " + result.error;
+    ROS_WARN("kane_sim: %s", res.message.c_str());
+    return true;
+  }
+  std::ostringstream msg;
+  msg << "state set to q1 = " << req.q1 << " rad, q2 = " << req.q2 << " m, u1 = " << req.u1
+      << " rad/s, u2 = " << req.u2 << " m/s at t = " << driver_.time() << " s";
+  res.message = msg.str();
+  ROS_INFO("kane_sim: %s", res.message.c_str());
+  publishState();
+  return true;
+}
+
+void KaneSimNode::onReconfigure(const Config& config) {
+  const double old_factor = config_.simulation.real_time_factor;
+  driver_.reconfigure(config);
+  config_.mechanism = config.mechanism;
+  config_.command = config.command;
+  config_.simulation.real_time_factor = config.simulation.real_time_factor;
+  robot_ = describeRobot(config_);  // masses and inertia are in the URDF
+  nh_.setParam("robot_description", toUrdf(robot_));
+  if (config_.simulation.real_time_factor != old_factor) {
+    scheduler_ = TickScheduler(tickPeriod(config_.simulation), kMaxCatchUp);
+    scheduler_.anchor(SteadyClock::now());
+  }
+  ROS_INFO(
+      "kane_sim: reconfigured: torque_limit %g N m, timeout %g s, real_time_factor %g, m %g kg, "
+      "M1 %g kg, M2 %g kg, k %g N/m, g %g m/s^2 (from the next physics step)",
+      config_.command.torque_limit, config_.command.timeout, config_.simulation.real_time_factor,
+      config_.mechanism.rod_mass, config_.mechanism.slider3_mass, config_.mechanism.slider4_mass,
+      config_.mechanism.spring_stiffness, config_.mechanism.gravity);
 }
 
 bool KaneSimNode::onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {

@@ -1,9 +1,9 @@
 // The virtual robot: a thin ROS layer over the ROS-free SimDriver. It paces ticks, turns ROS
 // input into driver calls and driver snapshots and events into messages and log lines.
 //
-// One thread runs the loop: callbacks (torque commands, services) are served between physics
-// ticks, so the driver is never touched concurrently and a command is applied from the next
-// physics step on.
+// One thread runs the loop: callbacks (torque commands, services, reconfiguration) are served
+// between physics ticks, so the driver is never touched concurrently and a command or a new
+// parameter is applied from the next physics step on.
 #ifndef KANE_SIM_NODES_KANE_SIM_NODE_H
 #define KANE_SIM_NODES_KANE_SIM_NODE_H
 
@@ -19,11 +19,13 @@
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include "kane_sim/SetState.h"
 #include "kane_sim/config/config.h"
-#include "kane_sim/ros/frame_names.h"
+#include "kane_sim/description/robot_description.h"
 #include "kane_sim/sim/loop_stats.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/tick_scheduler.h"
+#include "runtime_parameters.h"
 
 namespace kane_sim {
 
@@ -38,15 +40,20 @@ class KaneSimNode {
  private:
   using SteadyClock = std::chrono::steady_clock;
 
-  static Config loadParameters(const ros::NodeHandle& private_nh);
+  // The node's private namespace as a YAML tree (what the config loader reads).
+  static YAML::Node readParameterTree(const ros::NodeHandle& private_nh);
+  static Config loadParameters(const YAML::Node& tree, const ros::NodeHandle& private_nh);
 
   void onTorqueCommand(const std_msgs::Float64::ConstPtr& msg);
   bool onReset(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool onPause(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool onUnpause(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool onStep(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  bool onSetState(SetState::Request& req, SetState::Response& res);
+  void onReconfigure(const Config& config);  // an accepted runtime parameter change
 
   void connect();                       // advertise, subscribe, offer the services
+  void publishRobotDescription();       // robot_description (URDF) and the static tf
   void reconnect();                     // the same again after the master restarted
   void watchMaster();                   // background thread: notices a restarted master
   void runOneTick();                    // paced physics tick (+ publishing on the publish grid)
@@ -62,8 +69,10 @@ class KaneSimNode {
   ros::Time stamp();
 
   ros::NodeHandle nh_;
+  ros::NodeHandle private_nh_;
+  YAML::Node parameter_tree_;  // the private namespace the config was loaded from
   Config config_;
-  FrameNames frames_;
+  RobotDescription robot_;
   SimDriver driver_;
   TickScheduler scheduler_;
   LoopStats stats_;
@@ -79,6 +88,7 @@ class KaneSimNode {
   std::vector<ros::ServiceServer> services_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_broadcaster_;
+  std::unique_ptr<RuntimeParameters> runtime_parameters_;
   std::atomic<bool> master_restarted_{false};  // set by watchMaster(), handled by the loop
 
   ros::Time last_tf_stamp_;    // never two transforms of one frame with one stamp

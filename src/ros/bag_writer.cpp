@@ -32,9 +32,10 @@ BagWriter::~BagWriter() {
   }
 }
 
-void BagWriter::writeStatic(const geometry_msgs::TransformStamped& world_to_mechanism) {
+void BagWriter::writeStatic(const std::vector<geometry_msgs::TransformStamped>& transforms) {
+  if (transforms.empty()) return;
   tf2_msgs::TFMessage msg;
-  msg.transforms.push_back(world_to_mechanism);
+  msg.transforms = transforms;
   // rosbag play republishes latched topics as latched: late subscribers (rviz) still get it.
   // A given connection header is written verbatim, so it must carry the message's identity too.
   auto header = boost::make_shared<ros::M_string>();
@@ -44,7 +45,7 @@ void BagWriter::writeStatic(const geometry_msgs::TransformStamped& world_to_mech
   (*header)["md5sum"] = ros::message_traits::md5sum<tf2_msgs::TFMessage>();
   (*header)["message_definition"] = ros::message_traits::definition<tf2_msgs::TFMessage>();
   guarded([&](rosbag::Bag& bag) {
-    bag.write("/tf_static", world_to_mechanism.header.stamp, msg, header);
+    bag.write("/tf_static", transforms.front().header.stamp, msg, header);
   });
 }
 

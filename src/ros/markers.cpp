@@ -6,11 +6,11 @@
 
 #include <Eigen/Geometry>
 
+#include "kane_sim/description/body_shapes.h"
+
 namespace kane_sim {
 namespace {
 
-constexpr double kRodDiameter = 0.03;      // [m]
-constexpr double kPinDiameter = 0.045;     // [m]
 constexpr double kSpringHalfWidth = 0.03;  // [m] lateral amplitude of the zigzag
 constexpr int kSpringZigs = 12;
 constexpr double kArrowLength = 0.3;  // [m] at the torque limit
@@ -40,23 +40,6 @@ geometry_msgs::Point point(const Eigen::Vector3d& p) {
   return out;
 }
 
-// A cylinder from `center`, its axis in the plane at `angle` from x (rviz cylinders run along z).
-visualization_msgs::Marker rodMarker(const std::string& frame, const ros::Time& stamp, int id,
-                                     const Eigen::Vector3d& center, double angle, double length) {
-  visualization_msgs::Marker m = baseMarker(
-      frame, stamp, "rods", id, visualization_msgs::Marker::CYLINDER, MarkerColors::kRod);
-  m.pose.position = point(center);
-  const Eigen::Quaterniond q(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()) *
-                             Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
-  m.pose.orientation.x = q.x();
-  m.pose.orientation.y = q.y();
-  m.pose.orientation.z = q.z();
-  m.pose.orientation.w = q.w();
-  m.scale.x = m.scale.y = kRodDiameter;
-  m.scale.z = length;
-  return m;
-}
-
 }  // namespace
 
 visualization_msgs::MarkerArray mechanismMarkers(const Snapshot& snapshot, const FrameNames& frames,
@@ -67,26 +50,12 @@ visualization_msgs::MarkerArray mechanismMarkers(const Snapshot& snapshot, const
   visualization_msgs::MarkerArray array;
   auto& out = array.markers;
 
-  out.push_back(rodMarker(f, stamp, 0, g.rod1_center, g.rod1_angle, g.rod_length));
-  out.push_back(rodMarker(f, stamp, 1, g.rod2_center, g.rod2_angle, g.rod_length));
-
   const Eigen::Vector3d pins[] = {g.pivot_o, g.pin_a, g.pin_b};
   for (int i = 0; i < 3; ++i) {
     auto m =
         baseMarker(f, stamp, "pins", i, visualization_msgs::Marker::SPHERE, MarkerColors::kPin);
     m.pose.position = point(pins[i] + Eigen::Vector3d(0, 0, 0.02));  // in front of the rods
-    m.scale.x = m.scale.y = m.scale.z = kPinDiameter;
-    out.push_back(m);
-  }
-
-  const Eigen::Vector3d sliders[] = {g.pin_b, g.point_c};
-  for (int i = 0; i < 2; ++i) {
-    auto m =
-        baseMarker(f, stamp, "sliders", i, visualization_msgs::Marker::CUBE, MarkerColors::kSlider);
-    m.pose.position = point(sliders[i]);
-    m.scale.x = 0.07;  // along the rail
-    m.scale.y = 0.12;
-    m.scale.z = 0.06;
+    m.scale.x = m.scale.y = m.scale.z = shapes::kPinDiameter;
     out.push_back(m);
   }
 

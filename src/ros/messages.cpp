@@ -1,6 +1,8 @@
 #include "kane_sim/ros/messages.h"
 
 #include <cmath>
+
+#include <Eigen/Geometry>
 #include <string>
 
 #include "kane_sim/ros/markers.h"
@@ -8,19 +10,29 @@
 namespace kane_sim {
 namespace {
 
-geometry_msgs::TransformStamped planarTransform(const std::string& parent, const std::string& child,
-                                                const Eigen::Vector3d& origin, double angle,
-                                                const ros::Time& stamp) {
+geometry_msgs::TransformStamped transformMessage(const JointPose& pose, const ros::Time& stamp) {
   geometry_msgs::TransformStamped t;
   t.header.stamp = stamp;
-  t.header.frame_id = parent;
-  t.child_frame_id = child;
-  t.transform.translation.x = origin.x();
-  t.transform.translation.y = origin.y();
-  t.transform.translation.z = origin.z();
-  t.transform.rotation.z = std::sin(angle / 2);  // rotation by `angle` about the plane normal k
-  t.transform.rotation.w = std::cos(angle / 2);
+  t.header.frame_id = pose.joint->parent;
+  t.child_frame_id = pose.joint->child;
+  const Eigen::Vector3d& p = pose.parent_to_child.translation();
+  t.transform.translation.x = p.x();
+  t.transform.translation.y = p.y();
+  t.transform.translation.z = p.z();
+  const Eigen::Quaterniond q(pose.parent_to_child.linear());
+  t.transform.rotation.x = q.x();
+  t.transform.rotation.y = q.y();
+  t.transform.rotation.z = q.z();
+  t.transform.rotation.w = q.w();
   return t;
+}
+
+std::vector<geometry_msgs::TransformStamped> transformMessages(const std::vector<JointPose>& poses,
+                                                               const ros::Time& stamp) {
+  std::vector<geometry_msgs::TransformStamped> out;
+  out.reserve(poses.size());
+  for (const JointPose& pose : poses) out.push_back(transformMessage(pose, stamp));
+  return out;
 }
 
 }  // namespace
@@ -36,29 +48,15 @@ sensor_msgs::JointState jointStateMessage(const Snapshot& snapshot, const ros::T
   return msg;
 }
 
-geometry_msgs::TransformStamped worldToMechanism(const FrameNames& frames,
-                                                 const FrameSettings& settings,
-                                                 const ros::Time& stamp) {
-  geometry_msgs::TransformStamped t;
-  t.header.stamp = stamp;
-  t.header.frame_id = frames.world;
-  t.child_frame_id = frames.mechanism;
-  t.transform.translation.z = settings.pivot_height;
-  // +90° about world y: mechanism x -> world -z (down), y -> world y, z -> world x.
-  t.transform.rotation.y = std::sqrt(0.5);
-  t.transform.rotation.w = std::sqrt(0.5);
-  return t;
+std::vector<geometry_msgs::TransformStamped> staticTransforms(const RobotDescription& robot,
+                                                              const ros::Time& stamp) {
+  return transformMessages(fixedJointPoses(robot), stamp);
 }
 
-std::vector<geometry_msgs::TransformStamped> bodyTransforms(const Snapshot& snapshot,
-                                                            const FrameNames& frames,
-                                                            const ros::Time& stamp) {
-  const MechanismGeometry& g = snapshot.geometry;
-  return {
-      planarTransform(frames.mechanism, frames.bodies[kRod1], g.rod1_center, g.rod1_angle, stamp),
-      planarTransform(frames.mechanism, frames.bodies[kRod2], g.rod2_center, g.rod2_angle, stamp),
-      planarTransform(frames.mechanism, frames.bodies[kSlider3], g.pin_b, 0.0, stamp),
-      planarTransform(frames.mechanism, frames.bodies[kSlider4], g.point_c, 0.0, stamp)};
+std::vector<geometry_msgs::TransformStamped> jointTransforms(const RobotDescription& robot,
+                                                             const JointValues& joints,
+                                                             const ros::Time& stamp) {
+  return transformMessages(movingJointPoses(robot, joints), stamp);
 }
 
 kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_time_factor,
@@ -80,6 +78,8 @@ kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_ti
   msg.spring_energy = s.energy.spring;
   msg.total_energy = s.energy.total();
   msg.motor_work = s.motor_work;
+  msg.parameter_energy = s.parameter_energy;
+  msg.parameter_changes = static_cast<std::uint32_t>(s.parameter_changes);
   msg.spring_elongation = s.spring_elongation;
   msg.slider_separation = s.slider_separation;
   msg.slider_crossings = static_cast<std::uint32_t>(s.slider_crossings);
@@ -87,13 +87,14 @@ kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_ti
   return msg;
 }
 
-PublishedMessages buildMessages(const Snapshot& snapshot, const FrameNames& frames,
+PublishedMessages buildMessages(const Snapshot& snapshot, const RobotDescription& robot,
                                 double real_time_factor, const ros::Time& stamp) {
   PublishedMessages out;
   out.joint_state = jointStateMessage(snapshot, stamp);
-  out.tf.transforms = bodyTransforms(snapshot, frames, stamp);
-  out.mechanism_state = mechanismStateMessage(snapshot, real_time_factor, stamp, frames.mechanism);
-  out.markers = mechanismMarkers(snapshot, frames, stamp);
+  out.tf.transforms = jointTransforms(robot, snapshot.joints, stamp);
+  out.mechanism_state =
+      mechanismStateMessage(snapshot, real_time_factor, stamp, robot.frames.mechanism);
+  out.markers = mechanismMarkers(snapshot, robot.frames, stamp);
   return out;
 }
 

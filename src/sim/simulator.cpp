@@ -128,13 +128,42 @@ Status Simulator::step() {
 }
 
 void Simulator::reset() {
-  state_ = initial_state_;
   torque_ = 0.0;
+  static_cast<void>(setState(initial_state_));  // the initial state was checked at start-up
+}
+
+Status Simulator::setState(const State& x) {
+  const double values[] = {x.q1, x.q2, x.u1, x.u2};
+  const char* names[] = {"q1", "q2", "u1", "u2"};
+  for (int i = 0; i < 4; ++i) {
+    if (!std::isfinite(values[i])) {
+      std::ostringstream msg;
+      msg << names[i] << " = " << values[i] << " is not finite; state kept";
+      return {false, msg.str()};
+    }
+  }
+  if (!std::isfinite(model_.energy(x).total())) {
+    std::ostringstream msg;
+    msg << "q1 = " << x.q1 << ", q2 = " << x.q2 << ", u1 = " << x.u1 << ", u2 = " << x.u2
+        << " gives a non-finite energy; use values of the mechanism's size; state kept";
+    return {false, msg.str()};
+  }
+  state_ = x;
   motor_work_ = 0.0;
+  parameter_energy_ = 0.0;
   slider_crossings_ = 0;
   step_too_coarse_ = false;
   last_derivative_valid_ = false;
   slider_separation_ = model_.geometry(state_.q1, state_.q2).sliderSeparation();
+  return {};
+}
+
+void Simulator::setParameters(const MechanismParameters& parameters) {
+  const double before = model_.energy(state_).total();
+  model_ = MechanismModel(parameters, model_.springRestLength());
+  parameter_energy_ += model_.energy(state_).total() - before;
+  ++parameter_changes_;
+  last_derivative_valid_ = false;
 }
 
 Snapshot Simulator::snapshot() const {
@@ -151,6 +180,8 @@ Snapshot Simulator::snapshot() const {
   snap.inertia_forces = equations.inertiaForces(snap.u_dot);
   snap.energy = model_.energy(k, state_);
   snap.motor_work = motor_work_;
+  snap.parameter_energy = parameter_energy_;
+  snap.parameter_changes = parameter_changes_;
   snap.motor_power = torque_ * state_.u1;
   snap.spring_elongation = model_.springElongation(k.geometry);
   snap.slider_separation = slider_separation_;

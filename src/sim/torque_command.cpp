@@ -47,4 +47,9 @@ void TorqueCommand::reset() {
   have_command_ = timed_out_ = false;
 }
 
+void TorqueCommand::setSettings(const CommandSettings& settings) {
+  settings_ = settings;
+  clamped_ = std::clamp(commanded_, -settings_.torque_limit, settings_.torque_limit);
+}
+
 }  // namespace kane_sim

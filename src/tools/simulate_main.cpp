@@ -212,7 +212,8 @@ long stepsPerRow(double physics_rate, double output_rate) {
 // Where the rows go: a CSV stream and/or a bag, both fed from the same snapshots.
 class Outputs {
  public:
-  Outputs(const Options& options, const kane_sim::Config& config) : frames_(config.frames) {
+  Outputs(const Options& options, const kane_sim::Config& config)
+      : robot_(kane_sim::describeRobot(config)) {
     if (!options.csv_path.empty()) {
       file_.open(options.csv_path);
       if (!file_) throw OutputError("cannot write --csv '" + options.csv_path + "'");
@@ -227,7 +228,7 @@ class Outputs {
       } catch (const std::exception& e) {
         throw OutputError("cannot write --bag '" + options.bag_path + "': " + e.what());
       }
-      bag_->writeStatic(kane_sim::worldToMechanism(frames_, config.frames, kane_sim::simStamp(0)));
+      bag_->writeStatic(kane_sim::staticTransforms(robot_, kane_sim::simStamp(0)));
     }
     if (csv_) kane_sim::writeCsvHeader(*csv_);
   }
@@ -241,7 +242,7 @@ class Outputs {
       const ros::Time stamp = kane_sim::simStamp(snapshot.time);
       try {
         // real_time_factor 0: offline, not paced against any wall clock.
-        bag_->write(kane_sim::buildMessages(snapshot, frames_, 0.0, stamp), stamp);
+        bag_->write(kane_sim::buildMessages(snapshot, robot_, 0.0, stamp), stamp);
       } catch (const std::exception& e) {
         throw OutputError("writing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
       }
@@ -263,7 +264,7 @@ class Outputs {
   }
 
  private:
-  kane_sim::FrameNames frames_;
+  kane_sim::RobotDescription robot_;  // the node's tf tree, the same in the bag
   std::string bag_path_;
   std::ofstream file_;
   std::ostream* csv_ = nullptr;

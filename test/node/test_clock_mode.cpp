@@ -43,8 +43,8 @@ TEST(ClockMode, FreeRunsFasterThanRealTimeAndMatchesOfflineSimulate) {
   test::send(torque, 2.0);
   test::sleepWall(0.3);
   std_srvs::Trigger step;
-  ASSERT_TRUE(ros::service::waitForService("step", ros::Duration(10)));
-  ASSERT_TRUE(ros::service::call("step", step));
+  ASSERT_TRUE(ros::service::waitForService("kane_sim/step", ros::Duration(10)));
+  ASSERT_TRUE(ros::service::call("kane_sim/step", step));
   ASSERT_TRUE(step.response.success) << step.response.message;
   ASSERT_TRUE(state.waitForCount(1, 2.0));
   EXPECT_EQ(state.last().applied_torque, 2.0);
@@ -52,17 +52,17 @@ TEST(ClockMode, FreeRunsFasterThanRealTimeAndMatchesOfflineSimulate) {
 
   std_srvs::Empty empty;
   const auto wall_start = ros::WallTime::now();
-  ASSERT_TRUE(ros::service::call("unpause", empty));
+  ASSERT_TRUE(ros::service::call("kane_sim/unpause", empty));
   test::sleepWall(0.25);
   // Pausing and stepping mid-run must not disturb the trajectory either.
-  ASSERT_TRUE(ros::service::call("pause", empty));
+  ASSERT_TRUE(ros::service::call("kane_sim/pause", empty));
   for (int i = 0; i < 3; ++i) {
-    ASSERT_TRUE(ros::service::call("step", step));
+    ASSERT_TRUE(ros::service::call("kane_sim/step", step));
     EXPECT_TRUE(step.response.success) << step.response.message;
   }
-  ASSERT_TRUE(ros::service::call("unpause", empty));
+  ASSERT_TRUE(ros::service::call("kane_sim/unpause", empty));
   test::sleepWall(0.25);
-  ASSERT_TRUE(ros::service::call("pause", empty));
+  ASSERT_TRUE(ros::service::call("kane_sim/pause", empty));
   const double wall = (ros::WallTime::now() - wall_start).toSec();
   test::sleepWall(0.2);
 

@@ -56,7 +56,7 @@ TEST_F(Stalled, RefusedStepsKeepTheLastGoodStateFlowingAndDiagnosticsSayError) {
   EXPECT_TRUE(std::isfinite(mech.total_energy) && std::isfinite(mech.u[0]));
   // reset recovers.
   std_srvs::Empty empty;
-  ASSERT_TRUE(ros::service::call("reset", empty));
+  ASSERT_TRUE(ros::service::call("kane_sim/reset", empty));
   test::send(torque_, 0.0);
   const double before = state_.last().sim_time;
   ASSERT_TRUE(test::waitFor([&] { return state_.last().sim_time > before + 0.1; }, 3.0));
@@ -95,12 +95,12 @@ TEST(LeftoverSimTime, WallClockNodeStampsWallTimeAndWarns) {
 // A 1000 s tick (physics_rate 1 Hz at real_time_factor 0.001): services are served while the
 // node waits for it.
 TEST(SlowTicks, A1000SecondTickDoesNotMakeTheNodeDeaf) {
-  ASSERT_TRUE(ros::service::waitForService("pause", ros::Duration(15)));
+  ASSERT_TRUE(ros::service::waitForService("kane_sim/pause", ros::Duration(15)));
   test::sleepWall(0.5);  // the node is now inside its first 1000 s wait
   std_srvs::Empty empty;
   const auto start = ros::WallTime::now();
-  ASSERT_TRUE(ros::service::call("pause", empty));
-  ASSERT_TRUE(ros::service::call("unpause", empty));
+  ASSERT_TRUE(ros::service::call("kane_sim/pause", empty));
+  ASSERT_TRUE(ros::service::call("kane_sim/unpause", empty));
   EXPECT_LT((ros::WallTime::now() - start).toSec(), 1.0);
 }
 

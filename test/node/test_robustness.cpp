@@ -110,7 +110,7 @@ TEST_F(Robustness, TorquePublisherDiesMidCommand) {
 // pause / step / unpause / reset while commands stream at 1 kHz: between consecutive states
 // q moves by at most |u| dt (plus the change of u over dt), except across the reset itself.
 TEST_F(Robustness, ServicesWhileCommandsStream) {
-  ASSERT_TRUE(ros::service::waitForService("reset", ros::Duration(10)));
+  ASSERT_TRUE(ros::service::waitForService("kane_sim/reset", ros::Duration(10)));
   std::atomic<bool> stop{false};
   std::thread streamer([&] {
     for (int i = 0; !stop; ++i) {
@@ -123,15 +123,15 @@ TEST_F(Robustness, ServicesWhileCommandsStream) {
   state_.clear();
   for (int round = 0; round < 3; ++round) {
     test::sleepWall(0.2);
-    ASSERT_TRUE(ros::service::call("pause", empty));
+    ASSERT_TRUE(ros::service::call("kane_sim/pause", empty));
     for (int i = 0; i < 5; ++i) {
-      ASSERT_TRUE(ros::service::call("step", step));
+      ASSERT_TRUE(ros::service::call("kane_sim/step", step));
       EXPECT_TRUE(step.response.success) << step.response.message;
     }
-    ASSERT_TRUE(ros::service::call("unpause", empty));
+    ASSERT_TRUE(ros::service::call("kane_sim/unpause", empty));
     test::sleepWall(0.2);
     if (round == 1) {
-      ASSERT_TRUE(ros::service::call("reset", empty));
+      ASSERT_TRUE(ros::service::call("kane_sim/reset", empty));
     }
   }
   stop = true;
@@ -164,7 +164,7 @@ TEST_F(Robustness, DrivenHardTheSlidersCrossAndItIsReportedOnce) {
   ASSERT_TRUE(test::waitFor([&] { return rosout.connected(); }, 10.0));
   test::sleepWall(0.5);  // connections to every /rosout publisher, the sim's included
   std_srvs::Empty empty;
-  ASSERT_TRUE(ros::service::call("reset", empty));
+  ASSERT_TRUE(ros::service::call("kane_sim/reset", empty));
   for (int i = 0; i < 300 && state_.last().slider_crossings < 2; ++i) {
     send(torque_, 1e9);  // clamped to the limit
     test::sleepWall(0.01);

@@ -1,5 +1,6 @@
 // reset, pause, unpause and step of a running sim (test/node/services.test).
 #include <cmath>
+#include <limits>
 
 #include <gtest/gtest.h>
 #include <std_msgs/Float64.h>
@@ -7,6 +8,7 @@
 #include <std_srvs/Trigger.h>
 
 #include "kane_sim/MechanismState.h"
+#include "kane_sim/SetState.h"
 #include "node_test_utils.h"
 #include "test_helpers.h"
 
@@ -27,7 +29,7 @@ TEST_F(Services, PauseFreezesSimTimeAndStepAdvancesOnePublishPeriod) {
   Recorder<MechanismState>& state = state_;
   ASSERT_TRUE(state.waitForCount(10, 15.0));
   std_srvs::Empty empty;
-  ASSERT_TRUE(call("pause", empty));
+  ASSERT_TRUE(call("kane_sim/pause", empty));
   test::sleepWall(0.1);
   const double frozen = state.last().sim_time;
   state.clear();
@@ -36,15 +38,15 @@ TEST_F(Services, PauseFreezesSimTimeAndStepAdvancesOnePublishPeriod) {
   EXPECT_GT(state.count(), 10u) << "wall-clock mode keeps publishing while paused";
 
   std_srvs::Trigger step;
-  ASSERT_TRUE(call("step", step));
+  ASSERT_TRUE(call("kane_sim/step", step));
   EXPECT_TRUE(step.response.success) << step.response.message;
   ASSERT_TRUE(test::waitFor([&] { return state.last().sim_time > frozen; }, 2.0));
   EXPECT_NEAR(state.last().sim_time - frozen, 0.01, 1e-9);  // 10 steps of 1 ms
 
-  ASSERT_TRUE(call("unpause", empty));
+  ASSERT_TRUE(call("kane_sim/unpause", empty));
   test::sleepWall(0.3);
   EXPECT_GT(state.last().sim_time, frozen + 0.2);
-  ASSERT_TRUE(call("step", step));
+  ASSERT_TRUE(call("kane_sim/step", step));
   EXPECT_FALSE(step.response.success);
   EXPECT_NE(step.response.message.find("not paused"), std::string::npos) << step.response.message;
 }
@@ -56,8 +58,8 @@ TEST_F(Services, ResetRestoresTheInitialStateAndZeroesWork) {
       test::waitFor([&] { return state.count() > 0 && state.last().motor_work != 0.0; }, 5.0));
   const double before = state.last().sim_time;
   std_srvs::Empty empty;
-  ASSERT_TRUE(call("pause", empty));
-  ASSERT_TRUE(call("reset", empty));
+  ASSERT_TRUE(call("kane_sim/pause", empty));
+  ASSERT_TRUE(call("kane_sim/reset", empty));
   test::sleepWall(0.1);
   const MechanismState m = state.last();
   const Config c = test::defaultConfig();
@@ -68,7 +70,62 @@ TEST_F(Services, ResetRestoresTheInitialStateAndZeroesWork) {
   EXPECT_EQ(m.motor_work, 0.0);
   EXPECT_EQ(m.applied_torque, 0.0);
   EXPECT_GE(m.sim_time, before) << "sim time never runs backwards";
-  ASSERT_TRUE(call("unpause", empty));
+  ASSERT_TRUE(call("kane_sim/unpause", empty));
+}
+
+// set_state puts the mechanism where a controller test wants it: the next published state is
+// that state (paused, so nothing moves on), motor work restarts from 0, and stepping on from it
+// follows the same physics as the offline driver started there.
+TEST_F(Services, SetStatePutsTheMechanismIntoTheGivenState) {
+  std_srvs::Empty empty;
+  ASSERT_TRUE(call("kane_sim/pause", empty));
+  SetState set;
+  set.request.q1 = -0.4;
+  set.request.q2 = 1.3;
+  set.request.u1 = 2.0;
+  set.request.u2 = -0.5;
+  ASSERT_TRUE(call("kane_sim/set_state", set));
+  EXPECT_TRUE(set.response.success) << set.response.message;
+  ASSERT_TRUE(test::waitFor([&] { return state_.last().q[0] == -0.4; }, 2.0));
+  const MechanismState m = state_.last();
+  EXPECT_EQ(m.q[1], 1.3);
+  EXPECT_EQ(m.u[0], 2.0);
+  EXPECT_EQ(m.u[1], -0.5);
+  EXPECT_EQ(m.motor_work, 0.0);
+  // The spring keeps its rest length: elongation from the config's initial state.
+  const Config c = test::defaultConfig();
+  const MechanismModel model = mechanismModel(c);
+  EXPECT_NEAR(m.spring_elongation, model.springElongation(model.geometry(-0.4, 1.3)), 1e-15);
+  // u' at that state is the model's (no torque commanded in this test).
+  const SpeedVector u_dot = model.accelerations(State{-0.4, 1.3, 2.0, -0.5}, m.applied_torque);
+  EXPECT_NEAR(m.u_dot[0], u_dot[0], 1e-12 * (1 + std::abs(u_dot[0])));
+  EXPECT_NEAR(m.u_dot[1], u_dot[1], 1e-12 * (1 + std::abs(u_dot[1])));
+  ASSERT_TRUE(call("kane_sim/unpause", empty));
+}
+
+TEST_F(Services, SetStateRefusesNonFiniteValuesAndKeepsTheState) {
+  std_srvs::Empty empty;
+  ASSERT_TRUE(call("kane_sim/pause", empty));
+  test::sleepWall(0.1);
+  const MechanismState before = state_.last();
+  SetState set;
+  set.request.q1 = 0.1;
+  set.request.q2 = 1.0;
+  set.request.u1 = std::nan("");
+  set.request.u2 = 0.0;
+  ASSERT_TRUE(call("kane_sim/set_state", set));
+  EXPECT_FALSE(set.response.success);
+  EXPECT_NE(set.response.message.find("u1"), std::string::npos) << set.response.message;
+  EXPECT_NE(set.response.message.find("not finite"), std::string::npos) << set.response.message;
+  set.request.u1 = 0.0;
+  set.request.q2 = std::numeric_limits<double>::infinity();
+  ASSERT_TRUE(call("kane_sim/set_state", set));
+  EXPECT_FALSE(set.response.success);
+  EXPECT_NE(set.response.message.find("q2"), std::string::npos) << set.response.message;
+  test::sleepWall(0.1);
+  EXPECT_EQ(state_.last().q[0], before.q[0]);
+  EXPECT_EQ(state_.last().q[1], before.q[1]);
+  ASSERT_TRUE(call("kane_sim/unpause", empty));
 }
 
 }  // namespace

@@ -62,19 +62,25 @@ TEST(Topics, TfFramesAgreeWithJointStates) {
     for (const char* frame : {"rod1", "rod2", "slider3", "slider4"})
       ASSERT_TRUE(buffer.canTransform("world", frame, m.header.stamp, ros::Duration(1.0), &error))
           << frame << ": " << error;
+    // The kinematic chain: rod 1's frame at O, rod 2's at A = 2L (cos q1, sin q1), each with
+    // x along its rod; the sliders at B and C on the rail.
     const auto rod1 = buffer.lookupTransform("mechanism", "rod1", m.header.stamp);
     const auto rod2 = buffer.lookupTransform("mechanism", "rod2", m.header.stamp);
     const auto s3 = buffer.lookupTransform("mechanism", "slider3", m.header.stamp);
     const auto s4 = buffer.lookupTransform("mechanism", "slider4", m.header.stamp);
-    EXPECT_NEAR(rod1.transform.translation.x, L * std::cos(q1), 1e-9);
-    EXPECT_NEAR(rod1.transform.translation.y, L * std::sin(q1), 1e-9);
-    EXPECT_NEAR(rod2.transform.translation.x, 3 * L * std::cos(q1), 1e-9);
-    EXPECT_NEAR(rod2.transform.translation.y, L * std::sin(q1), 1e-9);
+    EXPECT_NEAR(rod1.transform.translation.x, 0.0, 1e-9);
+    EXPECT_NEAR(rod1.transform.translation.y, 0.0, 1e-9);
+    EXPECT_NEAR(rod2.transform.translation.x, 2 * L * std::cos(q1), 1e-9);
+    EXPECT_NEAR(rod2.transform.translation.y, 2 * L * std::sin(q1), 1e-9);
     EXPECT_NEAR(s3.transform.translation.x, m.position[2], 1e-9);
     EXPECT_NEAR(s4.transform.translation.x, q2, 1e-9);
-    // Rod 1 turns by q1 about the plane normal.
+    // Rod 1 turns by q1 about the plane normal, rod 2 by -q1.
     EXPECT_NEAR(2 * std::atan2(rod1.transform.rotation.z, rod1.transform.rotation.w),
                 std::remainder(q1, 2 * M_PI), 1e-9);
+    EXPECT_NEAR(
+        std::remainder(2 * std::atan2(rod2.transform.rotation.z, rod2.transform.rotation.w) + q1,
+                       2 * M_PI),
+        0.0, 1e-9);
     ++checked;
   }
   EXPECT_EQ(checked, 25);

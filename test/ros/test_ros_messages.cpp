@@ -73,13 +73,13 @@ TEST(RosParams, BadRosparamValuesNameTheKey) {
 
 class MessagesTest : public ::testing::Test {
  protected:
-  MessagesTest() : config_(test::defaultConfig()), sim_(config_), frames_(config_.frames) {
+  MessagesTest() : config_(test::defaultConfig()), sim_(config_), robot_(describeRobot(config_)) {
     sim_.setTorque(3.0);
     for (int i = 0; i < 437; ++i) sim_.step();
   }
   Config config_;
   Simulator sim_;
-  FrameNames frames_;
+  RobotDescription robot_;
 };
 
 TEST_F(MessagesTest, JointStateHasFourJointsWithConsistentValues) {
@@ -118,41 +118,35 @@ Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t) {
   return iso;
 }
 
-TEST_F(MessagesTest, WorldToMechanismPutsGravityAlongWorldMinusZ) {
-  const auto t = worldToMechanism(frames_, config_.frames, ros::Time(1));
-  EXPECT_EQ(t.header.frame_id, "world");
-  EXPECT_EQ(t.child_frame_id, "mechanism");
-  const Eigen::Isometry3d world_T_mech = toEigen(t.transform);
-  // O sits pivot_height above the world origin; one metre along the textbook's x (down) is lower.
-  EXPECT_TRUE(world_T_mech.translation().isApprox(Eigen::Vector3d(0, 0, 2.0)));
-  const Eigen::Vector3d below = world_T_mech * Eigen::Vector3d(1, 0, 0);
+TEST_F(MessagesTest, StaticTransformIsWorldToMechanism) {
+  const auto t = staticTransforms(robot_, ros::Time(1));
+  ASSERT_EQ(t.size(), 1u);
+  EXPECT_EQ(t[0].header.frame_id, "world");
+  EXPECT_EQ(t[0].child_frame_id, "mechanism");
+  EXPECT_EQ(t[0].header.stamp, ros::Time(1));
+  const Eigen::Vector3d below = toEigen(t[0].transform) * Eigen::Vector3d(1, 0, 0);
   EXPECT_TRUE(below.isApprox(Eigen::Vector3d(0, 0, 1.0), 1e-12)) << below.transpose();
-  // Right-handed: the textbook's k = i x j maps to world x.
-  EXPECT_NEAR(world_T_mech.linear().determinant(), 1.0, 1e-12);
 }
 
-TEST_F(MessagesTest, BodyFramesSitAtTheMassCentersAlongTheRods) {
-  const State x = sim_.state();
+// The moving frames form the kinematic chain: mechanism -> rod1 -> rod2, mechanism -> sliders.
+TEST_F(MessagesTest, JointTransformsFormTheKinematicChain) {
+  const Snapshot s = sim_.snapshot();
   const double L = config_.mechanism.rod_half_length;
-  const auto transforms = bodyTransforms(sim_.snapshot(), frames_, ros::Time(3));
-  ASSERT_EQ(transforms.size(), 4u);
-  const char* names[] = {"rod1", "rod2", "slider3", "slider4"};
+  const auto t = jointTransforms(robot_, s.joints, ros::Time(3));
+  ASSERT_EQ(t.size(), 4u);
+  const char* parents[] = {"mechanism", "rod1", "mechanism", "mechanism"};
+  const char* children[] = {"rod1", "rod2", "slider3", "slider4"};
   for (int i = 0; i < 4; ++i) {
-    EXPECT_EQ(transforms[i].header.frame_id, "mechanism");
-    EXPECT_EQ(transforms[i].child_frame_id, names[i]);
+    EXPECT_EQ(t[i].header.frame_id, parents[i]);
+    EXPECT_EQ(t[i].child_frame_id, children[i]);
+    EXPECT_EQ(t[i].header.stamp, ros::Time(3));
   }
-  const Eigen::Isometry3d rod1 = toEigen(transforms[0].transform);
-  const Eigen::Isometry3d rod2 = toEigen(transforms[1].transform);
-  EXPECT_TRUE(rod1.translation().isApprox(Eigen::Vector3d(L * cos(x.q1), L * sin(x.q1), 0)));
-  EXPECT_TRUE(rod2.translation().isApprox(Eigen::Vector3d(3 * L * cos(x.q1), L * sin(x.q1), 0)));
-  // Rod ends: rod1's +L end is A, rod2's -L end is A and its +L end is B on the x axis.
-  const Eigen::Vector3d a1 = rod1 * Eigen::Vector3d(L, 0, 0);
-  const Eigen::Vector3d a2 = rod2 * Eigen::Vector3d(-L, 0, 0);
-  const Eigen::Vector3d b = rod2 * Eigen::Vector3d(L, 0, 0);
-  EXPECT_TRUE(a1.isApprox(a2, 1e-12));
-  EXPECT_NEAR(b.y(), 0.0, 1e-12);
-  EXPECT_NEAR(b.x(), transforms[2].transform.translation.x, 1e-12);
-  EXPECT_DOUBLE_EQ(transforms[3].transform.translation.x, x.q2);
+  const Eigen::Isometry3d rod1 = toEigen(t[0].transform);
+  const Eigen::Isometry3d rod2 = rod1 * toEigen(t[1].transform);
+  EXPECT_LT((rod2 * Eigen::Vector3d(2 * L, 0, 0) - s.geometry.pin_b).norm(), 1e-12);
+  EXPECT_LT((rod1 * Eigen::Vector3d(L, 0, 0) - s.geometry.rod1_center).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(t[2].transform.translation.x, s.geometry.pin_b.x());
+  EXPECT_DOUBLE_EQ(t[3].transform.translation.x, s.state.q2);
 }
 
 TEST(FrameNames, PrefixIsJoinedWithASlashAndWorldIsShared) {
@@ -196,12 +190,12 @@ TEST_F(MessagesTest, TorqueArrowIsDeletedAtZeroTorque) {
   Snapshot s = sim_.snapshot();
   s.command.torque_limit = 50.0;
   s.torque = 10.0;
-  const auto on = torqueArrow(mechanismMarkers(s, frames_, ros::Time(1)));
+  const auto on = torqueArrow(mechanismMarkers(s, robot_.frames, ros::Time(1)));
   EXPECT_EQ(on.action, visualization_msgs::Marker::ADD);
   EXPECT_EQ(on.color.a, 1.0f);
   EXPECT_NEAR(on.points[0].x, s.geometry.pin_a.x(), 1e-12);
   s.torque = 0.0;
-  const auto off = torqueArrow(mechanismMarkers(s, frames_, ros::Time(2)));
+  const auto off = torqueArrow(mechanismMarkers(s, robot_.frames, ros::Time(2)));
   EXPECT_EQ(off.action, visualization_msgs::Marker::DELETE);
   EXPECT_EQ(off.id, on.id);
 }

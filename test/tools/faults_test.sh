@@ -83,7 +83,7 @@ master_dies_and_returns() {
     sleep 1
   done
   local service=no
-  timeout 10 rosservice call /step >/dev/null 2>&1 && service=yes
+  timeout 10 rosservice call /fault_sim/step >/dev/null 2>&1 && service=yes
   echo "     master back: node alive=$(kill -0 "$node_pid" 2>/dev/null && echo yes || echo no), mechanism_state received again: $seen, step service answers: $service"
   kill -0 "$node_pid" && [ "$seen" = yes ] && [ "$service" = yes ]
   local alive=$?

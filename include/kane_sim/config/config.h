@@ -39,6 +39,9 @@ struct FrameSettings {
   std::string prefix;           // prepended to every frame name
   std::string world = "world";  // REP-105 world frame, z up
   double pivot_height = 2.0;    // [m] height of O above the world origin
+  // false: the node publishes no tf and leaves the tree to robot_state_publisher, which
+  // computes it from robot_description and joint_states.
+  bool publish_tf = true;
 };
 
 struct Config {

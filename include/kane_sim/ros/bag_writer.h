@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <rosbag/bag.h>
 
@@ -18,8 +19,8 @@ class BagWriter {
   explicit BagWriter(const std::string& path);
   ~BagWriter();
 
-  // /tf_static (latched, like tf2_ros' static broadcaster) with world -> mechanism.
-  void writeStatic(const geometry_msgs::TransformStamped& world_to_mechanism);
+  // /tf_static (latched, like tf2_ros' static broadcaster) with the fixed joints' transforms.
+  void writeStatic(const std::vector<geometry_msgs::TransformStamped>& transforms);
   // /clock, /joint_states, /tf, /mechanism_state, /visualization_markers at `stamp`.
   void write(const PublishedMessages& messages, const ros::Time& stamp);
   void close();

@@ -15,7 +15,7 @@
 
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/config/config.h"
-#include "kane_sim/ros/frame_names.h"
+#include "kane_sim/description/robot_description.h"
 #include "kane_sim/sim/snapshot.h"
 
 namespace kane_sim {
@@ -37,15 +37,15 @@ inline ros::Time simStamp(double sim_time) {
 
 sensor_msgs::JointState jointStateMessage(const Snapshot& snapshot, const ros::Time& stamp);
 
-// world -> mechanism: the textbook's x axis (i) along world -z (gravity), O at pivot_height.
-geometry_msgs::TransformStamped worldToMechanism(const FrameNames& frames,
-                                                 const FrameSettings& settings,
-                                                 const ros::Time& stamp);
-
-// mechanism -> rod1, rod2, slider3, slider4 at the mass centers, x along each rod.
-std::vector<geometry_msgs::TransformStamped> bodyTransforms(const Snapshot& snapshot,
-                                                            const FrameNames& frames,
-                                                            const ros::Time& stamp);
+// The tf tree of the robot description (description/robot_description.h), the same tree
+// robot_state_publisher computes from the URDF and joint_states.
+// Fixed joints (world -> mechanism), for /tf_static.
+std::vector<geometry_msgs::TransformStamped> staticTransforms(const RobotDescription& robot,
+                                                              const ros::Time& stamp);
+// Moving joints at these joint values (mechanism -> rod1 -> rod2, mechanism -> slider3, slider4).
+std::vector<geometry_msgs::TransformStamped> jointTransforms(const RobotDescription& robot,
+                                                             const JointValues& joints,
+                                                             const ros::Time& stamp);
 
 // real_time_factor: sim time per wall time achieved by whoever produced the snapshot (0 offline).
 kane_sim::MechanismState mechanismStateMessage(const Snapshot& snapshot, double real_time_factor,
@@ -54,12 +54,12 @@ kane_sim::MechanismState mechanismStateMessage(const Snapshot& snapshot, double 
 // Everything published at one publish instant, by the node or into a bag offline.
 struct PublishedMessages {
   sensor_msgs::JointState joint_state;
-  tf2_msgs::TFMessage tf;  // mechanism -> bodies
+  tf2_msgs::TFMessage tf;  // the moving joints' transforms
   kane_sim::MechanismState mechanism_state;
   visualization_msgs::MarkerArray markers;
 };
 
-PublishedMessages buildMessages(const Snapshot& snapshot, const FrameNames& frames,
+PublishedMessages buildMessages(const Snapshot& snapshot, const RobotDescription& robot,
                                 double real_time_factor, const ros::Time& stamp);
 
 }  // namespace kane_sim

@@ -47,6 +47,16 @@ class SimDriver {
   // Initial state, motor work 0, command forgotten; sim time runs on.
   void reset();
 
+  // A chosen state (Simulator::setState): the command in force is kept. Refused with the
+  // reason when a value is not finite.
+  Status setState(const State& state);
+
+  // Runtime reconfiguration from a validated config: new mechanism parameters (at the current
+  // state, from the next step on) and command settings. Initial state, rates and integrator
+  // stay those the driver was built with.
+  void reconfigure(const Config& config);
+  const Config& config() const { return config_; }
+
   Snapshot snapshot() const;  // the physics of this instant and the command status
 
   const Simulator& simulator() const { return sim_; }

@@ -42,6 +42,18 @@ class Simulator {
   // goes backwards, so tf listeners and bags downstream see a monotonic clock).
   void reset();
 
+  // Puts the mechanism into `state` (like reset, to a chosen state): motor work 0, crossings 0;
+  // the torque in force and the spring's rest length are kept. A non-finite value, or a state
+  // whose energy is not finite, is refused naming the field and nothing changes.
+  Status setState(const State& state);
+
+  // New physical parameters from the next step on, at the current state (the spring's rest
+  // length is kept). The total energy E jumps at that instant; the jump is added to
+  // parameter_energy so that E - W - parameter_energy stays the conserved quantity.
+  void setParameters(const MechanismParameters& parameters);
+  double parameterEnergy() const { return parameter_energy_; }  // [J] Σ ΔE of parameter changes
+  std::uint64_t parameterChanges() const { return parameter_changes_; }
+
   const State& state() const { return state_; }
   double time() const { return static_cast<double>(ticks_) * step_size_; }
   std::uint64_t ticks() const { return ticks_; }
@@ -76,6 +88,8 @@ class Simulator {
   bool last_derivative_valid_ = false;
   std::unique_ptr<Integrator> integrator_;
   double slider_separation_;  // x_C - x_B at the current state
+  double parameter_energy_ = 0.0;
+  std::uint64_t parameter_changes_ = 0;
 };
 
 }  // namespace kane_sim

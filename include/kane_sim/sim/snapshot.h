@@ -28,9 +28,13 @@ struct Snapshot {
   SpeedVector active_forces = SpeedVector::Zero();   // F_r: F_1 [N m], F_2 [N]
   SpeedVector inertia_forces = SpeedVector::Zero();  // F*_r at u': F*_1 [N m], F*_2 [N]
   EnergyTerms energy;
-  double motor_work = 0.0;         // ∫ M_m u1 dt since start or reset [J]
-  double motor_power = 0.0;        // M_m u1 [W]
-  double spring_elongation = 0.0;  // e [m], eq (15); positive = compressed
+  double motor_work = 0.0;   // ∫ M_m u1 dt since start or reset [J]
+  double motor_power = 0.0;  // M_m u1 [W]
+  // Σ ΔE of runtime parameter changes (dynamic_reconfigure) since start, reset or set_state
+  // [J]: E - motor_work - parameter_energy is the conserved quantity.
+  double parameter_energy = 0.0;
+  std::uint64_t parameter_changes = 0;  // runtime parameter changes since start
+  double spring_elongation = 0.0;       // e [m], eq (15); positive = compressed
   // x_C - x_B [m]: slider 4 below slider 3 when > 0. The textbook example models no contact
   // between the sliders, so a hard-driven crank can pull one through the other.
   double slider_separation = 0.0;

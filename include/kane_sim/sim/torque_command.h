@@ -26,6 +26,8 @@ class TorqueCommand {
   double torqueLimit() const { return settings_.torque_limit; }
   bool timedOut() const { return timed_out_; }
   void reset();  // back to no command, torque 0
+  // New limit and timeout (runtime reconfiguration): the last command is clamped anew.
+  void setSettings(const CommandSettings& settings);
 
  private:
   CommandSettings settings_;

@@ -1,6 +1,6 @@
-// The tf frame ids the mechanism publishes, with the configured prefix.
-#ifndef KANE_SIM_ROS_FRAME_NAMES_H
-#define KANE_SIM_ROS_FRAME_NAMES_H
+// The tf frame ids (= URDF link names) of the mechanism, with the configured prefix.
+#ifndef KANE_SIM_DESCRIPTION_FRAME_NAMES_H
+#define KANE_SIM_DESCRIPTION_FRAME_NAMES_H
 
 #include <array>
 #include <string>
@@ -12,8 +12,10 @@ namespace kane_sim {
 
 struct FrameNames {
   std::string world;      // REP-105 world frame, z up; shared by instances, never prefixed
-  std::string mechanism;  // the textbook's frame (0): x down, origin at O
-  std::array<std::string, kNumBodies> bodies;  // rod1, rod2, slider3, slider4 (mass centers)
+  std::string mechanism;  // the textbook's frame (0): x down, origin at O (the robot's base)
+  // Link frames in Body order: rod1 and rod2 at their inboard pins O and A with x along the
+  // rod; slider3 at B and slider4 at C with the mechanism's axes.
+  std::array<std::string, kNumBodies> bodies;
 
   // "robot1" and "robot1/" both give "robot1/rod1"; "" gives "rod1".
   explicit FrameNames(const FrameSettings& settings) {
@@ -27,4 +29,4 @@ struct FrameNames {
 
 }  // namespace kane_sim
 
-#endif  // KANE_SIM_ROS_FRAME_NAMES_H
+#endif  // KANE_SIM_DESCRIPTION_FRAME_NAMES_H

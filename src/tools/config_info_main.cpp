@@ -1,0 +1,67 @@
+// `config_info`: what launch files need to know of a config before any node runs, read
+// through the one config loader (so a bad config fails here with the same message as in the
+// node).
+//
+//   config_info urdf FILE [--frame-prefix P]   the robot_description (URDF) of FILE
+//   config_info use_sim_time FILE              true when FILE's simulation.publish_clock is
+//
+// launch/sim.launch sets robot_description and /use_sim_time from these before starting
+// robot_state_publisher and rviz, which read both once at start-up. Exit codes: 0 ok, 1 bad
+// config, 2 bad command line.
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "kane_sim/config/load_config.h"
+#include "kane_sim/description/robot_description.h"
+#include "kane_sim/description/urdf.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: config_info urdf FILE [--frame-prefix PREFIX]\n"
+    "       config_info use_sim_time FILE\n";
+
+int usage(const std::string& problem) {
+  std::cerr << "error: " << problem << "\n" << kUsage;
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.size() == 1 && (args[0] == "-h" || args[0] == "--help")) {
+    std::cout << kUsage;
+    return 0;
+  }
+  if (args.size() < 2) return usage("a command and a config FILE are needed");
+  const std::string& command = args[0];
+  const std::string& path = args[1];
+  try {
+    YAML::Node tree = kane_sim::loadYamlFile(path);
+    if (command == "urdf") {
+      if (args.size() == 4 && args[2] == "--frame-prefix") {
+        if (tree.IsMap()) tree["frames"]["prefix"] = args[3];
+      } else if (args.size() != 2) {
+        return usage("urdf takes FILE and optionally --frame-prefix PREFIX");
+      }
+      const kane_sim::LoadedConfig loaded = kane_sim::loadConfig(tree);
+      std::cout << kane_sim::toUrdf(kane_sim::describeRobot(loaded.config));
+      return 0;
+    }
+    if (command == "use_sim_time") {
+      if (args.size() != 2) return usage("use_sim_time takes only FILE");
+      const kane_sim::LoadedConfig loaded = kane_sim::loadConfig(tree);
+      std::cout << (loaded.config.simulation.publish_clock ? "true" : "false");
+      return 0;
+    }
+    return usage("unknown command '" + command + "' (urdf or use_sim_time)");
+  } catch (const kane_sim::ConfigError& e) {
+    std::cerr << "error: " << path << ": " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {  // e.g. a frames section that is not a map
+    std::cerr << "error: " << path << ": " << e.what() << "\n";
+    return 1;
+  }
+}
