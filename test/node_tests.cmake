@@ -13,16 +13,21 @@ catkin_add_executable_with_gtest(node_tests
   test/node/test_controller.cpp
   test/node/test_robustness.cpp
   test/node/test_hostile.cpp
+  test/node/test_robot.cpp
+  test/node/test_reconfigure.cpp
   EXCLUDE_FROM_ALL)
 if(TARGET node_tests)
-  target_link_libraries(node_tests kane_sim_ros kane_sim_warnings)
+  find_package(urdfdom REQUIRED)
+  target_include_directories(node_tests PRIVATE ${urdfdom_INCLUDE_DIRS})
+  target_link_libraries(node_tests kane_sim_ros kane_sim_warnings ${urdfdom_LIBRARIES})
   target_include_directories(node_tests PRIVATE ${PROJECT_SOURCE_DIR}/test/common)
   add_dependencies(tests node_tests)
   target_compile_definitions(node_tests PRIVATE
     KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config"
     KANE_SIM_SIMULATE_EXE="$<TARGET_FILE:simulate>")
   foreach(case topics torque commands services clock_mode bad_param namespaces controller robustness
-      stalled leftover_sim_time slow_ticks)
+      stalled leftover_sim_time slow_ticks robot_description robot_description_textbook rsp_tf
+      reconfigure)
     add_rostest(test/node/${case}.test DEPENDENCIES node_tests kane_sim_node pd_controller simulate)
   endforeach()
 endif()
