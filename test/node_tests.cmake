@@ -17,7 +17,6 @@ catkin_add_executable_with_gtest(node_tests
   test/node/test_reconfigure.cpp
   EXCLUDE_FROM_ALL)
 if(TARGET node_tests)
-  find_package(urdfdom REQUIRED)
   target_include_directories(node_tests PRIVATE ${urdfdom_INCLUDE_DIRS})
   target_link_libraries(node_tests kane_sim_ros kane_sim_warnings ${urdfdom_LIBRARIES})
   target_include_directories(node_tests PRIVATE ${PROJECT_SOURCE_DIR}/test/common)
