@@ -417,7 +417,7 @@ void KaneSimNode::onReconfigure(const Config& config) {
   config_.command = config.command;
   config_.simulation.real_time_factor = config.simulation.real_time_factor;
   robot_ = describeRobot(config_);  // masses and inertia are in the URDF
-  nh_.setParam("robot_description", toUrdf(robot_));
+  publishRobotDescription();
   if (config_.simulation.real_time_factor != old_factor) {
     scheduler_ = TickScheduler(tickPeriod(config_.simulation), kMaxCatchUp);
     scheduler_.anchor(SteadyClock::now());

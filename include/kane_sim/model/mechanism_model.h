@@ -98,7 +98,6 @@ class MechanismModel {
   }
 
   double springRestLength() const { return spring_rest_length_; }
-  const MechanismParameters& parameters() const { return parameters_; }
 
   EnergyTerms energy(const MechanismKinematics& k, const State& x) const;
   EnergyTerms energy(const State& x) const { return energy(kinematics(x), x); }

@@ -55,7 +55,6 @@ class SimDriver {
   // state, from the next step on) and command settings. Initial state, rates and integrator
   // stay those the driver was built with.
   void reconfigure(const Config& config);
-  const Config& config() const { return config_; }
 
   Snapshot snapshot() const;  // the physics of this instant and the command status
 

@@ -51,8 +51,6 @@ class Simulator {
   // length is kept). The total energy E jumps at that instant; the jump is added to
   // parameter_energy so that E - W - parameter_energy stays the conserved quantity.
   void setParameters(const MechanismParameters& parameters);
-  double parameterEnergy() const { return parameter_energy_; }  // [J] Σ ΔE of parameter changes
-  std::uint64_t parameterChanges() const { return parameter_changes_; }
 
   const State& state() const { return state_; }
   double time() const { return static_cast<double>(ticks_) * step_size_; }
