@@ -15,6 +15,7 @@ catkin_add_executable_with_gtest(node_tests
   test/node/test_hostile.cpp
   test/node/test_robot.cpp
   test/node/test_reconfigure.cpp
+  test/node/test_by_hand.cpp
   EXCLUDE_FROM_ALL)
 if(TARGET node_tests)
   target_include_directories(node_tests PRIVATE ${urdfdom_INCLUDE_DIRS})
@@ -23,10 +24,12 @@ if(TARGET node_tests)
   add_dependencies(tests node_tests)
   target_compile_definitions(node_tests PRIVATE
     KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config"
-    KANE_SIM_SIMULATE_EXE="$<TARGET_FILE:simulate>")
+    KANE_SIM_SIMULATE_EXE="$<TARGET_FILE:simulate>"
+    KANE_SIM_TELEOP_EXE="$<TARGET_FILE:teleop_key>")
   foreach(case topics torque commands services clock_mode bad_param namespaces controller robustness
       stalled leftover_sim_time slow_ticks robot_description robot_description_textbook rsp_tf
-      reconfigure)
-    add_rostest(test/node/${case}.test DEPENDENCIES node_tests kane_sim_node pd_controller simulate)
+      reconfigure crank_marker teleop)
+    add_rostest(test/node/${case}.test DEPENDENCIES node_tests kane_sim_node pd_controller simulate
+      crank_marker teleop_key)
   endforeach()
 endif()

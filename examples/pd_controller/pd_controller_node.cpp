@@ -55,7 +55,8 @@ void PdControllerNode::onSetpoint(const std_msgs::Float64::ConstPtr& msg) {
     return;
   }
   setpoint_ = msg->data;
-  ROS_INFO("pd_controller: new setpoint %g rad", setpoint_);
+  // Debug level: an interactive marker being dragged sends tens of setpoints a second.
+  ROS_DEBUG("pd_controller: new setpoint %g rad", setpoint_);
 }
 
 }  // namespace kane_sim

@@ -3,8 +3,10 @@
 
 The 3D view is found as the bounding box of rviz's background colour (config/kane_sim.rviz:
 40;40;48); rods (blue), sliders (orange) and spring (green), from src/markers.cpp, must each
-cover enough pixels inside it. Exit 0 when all are there, 1 otherwise, with the counts.
-Usage: check_screenshot.py SHOT.png
+cover enough pixels inside it. With --setpoint, also the crank_marker's ring and arrow (yellow,
+MarkerColors::kSetpoint; the ring half transparent on the background). Exit 0 when all are
+there, 1 otherwise, with the counts.
+Usage: check_screenshot.py SHOT.png [--setpoint]
 """
 import sys
 
@@ -19,9 +21,13 @@ COLOURS = {
     "sliders (orange)": (lambda r, g, b: (r > 0.8) & (g > 0.35) & (g < 0.75) & (b < 0.25), 250),
     "spring (green)": (lambda r, g, b: (g > 0.6) & (r < 0.4) & (b < 0.4), 60),
 }
+# The ring covers ~11000 px in the reference shot (scale 0.6 m); r close to g tells it from the
+# sliders' orange (g ~ 0.55 r).
+SETPOINT = ("crank setpoint ring (yellow)",
+            (lambda r, g, b: (r > 0.45) & (g > 0.38) & (b < 0.3) & (np.abs(r - g) < 0.2), 2500))
 
 
-def main(path):
+def main(path, setpoint=False):
     image = matplotlib.image.imread(path)[:, :, :3].astype(float)
     if image.max() > 1.0:
         image /= 255.0
@@ -38,7 +44,10 @@ def main(path):
     inside = np.zeros(background.shape, dtype=bool)
     inside[top:bottom + 1, left:right + 1] = True
     failures = 0
-    for name, (match, minimum) in COLOURS.items():
+    checks = dict(COLOURS)
+    if setpoint:
+        checks[SETPOINT[0]] = SETPOINT[1]
+    for name, (match, minimum) in checks.items():
         mask = match(r, g, b)
         count_in, count_out = int((mask & inside).sum()), int((mask & ~inside).sum())
         ok = count_in >= minimum
@@ -49,4 +58,4 @@ def main(path):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1]))
+    sys.exit(main(sys.argv[1], setpoint="--setpoint" in sys.argv[2:]))

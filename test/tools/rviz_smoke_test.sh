@@ -3,7 +3,8 @@
 # through launch/view_bag.launch into rviz with config/kane_sim.rviz, take a screenshot, and
 # check that the mechanism (RobotModel and markers) is drawn inside the 3D view and that neither
 # rviz nor tf complained about old or repeated data. Then the same for the live sim launched in a
-# namespace with rviz (sim.launch ns:=robot_a frame_prefix:=robot_a rviz:=true).
+# namespace with rviz and the crank's interactive marker (sim.launch ns:=robot_a
+# frame_prefix:=robot_a rviz:=true interactive_marker:=true): the marker's ring must be drawn too.
 # Usage: rviz_smoke_test.sh BUILD_DIR   (the screenshot is kept in BUILD_DIR/test_artifacts/)
 set -euo pipefail
 build_dir=$(cd "$1" && pwd)
@@ -65,12 +66,13 @@ grep -q "RViz is ready\|rviz" "$log" || true
 echo "screenshot: $shot, log: $log"
 
 # The live sim in a namespace with its own frame prefix, rviz started by sim.launch in that
-# namespace: the config's relative topics (robot_description, markers) must resolve there.
+# namespace: the config's relative topics (robot_description, markers, the interactive marker's
+# update topic) must resolve there, and the marker must find the prefixed mechanism frame.
 ns_shot="$artifacts/rviz_namespace.png"
 ns_log="$artifacts/rviz_namespace.log"
 rm -f "$ns_shot"
 xvfb-run -a -s "-screen 0 1280x800x24" bash -c "
-  roslaunch -p $port kane_sim sim.launch ns:=robot_a frame_prefix:=robot_a rviz:=true > '$ns_log' 2>&1 &
+  roslaunch -p $port kane_sim sim.launch ns:=robot_a frame_prefix:=robot_a rviz:=true interactive_marker:=true > '$ns_log' 2>&1 &
   launch=\$!
   sleep 14
   import -window root '$ns_shot'
@@ -79,8 +81,9 @@ xvfb-run -a -s "-screen 0 1280x800x24" bash -c "
 "
 if [ ! -s "$ns_shot" ]; then
   echo "FAIL: no screenshot of the namespaced sim"; failures=$((failures + 1))
-elif ! /usr/bin/python3 "$here/check_screenshot.py" "$ns_shot"; then
-  echo "FAIL: sim.launch ns:=robot_a rviz:=true does not show the mechanism"; failures=$((failures + 1))
+elif ! /usr/bin/python3 "$here/check_screenshot.py" "$ns_shot" --setpoint; then
+  echo "FAIL: sim.launch ns:=robot_a rviz:=true interactive_marker:=true does not show the mechanism and its marker"
+  failures=$((failures + 1))
 fi
 if grep -q "Marker is fully transparent\|No transform" "$ns_log"; then
   echo "FAIL: rviz warned in the namespace:"; grep -m3 "transparent\|No transform" "$ns_log"

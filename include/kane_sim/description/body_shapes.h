@@ -25,6 +25,7 @@ struct MarkerColors {
   static constexpr float kTorque[3] = {0.95f, 0.1f, 0.1f};  // red
   static constexpr float kPin[3] = {0.8f, 0.8f, 0.8f};      // light grey
   static constexpr float kRail[3] = {0.45f, 0.45f, 0.45f};  // grey
+  static constexpr float kSetpoint[3] = {1.0f, 0.85f, 0.1f};  // yellow: the crank_marker arrow
 };
 
 }  // namespace kane_sim
