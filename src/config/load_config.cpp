@@ -1,5 +1,7 @@
 #include "kane_sim/config/load_config.h"
 
+#include "kane_sim/analysis/linear_analysis.h"
+
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -237,11 +239,34 @@ void readSimulation(Section& s, SimulationSettings* sim) {
                  kMaxRealTimeFactor, "(or 0 = as fast as possible)");
 }
 
-void readCommand(Section& s, CommandSettings* c) {
+void readCommand(Section& s, CommandSettings* c, MotorLine* motor) {
   s.number("torque_limit", &c->torque_limit);
   s.number("timeout", &c->timeout);
+  s.number("motor_no_load_speed", &motor->no_load_speed);
   requireNonNegative(s.keyPath("torque_limit"), c->torque_limit);
   requireNonNegative(s.keyPath("timeout"), c->timeout);
+  requireNonNegative(s.keyPath("motor_no_load_speed"), motor->no_load_speed);
+  motor->torque_limit = c->torque_limit;  // the line starts at the stall torque
+}
+
+// Keys as joint_states names the joints.
+void readDamping(Section& s, JointDamping* d) {
+  const std::pair<const char*, double*> keys[] = {{"crank_joint", &d->crank},
+                                                  {"coupler_joint", &d->coupler},
+                                                  {"slider3_joint", &d->slider3},
+                                                  {"slider4_joint", &d->slider4}};
+  for (const auto& [key, value] : keys) {
+    s.number(key, value);
+    requireNonNegative(s.keyPath(key), *value);
+  }
+}
+
+void readContact(Section& s, SliderContact* c) {
+  s.boolean("enabled", &c->enabled);
+  s.number("gap", &c->gap);
+  s.number("restitution", &c->restitution);
+  requireNonNegative(s.keyPath("gap"), c->gap);
+  requireRange(s.keyPath("restitution"), c->restitution, 0.0, 1.0, "(0 plastic, 1 elastic)");
 }
 
 void readFrames(Section& s, FrameSettings* f) {
@@ -271,44 +296,41 @@ void checkInitialState(const Config& c) {
                                            ", q2 " + formatValue(x.q2) + ", u1 " +
                                            formatValue(x.u1) + ", u2 " + formatValue(x.u2) +
                                            "): use values of the mechanism's size");
+  const SliderContact& contact = c.mechanism.contact;
+  const double separation =
+      mechanismGeometry(c.mechanism.rod_half_length, x.q1, x.q2).sliderSeparation();
+  if (contact.enabled && !(separation >= contact.gap))
+    throw ConfigError("initial_state",
+                      "puts slider 4 " + formatValue(separation) +
+                          " m below slider 3 (x_C - x_B), closer than contact.gap " +
+                          formatValue(contact.gap) +
+                          " m: with contact enabled the sliders must start apart");
 }
 
-// ω_max of the linearisation at the initial configuration: ω² are the eigenvalues of M⁻¹ K,
-// K = -∂(forcing)/∂q at u = 0 by central differences. Only an estimate (the motion moves the
-// operating point), but the spring mode sqrt(k/M2) that makes a model stiff is nearly constant.
-double highestNaturalFrequency(const Config& c) {
-  const MechanismModel model = mechanismModel(c);
+// The fastest mode of the linearisation at the initial configuration (u = 0, no torque): the
+// largest |eigenvalue| of A, from the spring, gravity and the dampers. Only an estimate (the
+// motion moves the operating point), but the spring mode sqrt(k/M2) and the dampers' rates
+// that make a model stiff are nearly constant.
+double fastestMode(const Config& c) {
   State x = c.initial_state;
   x.u1 = x.u2 = 0.0;
-  const Eigen::Matrix2d mass = model.equations(x, 0.0).mass_matrix;
-  Eigen::Matrix2d stiffness;
-  for (int j = 0; j < 2; ++j) {
-    double& q = j == 0 ? x.q1 : x.q2;
-    const double q0 = q, h = 1e-6 * (1.0 + std::abs(q0));
-    q = q0 + h;
-    const SpeedVector plus = model.equations(x, 0.0).forcing();
-    q = q0 - h;
-    const SpeedVector minus = model.equations(x, 0.0).forcing();
-    q = q0;
-    stiffness.col(j) = -(plus - minus) / (2 * h);
-  }
-  const Eigen::Vector2cd lambda = (mass.inverse() * stiffness).eigenvalues();
-  return std::sqrt(std::max(std::abs(lambda[0]), std::abs(lambda[1])));
+  const LinearModel linear = linearize(mechanismModel(c), x, 0.0);
+  return linear.A.eigenvalues().cwiseAbs().maxCoeff();
 }
 
 void checkIntegrable(const Config& c) {
   if (c.simulation.integrator != IntegratorType::kRk4) return;  // dopri5 adapts its step
-  const double omega = highestNaturalFrequency(c);
   const double h = 1.0 / c.simulation.physics_rate;
+  const double omega = fastestMode(c);
   if (!(omega * h <= kRk4StabilityLimit))
-    throw ConfigError("simulation.physics_rate",
-                      "is too low for rk4 on this mechanism: its stiffest mode (" +
-                          formatValue(omega) +
-                          " rad/s, from spring_stiffness and the masses) needs omega h <= " +
-                          formatValue(kRk4StabilityLimit) + ", got " + formatValue(omega * h) +
-                          " at " + formatValue(c.simulation.physics_rate) +
-                          " Hz; use simulation.integrator dopri5 or a physics_rate of at least " +
-                          formatValue(std::ceil(omega / kRk4StabilityLimit)) + " Hz");
+    throw ConfigError(
+        "simulation.physics_rate",
+        "is too low for rk4 on this mechanism: its stiffest mode (" + formatValue(omega) +
+            " rad/s, from spring_stiffness, the masses and damping) needs omega h <= " +
+            formatValue(kRk4StabilityLimit) + ", got " + formatValue(omega * h) + " at " +
+            formatValue(c.simulation.physics_rate) +
+            " Hz; use simulation.integrator dopri5 or a physics_rate of at least " +
+            formatValue(std::ceil(omega / kRk4StabilityLimit)) + " Hz");
 }
 
 }  // namespace
@@ -337,17 +359,22 @@ LoadedConfig loadConfig(const YAML::Node& root) {
   Section simulation(root, "simulation", false, warnings);
   readSimulation(simulation, &config.simulation);
   Section command(root, "command", false, warnings);
-  readCommand(command, &config.command);
+  readCommand(command, &config.command, &config.mechanism.motor);
   Section frames(root, "frames", false, warnings);
   readFrames(frames, &config.frames);
+  Section damping(root, "damping", false, warnings);
+  readDamping(damping, &config.mechanism.damping);
+  Section contact(root, "contact", false, warnings);
+  readContact(contact, &config.mechanism.contact);
 
   const std::set<std::string> sections = {"mechanism", "initial_state", "simulation", "command",
-                                          "frames"};
+                                          "frames",    "damping",       "contact"};
   for (const auto& entry : root) {
     const std::string key = entry.first.Scalar();
     if (!sections.count(key)) warnings->push_back("unknown config key '" + key + "' is ignored");
   }
-  for (const Section* s : {&mechanism, &initial_state, &simulation, &command, &frames})
+  for (const Section* s :
+       {&mechanism, &initial_state, &simulation, &command, &frames, &damping, &contact})
     s->warnAboutUnknownKeys();
   checkInitialState(config);
   checkIntegrable(config);

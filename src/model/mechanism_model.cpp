@@ -1,5 +1,6 @@
 #include "kane_sim/model/mechanism_model.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace kane_sim {
@@ -74,8 +75,18 @@ MechanismKinematics MechanismModel::kinematics(const State& x) const {
   return k;
 }
 
-MechanismLoads MechanismModel::loads(const MechanismKinematics& k, double motor_torque) const {
+double MechanismModel::appliedMotorTorque(double command, double u1) const {
+  const MotorLine& line = parameters_.motor;
+  if (line.no_load_speed <= 0.0 || command * u1 <= 0.0) return command;  // off, or braking
+  const double available =
+      line.torque_limit * std::max(0.0, 1.0 - std::abs(u1) / line.no_load_speed);
+  return std::copysign(std::min(std::abs(command), available), command);
+}
+
+MechanismLoads MechanismModel::loads(const MechanismKinematics& k, const State& x,
+                                     double motor_command) const {
   const MechanismParameters& p = parameters_;
+  const SpeedVector u = x.speeds();
   MechanismLoads l;
   // Eq (14): gravity at each mass center, along +i.
   const kane::Particle<kNumSpeeds>* centers[kNumBodies] = {&k.rod1.mass_center, &k.rod2.mass_center,
@@ -90,10 +101,59 @@ MechanismLoads MechanismModel::loads(const MechanismKinematics& k, double motor_
   l.spring_on_slider3.partial_velocity = k.slider3.partial_velocity;
   l.spring_on_slider4.force = -l.spring_on_slider3.force;
   l.spring_on_slider4.partial_velocity = k.slider4.partial_velocity;
-  // The driver moment M_m = M_m k acts on rod 1.
-  l.motor.torque = motor_torque * kK;
+  // The driver moment M_m = M_m k acts on rod 1 (through the motor line, when on).
+  l.motor.torque = appliedMotorTorque(motor_command, x.u1) * kK;
   l.motor.partial_angular_velocity = k.rod1.partial_angular_velocity;
+
+  // Joint dampers: torques on the rods' frames, forces at the sliders, opposing the joint rates.
+  const double w1 = k.rod1.angularVelocity(u).z(), w2 = k.rod2.angularVelocity(u).z();
+  l.crank_damper.torque = -p.damping.crank * w1 * kK;
+  l.crank_damper.partial_angular_velocity = k.rod1.partial_angular_velocity;
+  l.coupler_damper_on_rod2.torque = -p.damping.coupler * (w2 - w1) * kK;
+  l.coupler_damper_on_rod2.partial_angular_velocity = k.rod2.partial_angular_velocity;
+  l.coupler_damper_on_rod1.torque = -l.coupler_damper_on_rod2.torque;  // reaction at A
+  l.coupler_damper_on_rod1.partial_angular_velocity = k.rod1.partial_angular_velocity;
+  l.slider3_damper.force = -p.damping.slider3 * k.slider3.velocity(u);
+  l.slider3_damper.partial_velocity = k.slider3.partial_velocity;
+  l.slider4_damper.force = -p.damping.slider4 * k.slider4.velocity(u);
+  l.slider4_damper.partial_velocity = k.slider4.partial_velocity;
+
   return l;
+}
+
+PowerTerms MechanismModel::power(const MechanismLoads& l, const State& x) {
+  const SpeedVector u = x.speeds();
+  PowerTerms p;
+  p.motor = kane::power(l.motor, u);
+  p.dissipated = -(kane::power(l.crank_damper, u) + kane::power(l.coupler_damper_on_rod1, u) +
+                   kane::power(l.coupler_damper_on_rod2, u) + kane::power(l.slider3_damper, u) +
+                   kane::power(l.slider4_damper, u));
+  return p;
+}
+
+std::optional<SliderImpact> MechanismModel::sliderImpact(const State& x) const {
+  const SliderContact& contact = parameters_.contact;
+  if (!contact.enabled) return std::nullopt;
+  const MechanismKinematics k = kinematics(x);
+  // J_r: the partial velocities of the separation rate, (∂v_C/∂u_r - ∂v_B/∂u_r) · i.
+  const SpeedVector J =
+      (k.slider4.partial_velocity.row(0) - k.slider3.partial_velocity.row(0)).transpose();
+  const SpeedVector u = x.speeds();
+  const double closing = -J.dot(u);  // approach speed
+  if (!(closing > 0.0)) return std::nullopt;
+  const Equations eq = equations(k, loads(k, x, 0.0), x);
+  const SpeedVector minv_j = eq.mass_matrix.inverse() * J;
+  // λ from J (u + M^-1 J λ) = e · closing: the impulse on slider 4 along +i.
+  const double lambda = (1.0 + contact.restitution) * closing / J.dot(minv_j);
+  SliderImpact impact;
+  impact.after = x;
+  const SpeedVector u_after = u + minv_j * lambda;
+  impact.after.u1 = u_after[0];
+  impact.after.u2 = u_after[1];
+  impact.approach_speed = closing;
+  impact.impulse = lambda;
+  impact.energy_loss = energy(x).kinetic - energy(impact.after).kinetic;
+  return impact;
 }
 
 MechanismModel::Equations MechanismModel::equations(const MechanismKinematics& k,
@@ -110,17 +170,25 @@ MechanismModel::Equations MechanismModel::equations(const MechanismKinematics& k
   kane::addActiveForces(l.spring_on_slider3, &eq);
   kane::addActiveForces(l.spring_on_slider4, &eq);
   kane::addActiveForces(l.motor, &eq);
+  for (const auto* damper : {&l.crank_damper, &l.coupler_damper_on_rod1, &l.coupler_damper_on_rod2})
+    kane::addActiveForces(*damper, &eq);
+  kane::addActiveForces(l.slider3_damper, &eq);
+  kane::addActiveForces(l.slider4_damper, &eq);
   return eq;
 }
 
-MechanismModel::Equations MechanismModel::equations(const State& x, double motor_torque) const {
+MechanismModel::Equations MechanismModel::equations(const State& x, double motor_command) const {
   const MechanismKinematics k = kinematics(x);
-  return equations(k, loads(k, motor_torque), x);
+  return equations(k, loads(k, x, motor_command), x);
 }
 
-OdeState MechanismModel::stateDerivative(const State& x, double motor_torque) const {
-  const SpeedVector u_dot = accelerations(x, motor_torque);
-  return {x.u1, x.u2, u_dot[0], u_dot[1]};  // q1' = u1, q2' = u2 (eq 1); u1', u2' (eq 18)
+OdeState MechanismModel::stateDerivative(const State& x, double motor_command) const {
+  const MechanismKinematics k = kinematics(x);
+  const MechanismLoads l = loads(k, x, motor_command);
+  const SpeedVector u_dot = equations(k, l, x).solveAccelerations();
+  const PowerTerms p = power(l, x);
+  // q1' = u1, q2' = u2 (eq 1); u1', u2' (eq 18); W' and D' of the ledger.
+  return {x.u1, x.u2, u_dot[0], u_dot[1], p.motor, p.dissipated};
 }
 
 EnergyTerms MechanismModel::energy(const MechanismKinematics& k, const State& x) const {

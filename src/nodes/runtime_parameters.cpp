@@ -24,6 +24,11 @@ const Binding kBindings[] = {
     {"slider4_mass", "mechanism", "slider4_mass", &KaneSimConfig::slider4_mass},
     {"spring_stiffness", "mechanism", "spring_stiffness", &KaneSimConfig::spring_stiffness},
     {"gravity", "mechanism", "gravity", &KaneSimConfig::gravity},
+    {"motor_no_load_speed", "command", "motor_no_load_speed", &KaneSimConfig::motor_no_load_speed},
+    {"crank_damping", "damping", "crank_joint", &KaneSimConfig::crank_damping},
+    {"coupler_damping", "damping", "coupler_joint", &KaneSimConfig::coupler_damping},
+    {"slider3_damping", "damping", "slider3_joint", &KaneSimConfig::slider3_damping},
+    {"slider4_damping", "damping", "slider4_joint", &KaneSimConfig::slider4_damping},
 };
 
 }  // namespace
@@ -54,6 +59,11 @@ KaneSimConfig RuntimeParameters::valuesOf(const Config& c) {
   v.slider4_mass = c.mechanism.slider4_mass;
   v.spring_stiffness = c.mechanism.spring_stiffness;
   v.gravity = c.mechanism.gravity;
+  v.motor_no_load_speed = c.mechanism.motor.no_load_speed;
+  v.crank_damping = c.mechanism.damping.crank;
+  v.coupler_damping = c.mechanism.damping.coupler;
+  v.slider3_damping = c.mechanism.damping.slider3;
+  v.slider4_damping = c.mechanism.damping.slider4;
   return v;
 }
 

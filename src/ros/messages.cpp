@@ -78,7 +78,10 @@ kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_ti
   msg.spring_energy = s.energy.spring;
   msg.total_energy = s.energy.total();
   msg.motor_work = s.motor_work;
+  msg.dissipated_energy = s.dissipated_energy;
   msg.parameter_energy = s.parameter_energy;
+  msg.energy_balance = s.energyBalance();
+  msg.contact_impacts = static_cast<std::uint32_t>(s.contact_impacts);
   msg.parameter_changes = static_cast<std::uint32_t>(s.parameter_changes);
   msg.spring_elongation = s.spring_elongation;
   msg.slider_separation = s.slider_separation;

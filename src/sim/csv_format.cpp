@@ -6,7 +6,8 @@ namespace kane_sim {
 
 void writeCsvHeader(std::ostream& out) {
   out << "t,q1,q2,u1,u2,energy,u1dot,u2dot,torque,motor_work,kinetic,gravitational,spring,"
-         "energy_minus_work,F1,F2,spring_elongation,motor_power\n";
+         "energy_minus_work,F1,F2,spring_elongation,motor_power,dissipated_energy,energy_balance,"
+         "commanded_torque,contact_impacts\n";
 }
 
 void writeCsvRow(std::ostream& out, const Snapshot& s) {
@@ -27,7 +28,11 @@ void writeCsvRow(std::ostream& out, const Snapshot& s) {
                            s.active_forces[0],
                            s.active_forces[1],
                            s.spring_elongation,
-                           s.motor_power};
+                           s.motor_power,
+                           s.dissipated_energy,
+                           s.energyBalance(),
+                           s.command.commanded,
+                           static_cast<double>(s.contact_impacts)};
   // %.17g round-trips every double exactly.
   char buffer[32];
   bool first = true;

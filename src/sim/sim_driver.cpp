@@ -84,14 +84,9 @@ Status SimDriver::setState(const State& state) {
 }
 
 void SimDriver::reconfigure(const Config& config) {
-  const MechanismParameters& now = config_.mechanism;
   const MechanismParameters& next = config.mechanism;
-  const bool physics_changed =
-      now.rod_mass != next.rod_mass || now.rod_half_length != next.rod_half_length ||
-      now.slider3_mass != next.slider3_mass || now.slider4_mass != next.slider4_mass ||
-      now.spring_stiffness != next.spring_stiffness || now.gravity != next.gravity ||
-      now.rod_inertia != next.rod_inertia;
-  if (physics_changed) sim_.setParameters(next);
+  // Masses, k, g, damping, the motor line (its stall torque is command.torque_limit), contact.
+  if (next != config_.mechanism) sim_.setParameters(next);
   config_.mechanism = next;
   config_.command = config.command;
   command_.setSettings(config.command);

@@ -101,11 +101,53 @@ Status Simulator::setTorque(double torque) {
   return {};
 }
 
+double Simulator::separation(const OdeState& x) const {
+  return model_.geometry(x[0], x[1]).sliderSeparation();
+}
+
 Status Simulator::step() {
-  OdeState x = toOdeState(state_);
+  OdeState x = toOdeState(state_, motor_work_, dissipated_energy_);
   const EquationsOfMotion system{&model_, torque_};
-  Status result = integrator_->advance(system, x, time(), step_size_, last_derivative_valid_);
-  if (result.ok && !isFinite(x)) result = {false, "the step produced a non-finite state"};
+  const SliderContact& contact = model_.parameters().contact;
+  double t = time();
+  double remaining = step_size_;
+  Status result;
+  for (int impacts = 0;; ++impacts) {
+    OdeState trial = x;
+    result = integrator_->advance(system, trial, t, remaining, last_derivative_valid_);
+    if (result.ok && !isFinite(trial)) result = {false, "the step produced a non-finite state"};
+    if (!result.ok) break;
+    if (!contact.enabled || separation(trial) >= contact.gap || impacts == kMaxImpactsPerStep) {
+      x = trial;
+      break;
+    }
+    // The sliders closed to the gap within this step: find when (bisection on the integrated
+    // motion to 2^-50 of the step), apply the impact there, integrate the rest of the step.
+    double before = 0.0, after = remaining;
+    OdeState at_touch = x;
+    for (int i = 0; i < 50; ++i) {
+      const double mid = 0.5 * (before + after);
+      OdeState probe = x;
+      if (!integrator_->advance(system, probe, t, mid, false).ok) break;
+      if (separation(probe) >= contact.gap) {
+        before = mid;
+        at_touch = probe;
+      } else {
+        after = mid;
+      }
+    }
+    const std::optional<SliderImpact> impact = model_.sliderImpact(fromOdeState(at_touch));
+    x = at_touch;
+    if (impact) {
+      x[2] = impact->after.u1;
+      x[3] = impact->after.u2;
+      x[5] += impact->energy_loss;  // D: the ledger books the impact's loss
+      ++contact_impacts_;
+    }
+    t += before;
+    remaining -= before;
+    last_derivative_valid_ = false;
+  }
   last_derivative_valid_ = result.ok;
   if (!result.ok) {
     std::ostringstream msg;
@@ -115,10 +157,13 @@ Status Simulator::step() {
     return {false, msg.str()};
   }
   const State next = fromOdeState(x);
-  motor_work_ += torque_ * (next.q1 - state_.q1);  // exact for a torque held over the step
-  const double separation = model_.geometry(next.q1, next.q2).sliderSeparation();
-  if ((separation > 0) != (slider_separation_ > 0)) ++slider_crossings_;
-  slider_separation_ = separation;
+  // Integrated with the motion: for a held torque without the motor line W' = M_m u1 gets the
+  // same weights as q1' = u1, so W = M_m Δq1 to rounding, as exact as before.
+  motor_work_ = x[4];
+  dissipated_energy_ = x[5];
+  const double separation_now = separation(x);
+  if ((separation_now > 0) != (slider_separation_ > 0)) ++slider_crossings_;
+  slider_separation_ = separation_now;
   if (integrator_type_ == IntegratorType::kRk4 &&
       std::abs(next.u1) * step_size_ > kMaxCrankAnglePerStep)
     step_too_coarse_ = true;
@@ -150,8 +195,10 @@ Status Simulator::setState(const State& x) {
   }
   state_ = x;
   motor_work_ = 0.0;
+  dissipated_energy_ = 0.0;
   parameter_energy_ = 0.0;
   slider_crossings_ = 0;
+  contact_impacts_ = 0;
   step_too_coarse_ = false;
   last_derivative_valid_ = false;
   slider_separation_ = model_.geometry(state_.q1, state_.q2).sliderSeparation();
@@ -168,26 +215,30 @@ void Simulator::setParameters(const MechanismParameters& parameters) {
 
 Snapshot Simulator::snapshot() const {
   const MechanismKinematics k = model_.kinematics(state_);
-  const MechanismModel::Equations equations =
-      MechanismModel::equations(k, model_.loads(k, torque_), state_);
+  const MechanismLoads loads = model_.loads(k, state_, torque_);
+  const MechanismModel::Equations equations = MechanismModel::equations(k, loads, state_);
+  const PowerTerms power = MechanismModel::power(loads, state_);
   Snapshot snap;
   snap.time = time();
   snap.state = state_;
-  snap.torque = torque_;
+  snap.torque = loads.motor.torque.z();  // what the drive delivers (motor line) at u1
   snap.command.commanded = torque_;
   snap.u_dot = equations.solveAccelerations();
   snap.active_forces = equations.active_forces;
   snap.inertia_forces = equations.inertiaForces(snap.u_dot);
   snap.energy = model_.energy(k, state_);
   snap.motor_work = motor_work_;
+  snap.dissipated_energy = dissipated_energy_;
   snap.parameter_energy = parameter_energy_;
   snap.parameter_changes = parameter_changes_;
-  snap.motor_power = torque_ * state_.u1;
+  snap.motor_power = power.motor;
+  snap.dissipated_power = power.dissipated;
+  snap.contact_impacts = contact_impacts_;
   snap.spring_elongation = model_.springElongation(k.geometry);
   snap.slider_separation = slider_separation_;
   snap.slider_crossings = slider_crossings_;
   snap.geometry = k.geometry;
-  snap.joints = MechanismModel::jointValues(k, state_, torque_);
+  snap.joints = MechanismModel::jointValues(k, state_, snap.torque);
   return snap;
 }
 

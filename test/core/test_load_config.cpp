@@ -173,12 +173,40 @@ TEST(LoadConfig, OutOfRangeValuesNameKeyAndValue) {
       {"frames", "world", "''", "must not be empty"},
       {"frames", "prefix", "'robot 1'", "letters, digits, '_' and '/', got 'robot 1'"},
       {"frames", "world", "/world", "must not start with '/'"},
+      // The physics options beyond the textbook.
+      {"damping", "crank_joint", "-0.5", "must be >= 0, got -0.5"},
+      {"damping", "coupler_joint", ".nan", "must be finite, got '.nan'"},
+      {"damping", "slider3_joint", "-1", "must be >= 0, got -1"},
+      {"damping", "slider4_joint", "fast", "must be a number, got 'fast'"},
+      {"command", "motor_no_load_speed", "-10", "must be >= 0, got -10"},
+      {"command", "motor_no_load_speed", ".inf", "must be finite, got '.inf'"},
+      {"contact", "restitution", "1.5", "must be in [0, 1] (0 plastic, 1 elastic), got 1.5"},
+      {"contact", "restitution", ".nan", "must be finite, got '.nan'"},
+      {"contact", "gap", "-0.07", "must be >= 0, got -0.070000000000000007"},
+      {"contact", "enabled", "sometimes", "must be true or false, got 'sometimes'"},
   };
   for (const Case& c : cases) {
     YAML::Node root = defaultYaml();
     root[c.section][c.key] = YAML::Load(c.value);
     expectError(root, std::string(c.section) + "." + c.key, c.message);
   }
+}
+
+// With contact on, the sliders must start at least the gap apart (slider 4 below slider 3).
+TEST(LoadConfig, ContactRefusesSlidersStartingWithinTheGap) {
+  YAML::Node root = defaultYaml();
+  root["contact"]["enabled"] = true;
+  root["initial_state"]["q2"] = 0.9;  // x_B = 4 L cos(pi/6) = 0.866: 3.4 cm apart
+  expectError(root, "initial_state", "closer than contact.gap 0.070000000000000007 m");
+  root["contact"]["enabled"] = false;
+  EXPECT_NO_THROW(loadConfig(root));
+}
+
+// A damper rk4 cannot follow: c_C / M2 = 5000 /s at 1 kHz (h |lambda| = 5 > 2.78).
+TEST(LoadConfig, DampingTooStrongForRk4IsRefused) {
+  YAML::Node root = defaultYaml();
+  root["damping"]["slider4_joint"] = 4000.0;
+  expectError(root, "simulation.physics_rate", "is too low for rk4 on this mechanism");
 }
 
 // A finite initial state whose energy is not (V_g = -M2 g q2 overflows).

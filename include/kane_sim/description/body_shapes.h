@@ -4,6 +4,8 @@
 #ifndef KANE_SIM_DESCRIPTION_BODY_SHAPES_H
 #define KANE_SIM_DESCRIPTION_BODY_SHAPES_H
 
+#include "kane_sim/model/mechanism_parameters.h"
+
 namespace kane_sim {
 namespace shapes {
 
@@ -11,7 +13,7 @@ constexpr double kRodDiameter = 0.03;   // [m] the rods are cylinders 2L long
 constexpr double kPinDiameter = 0.045;  // [m] spheres at O, A, B (markers only)
 // The sliders are boxes centred on B and C: along the rail (the mechanism's x), across it in
 // the plane (y) and out of the plane (z).
-constexpr double kSliderLength = 0.07;  // [m] along the rail
+constexpr double kSliderLength = kSliderBlockHeight;  // [m] along the rail: contact's default gap
 constexpr double kSliderWidth = 0.12;   // [m]
 constexpr double kSliderDepth = 0.06;   // [m]
 

@@ -131,6 +131,16 @@ void addActiveForces(const TorqueOnFrame<N>& load, KaneEquations<N>* eq) {
   eq->active_forces.noalias() += load.partial_angular_velocity.transpose() * load.torque;
 }
 
+// The power of a load at speeds u: F · v_P (= Σ_r F_r-share u_r), T · ω for a torque.
+template <int N>
+double power(const ForceAtPoint<N>& load, const Speeds<N>& u) {
+  return load.force.dot(load.partial_velocity * u);
+}
+template <int N>
+double power(const TorqueOnFrame<N>& load, const Speeds<N>& u) {
+  return load.torque.dot(load.partial_angular_velocity * u);
+}
+
 // Kinetic energy: ½ M v·v, plus ½ ω·I·ω for a rigid body.
 template <int N>
 double kineticEnergy(const Particle<N>& p, const Speeds<N>& u) {

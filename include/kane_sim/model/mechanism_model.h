@@ -10,6 +10,7 @@
 #define KANE_SIM_MODEL_MECHANISM_MODEL_H
 
 #include <array>
+#include <optional>
 
 #include <Eigen/Core>
 
@@ -50,13 +51,28 @@ struct MechanismKinematics {
   kane::Particle<kNumSpeeds> slider4;  // body 4 at C: v_C = u2 i
 };
 
-// The applied loads at one instant: eq (14), eq (15) and the driver moment, each with the
-// partial (angular) velocities of the point (frame) it acts on.
+// The applied loads at one instant: eq (14), eq (15), the driver moment and the joint dampers
+// (zero when off), each with the partial (angular) velocities of the point (frame) it acts on.
+// Contact acts by impulses at instants (MechanismModel::sliderImpact), not as a load.
 struct MechanismLoads {
   std::array<kane::ForceAtPoint<kNumSpeeds>, kNumBodies> gravity;  // G1 at C1 ... G4 at C
   kane::ForceAtPoint<kNumSpeeds> spring_on_slider3;                // F_eB at B
   kane::ForceAtPoint<kNumSpeeds> spring_on_slider4;                // F_eC = -F_eB at C
   kane::TorqueOnFrame<kNumSpeeds> motor;                           // M_m k on rod 1
+  // Dissipative loads: every one takes power out (F · v <= 0).
+  kane::TorqueOnFrame<kNumSpeeds> crank_damper;            // -c_O w1 k on rod 1
+  kane::TorqueOnFrame<kNumSpeeds> coupler_damper_on_rod2;  // -c_A (w2 - w1) k on rod 2
+  kane::TorqueOnFrame<kNumSpeeds> coupler_damper_on_rod1;  // +c_A (w2 - w1) k on rod 1
+  kane::ForceAtPoint<kNumSpeeds> slider3_damper;           // -c_B v_B i at B
+  kane::ForceAtPoint<kNumSpeeds> slider4_damper;           // -c_C v_C i at C
+};
+
+// One impact of the sliders (contact on): the speeds just after it.
+struct SliderImpact {
+  State after;                  // q unchanged, u after the impulse
+  double approach_speed = 0.0;  // [m/s] -(v_C - v_B) before, > 0
+  double impulse = 0.0;         // [N s] on slider 4 along +i (the opposite on slider 3)
+  double energy_loss = 0.0;     // [J] T before - T after = ½ (1 - e²) m_eff v²
 };
 
 struct EnergyTerms {
@@ -64,6 +80,12 @@ struct EnergyTerms {
   double gravitational = 0.0;  // V_g = -Σ M g (r · i)  [J], zero at the level of O
   double spring = 0.0;         // V_s = ½ k e²  [J]
   double total() const { return kinetic + gravitational + spring; }
+};
+
+// Where the power goes at one instant: d(E)/dt = motor - dissipated (at fixed parameters).
+struct PowerTerms {
+  double motor = 0.0;       // M_m u1 [W], the applied torque's power
+  double dissipated = 0.0;  // [W] >= 0: the dampers (impacts dissipate at instants)
 };
 
 class MechanismModel {
@@ -77,19 +99,31 @@ class MechanismModel {
     return mechanismGeometry(parameters_.rod_half_length, q1, q2);
   }
   MechanismKinematics kinematics(const State& x) const;
-  MechanismLoads loads(const MechanismKinematics& k, double motor_torque) const;
+  // motor_command: M_m as commanded (already within the torque limit); the motor line, when
+  // on, limits it at u1 (appliedMotorTorque).
+  MechanismLoads loads(const MechanismKinematics& k, const State& x, double motor_command) const;
+
+  // The torque the drive delivers at crank speed u1 for a command (MotorLine).
+  double appliedMotorTorque(double command, double u1) const;
+  static PowerTerms power(const MechanismLoads& loads, const State& x);
+
+  // Contact on and the sliders at the gap, approaching: the impact (Newton's restitution law
+  // in Kane's impulsive form: M Δu = J^T λ, J_r = ∂(v_C - v_B)/∂u_r · i, J u+ = -e J u-).
+  std::optional<SliderImpact> sliderImpact(const State& x) const;
 
   // F*_r (as mass matrix and remainder) and F_r, eqs (12) and (16), term by term.
   static Equations equations(const MechanismKinematics& k, const MechanismLoads& loads,
                              const State& x);
-  Equations equations(const State& x, double motor_torque) const;
+  Equations equations(const State& x, double motor_command) const;
 
   // u' from F*_r + F_r = 0, eq (18).
-  SpeedVector accelerations(const State& x, double motor_torque) const {
-    return equations(x, motor_torque).solveAccelerations();
+  SpeedVector accelerations(const State& x, double motor_command) const {
+    return equations(x, motor_command).solveAccelerations();
   }
-  // The first-order system the integrators step: q' = u (eq 1) and u' (eq 18).
-  OdeState stateDerivative(const State& x, double motor_torque) const;
+  // The first-order system the integrators step: q' = u (eq 1), u' (eq 18), and the ledger's
+  // W' = M_m u1 and D' = dissipated power, integrated with the motion so E + D - W stays
+  // constant to the integrator's order.
+  OdeState stateDerivative(const State& x, double motor_command) const;
 
   // e = (x_B - x_C) - (x_B0 - x_C0) [m], eq (15): F_eB = -k e i, F_eC = +k e i. Positive when
   // the spring is shorter than its rest length (compressed).
@@ -98,6 +132,7 @@ class MechanismModel {
   }
 
   double springRestLength() const { return spring_rest_length_; }
+  const MechanismParameters& parameters() const { return parameters_; }
 
   EnergyTerms energy(const MechanismKinematics& k, const State& x) const;
   EnergyTerms energy(const State& x) const { return energy(kinematics(x), x); }

@@ -8,6 +8,38 @@
 
 namespace kane_sim {
 
+// The slider blocks' height along the rail (i) [m]: the boxes the robot description and the
+// markers draw (description/body_shapes.h) are this tall, so with contact on the sliders touch when
+// their centers are this far apart (half a block each side).
+constexpr double kSliderBlockHeight = 0.07;
+
+// Viscous damping at the four joints (joint_states' names); all zero in the textbook example.
+struct JointDamping {
+  double crank = 0.0;    // c_O [N m s/rad] pin O: torque -c_O w1 k on rod 1
+  double coupler = 0.0;  // c_A [N m s/rad] pin A: -c_A (w2 - w1) k on rod 2, the opposite on rod 1
+  double slider3 = 0.0;  // c_B [N s/m] slider 3 on the rail: -c_B v_B i at B
+  double slider4 = 0.0;  // c_C [N s/m] slider 4 on the rail: -c_C v_C i at C
+};
+
+// The drive's torque-speed line (a DC motor): in the direction the crank already turns it
+// delivers at most torque_limit (1 - |u1| / no_load_speed), 0 beyond the no-load speed; braking
+// is limited by torque_limit only. no_load_speed 0 turns the line off (the textbook's ideal
+// driver moment).
+struct MotorLine {
+  double torque_limit = std::numeric_limits<double>::infinity();  // [N m] stall torque
+  double no_load_speed = 0.0;                                     // w0 [rad/s], 0 = off
+};
+
+// Contact between the sliders, as impacts: when x_C - x_B closes to `gap` with the sliders
+// approaching, an impulse along the rail (Kane's generalized impulses through the partial
+// velocities of B and C) reverses their relative speed times `restitution` (Newton's law).
+// restitution 1 is lossless; what an impact takes is dissipated energy.
+struct SliderContact {
+  bool enabled = false;
+  double gap = kSliderBlockHeight;  // [m] x_C - x_B at touch
+  double restitution = 0.5;         // e in [0, 1]: separating speed / approaching speed
+};
+
 struct MechanismParameters {
   static constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
 
@@ -21,10 +53,36 @@ struct MechanismParameters {
   // long has m (2L)^2 / 12 (the loader's default); the textbook's script uses m L^2 / 12.
   double rod_inertia = kUnset;
 
+  // Options beyond the textbook example, all off by default.
+  JointDamping damping;
+  MotorLine motor;
+  SliderContact contact;
+
   static double slenderRodInertia(double mass, double half_length) {
     return mass * (2.0 * half_length) * (2.0 * half_length) / 12.0;
   }
 };
+
+inline bool operator==(const JointDamping& a, const JointDamping& b) {
+  return a.crank == b.crank && a.coupler == b.coupler && a.slider3 == b.slider3 &&
+         a.slider4 == b.slider4;
+}
+inline bool operator==(const MotorLine& a, const MotorLine& b) {
+  return a.torque_limit == b.torque_limit && a.no_load_speed == b.no_load_speed;
+}
+inline bool operator==(const SliderContact& a, const SliderContact& b) {
+  return a.enabled == b.enabled && a.gap == b.gap && a.restitution == b.restitution;
+}
+inline bool operator==(const MechanismParameters& a, const MechanismParameters& b) {
+  return a.rod_mass == b.rod_mass && a.rod_half_length == b.rod_half_length &&
+         a.slider3_mass == b.slider3_mass && a.slider4_mass == b.slider4_mass &&
+         a.spring_stiffness == b.spring_stiffness && a.gravity == b.gravity &&
+         a.rod_inertia == b.rod_inertia && a.damping == b.damping && a.motor == b.motor &&
+         a.contact == b.contact;
+}
+inline bool operator!=(const MechanismParameters& a, const MechanismParameters& b) {
+  return !(a == b);
+}
 
 }  // namespace kane_sim
 

@@ -24,10 +24,13 @@ struct State {
   }
 };
 
-// The first-order form x = [q1, q2, u1, u2] that Boost.Odeint integrates.
-using OdeState = std::array<double, 4>;
+// The first-order form x = [q1, q2, u1, u2, W, D] that Boost.Odeint integrates: the state and
+// the energy ledger's motor work W [J] and dissipated energy D [J], integrated with it.
+using OdeState = std::array<double, 6>;
 
-inline OdeState toOdeState(const State& s) { return {s.q1, s.q2, s.u1, s.u2}; }
+inline OdeState toOdeState(const State& s, double motor_work = 0.0, double dissipated = 0.0) {
+  return {s.q1, s.q2, s.u1, s.u2, motor_work, dissipated};
+}
 inline State fromOdeState(const OdeState& x) { return {x[0], x[1], x[2], x[3]}; }
 
 }  // namespace kane_sim

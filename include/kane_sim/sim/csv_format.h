@@ -9,7 +9,9 @@
 namespace kane_sim {
 
 // t,q1,q2,u1,u2,energy, then u1dot,u2dot,torque,motor_work,kinetic,gravitational,spring,
-// energy_minus_work,F1,F2,spring_elongation,motor_power.
+// energy_minus_work,F1,F2,spring_elongation,motor_power, then the ledger dissipated_energy and
+// energy_balance (E + D - W - parameter_energy), commanded_torque (torque is the applied one),
+// contact_impacts.
 void writeCsvHeader(std::ostream& out);
 void writeCsvRow(std::ostream& out, const Snapshot& snapshot);
 

@@ -1,8 +1,12 @@
 // Fixed-rate time stepping of the mechanism with Boost.Odeint.
 //
-// One physics step advances sim time by exactly 1/physics_rate. The driver moment M_m is held
-// constant over a step (zero-order hold), which also makes the accumulated motor work exact:
-// W = Σ M_m Δq1.
+// One physics step advances sim time by exactly 1/physics_rate. The commanded driver moment is
+// held constant over a step (zero-order hold); what the drive delivers may still vary within
+// it (the motor line). The energy ledger's motor work W and dissipated energy D are integrated
+// with the motion (model's stateDerivative), so E + D - W is constant to the integrator's order.
+// With contact on, a step in which the sliders close to the gap is split at the instant of
+// touch (found by bisection), the impact applied there (its loss added to D), and the rest of
+// the step integrated: the separation never falls below the gap at a step's end.
 #ifndef KANE_SIM_SIM_SIMULATOR_H
 #define KANE_SIM_SIM_SIMULATOR_H
 
@@ -42,7 +46,8 @@ class Simulator {
   // goes backwards, so tf listeners and bags downstream see a monotonic clock).
   void reset();
 
-  // Puts the mechanism into `state` (like reset, to a chosen state): motor work 0, crossings 0;
+  // Puts the mechanism into `state` (like reset, to a chosen state): motor work, dissipated
+  // energy, crossings and impacts 0;
   // the torque in force and the spring's rest length are kept. A non-finite value, or a state
   // whose energy is not finite, is refused naming the field and nothing changes.
   Status setState(const State& state);
@@ -57,7 +62,13 @@ class Simulator {
   std::uint64_t ticks() const { return ticks_; }
   double stepSize() const { return step_size_; }
   double motorWork() const { return motor_work_; }
+  double dissipatedEnergy() const { return dissipated_energy_; }
   std::uint64_t sliderCrossings() const { return slider_crossings_; }
+  std::uint64_t contactImpacts() const { return contact_impacts_; }
+  // With contact on, at most this many impacts are resolved within one physics step; the rest
+  // of the step is then integrated as it comes (reached only by sliders pressed together, which
+  // gravity and the spring of this mechanism never do).
+  static constexpr int kMaxImpactsPerStep = 16;
   // rk4 resolves the motion only while the crank turns well under a tenth of a radian per step
   // (its error grows as (u1 h)^4); past that, energy is no longer conserved. True once the
   // crank has exceeded kMaxCrankAnglePerStep since start or reset; dopri5 refines by itself.
@@ -70,6 +81,7 @@ class Simulator {
 
  private:
   class Integrator;
+  double separation(const OdeState& x) const;  // x_C - x_B
 
   MechanismModel model_;
   IntegratorType integrator_type_;
@@ -78,8 +90,10 @@ class Simulator {
   double step_size_;  // [s] 1 / physics_rate
   std::uint64_t ticks_ = 0;
   double torque_ = 0.0;
-  double motor_work_ = 0.0;
+  double motor_work_ = 0.0;         // W [J]
+  double dissipated_energy_ = 0.0;  // D [J]
   std::uint64_t slider_crossings_ = 0;
+  std::uint64_t contact_impacts_ = 0;
   bool step_too_coarse_ = false;
   // dopri5 may start the next step from the derivative it ended the last one with ("first same
   // as last") only while the state is where it left it and the torque is unchanged.

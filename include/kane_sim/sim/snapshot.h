@@ -23,15 +23,16 @@ struct Snapshot {
   double time = 0.0;  // [s] sim time
   State state;
   SpeedVector u_dot = SpeedVector::Zero();  // u1' [rad/s^2], u2' [m/s^2]
-  double torque = 0.0;                      // M_m [N m] applied from this instant on
+  double torque = 0.0;  // M_m [N m] the drive applies at this instant (after the motor line)
   CommandStatus command;
   SpeedVector active_forces = SpeedVector::Zero();   // F_r: F_1 [N m], F_2 [N]
   SpeedVector inertia_forces = SpeedVector::Zero();  // F*_r at u': F*_1 [N m], F*_2 [N]
   EnergyTerms energy;
-  double motor_work = 0.0;   // ∫ M_m u1 dt since start or reset [J]
-  double motor_power = 0.0;  // M_m u1 [W]
-  // Σ ΔE of runtime parameter changes (dynamic_reconfigure) since start, reset or set_state
-  // [J]: E - motor_work - parameter_energy is the conserved quantity.
+  double motor_work = 0.0;         // W = ∫ M_m u1 dt since start or reset [J]
+  double motor_power = 0.0;        // M_m u1 [W]
+  double dissipated_energy = 0.0;  // D [J]: dampers and contact since start or reset
+  double dissipated_power = 0.0;   // D' [W]
+  // Σ ΔE of runtime parameter changes (dynamic_reconfigure) since start, reset or set_state [J].
   double parameter_energy = 0.0;
   std::uint64_t parameter_changes = 0;  // runtime parameter changes since start
   double spring_elongation = 0.0;       // e [m], eq (15); positive = compressed
@@ -39,8 +40,14 @@ struct Snapshot {
   // between the sliders, so a hard-driven crank can pull one through the other.
   double slider_separation = 0.0;
   std::uint64_t slider_crossings = 0;  // sign changes of slider_separation since start or reset
+  std::uint64_t contact_impacts = 0;   // slider impacts since start or reset (contact on)
   MechanismGeometry geometry;          // positions of O, A, B, C, C1, C2; rod angles
   JointValues joints;                  // crank, coupler, slider3, slider4
+
+  // The energy ledger: E + D - W - parameter_energy, constant to the integrator's order [J].
+  double energyBalance() const {
+    return energy.total() + dissipated_energy - motor_work - parameter_energy;
+  }
 };
 
 }  // namespace kane_sim
