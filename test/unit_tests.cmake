@@ -27,6 +27,10 @@ kane_sim_unit_test(test_textbook_equations test/core/test_textbook_equations.cpp
 kane_sim_unit_test(test_lagrange_crosscheck test/core/test_lagrange_crosscheck.cpp)
 kane_sim_unit_test(test_energy test/core/test_energy.cpp)
 kane_sim_unit_test(test_physics_options test/core/test_physics_options.cpp)
+kane_sim_unit_test(test_linear_analysis test/core/test_linear_analysis.cpp)
+if(TARGET test_linear_analysis)
+  target_link_libraries(test_linear_analysis kane_sim_analysis)
+endif()
 kane_sim_unit_test(test_simulator test/core/test_simulator.cpp)
 kane_sim_unit_test(test_sim_driver test/core/test_sim_driver.cpp)
 kane_sim_unit_test(test_load_config test/core/test_load_config.cpp)
@@ -56,6 +60,7 @@ kane_sim_unit_test(test_simulate_bag test/tools/test_simulate_bag.cpp ROS RUNS_S
 set(tools_dir ${PROJECT_SOURCE_DIR}/test/tools)
 add_test(NAME sympy_crosscheck
   COMMAND /usr/bin/python3 ${tools_dir}/sympy_crosscheck_test.py ${CMAKE_BINARY_DIR})
+add_test(NAME analyze_cli COMMAND /usr/bin/python3 ${tools_dir}/analyze_cli_test.py ${CMAKE_BINARY_DIR})
 add_test(NAME config_fuzz COMMAND /usr/bin/python3 ${tools_dir}/config_fuzz_test.py ${CMAKE_BINARY_DIR} 300)
 add_test(NAME plot_bag COMMAND ${tools_dir}/plot_bag_test.sh ${CMAKE_BINARY_DIR})
 add_test(NAME rviz_smoke COMMAND ${tools_dir}/rviz_smoke_test.sh ${CMAKE_BINARY_DIR})

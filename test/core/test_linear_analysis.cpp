@@ -1,0 +1,93 @@
+// Linear analysis (analyze): equilibria, A and B, natural frequencies, damping ratios.
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <Eigen/Dense>
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "kane_sim/analysis/linear_analysis.h"
+#include "kane_sim/sim/simulator.h"
+#include "test_helpers.h"
+
+namespace kane_sim {
+namespace {
+
+// At zero torque the crank hangs at q1 = 0 where the two modes decouple (M12 = 0, K12 = 0):
+// w1 = sqrt(4 g L (m + M1 + M2) / (2 I + 2 m L^2)) (gravity on all four bodies through the
+// crank, whose inertia there is both rods'), w2 = sqrt(k / M2) (slider 4 on the spring).
+TEST(LinearAnalysis, FrequenciesAtZeroTorqueMatchTheClosedForm) {
+  for (const Config& c : {test::defaultConfig(), test::textbookConfig()}) {
+    const MechanismParameters& p = c.mechanism;
+    const MechanismModel model = mechanismModel(c);
+    const State eq = staticEquilibrium(model, 0.0);
+    EXPECT_NEAR(eq.q1, 0.0, 1e-12);
+    const ModalAnalysis modal = modalAnalysis(linearize(model, eq, 0.0));
+    const double L = p.rod_half_length, m = p.rod_mass;
+    const double w_crank = std::sqrt(4 * p.gravity * L * (m + p.slider3_mass + p.slider4_mass) /
+                                     (2 * p.rod_inertia + 2 * m * L * L));
+    const double w_slider = std::sqrt(p.spring_stiffness / p.slider4_mass);
+    std::vector<double> expected = {w_crank / (2 * M_PI), w_slider / (2 * M_PI)};
+    std::sort(expected.begin(), expected.end());
+    ASSERT_EQ(modal.modes.size(), 2u);
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_NEAR(modal.modes[i].natural_frequency_hz, expected[i], 1e-9 * expected[i]);
+      EXPECT_EQ(modal.modes[i].damping_ratio, 0.0);
+    }
+  }
+}
+
+// The holding limit is 4 g L (m + M1 + M2) at q1 = pi/2 (F_1 = M_m - that sin q1 with slider 4
+// balanced); a larger torque has no equilibrium and the error names the limit.
+TEST(LinearAnalysis, UnholdableTorqueIsRefusedNamingTheLimit) {
+  const Config c = test::defaultConfig();
+  const MechanismParameters& p = c.mechanism;
+  const double limit =
+      4 * p.gravity * p.rod_half_length * (p.rod_mass + p.slider3_mass + p.slider4_mass);
+  const MechanismModel model = mechanismModel(c);
+  EXPECT_NEAR(maxHoldingTorque(model).torque, limit, 1e-9 * limit);
+  EXPECT_NEAR(staticEquilibrium(model, 0.5 * limit).q1, std::asin(0.5), 1e-12);
+  EXPECT_NEAR(staticEquilibrium(model, -0.5 * limit).q1, -std::asin(0.5), 1e-12);
+  try {
+    staticEquilibrium(model, 1.01 * limit);
+    FAIL() << "an unholdable torque was accepted";
+  } catch (const AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("beyond what gravity can hold: at most 22.563 N m"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// A small perturbation about the equilibrium under 8 N m: the nonlinear simulation (dopri5,
+// 1e-12) follows exp(A t) x0 to second order in the amplitude (1e-4 rad, 1e-4 m): the gap after
+// 2 s must be below 1 % of the amplitude (the neglected terms are ~1e-4 of it).
+TEST(LinearAnalysis, LinearModelPredictsTheNonlinearResponse) {
+  Config c = test::defaultConfig();
+  c.mechanism.damping.crank = 0.1;  // with damping, so the damped eigenvalues are exercised
+  c.simulation.integrator = IntegratorType::kDopri5;
+  c.simulation.absolute_tolerance = c.simulation.relative_tolerance = 1e-12;
+  const double torque = 8.0;
+  const MechanismModel model = mechanismModel(c);
+  const State eq = staticEquilibrium(model, torque);
+  const LinearModel linear = linearize(model, eq, torque);
+  const Eigen::Vector4d dx0(1e-4, 1e-4, 0, 0);
+  Simulator sim(c);  // set_state keeps the spring's rest length (a new config would move it)
+  ASSERT_TRUE(sim.setState(State{eq.q1 + dx0[0], eq.q2 + dx0[1], 0, 0}).ok);
+  ASSERT_TRUE(sim.setTorque(torque).ok);
+  for (int i = 0; i < 2000; ++i) ASSERT_TRUE(sim.step().ok);
+  const Eigen::Vector4d predicted = (linear.A * 2.0).exp() * dx0;
+  const State& x = sim.state();
+  const Eigen::Vector4d actual(x.q1 - eq.q1, x.q2 - eq.q2, x.u1, x.u2);
+  EXPECT_LT((actual - predicted).norm(), 1e-2 * dx0.norm())
+      << "actual " << actual.transpose() << "\npredicted " << predicted.transpose();
+  EXPECT_GT(predicted.norm(), 0.3 * dx0.norm());  // still moving: not a trivially small check
+  // B: the torque's effect on u1' is M^-1 (1, 0): the crank's row of the inverse mass matrix.
+  const Eigen::Vector2d minv = linear.mass.inverse().col(0);
+  EXPECT_NEAR(linear.B[2], minv[0], 1e-9 * std::abs(minv[0]));
+  EXPECT_NEAR(linear.B[3], minv[1], 1e-9 * (1 + std::abs(minv[1])));
+  const ModalAnalysis modal = modalAnalysis(linear);
+  EXPECT_GT(modal.modes[0].damping_ratio, 0.0);
+  for (const auto& lambda : modal.eigenvalues) EXPECT_LT(lambda.real(), 0.0);
+}
+
+}  // namespace
+}  // namespace kane_sim
