@@ -8,8 +8,9 @@ import sympy as sp
 import sympy.physics.mechanics as me
 
 
-def sympy_model(params, x0, torque=0.0):
-    """params: the config's mechanism map; x0: (q10, q20, ...), where the spring is unstretched.
+def sympy_model(params, x0, torque=0.0, damping=None):
+    """params: the config's mechanism map; x0: (q10, q20, ...), where the spring is unstretched;
+    damping: the config's damping map (joint name -> coefficient), absent = none.
     Returns f(t, x) with x' = f for x = (q1, q2, u1, u2) and a constant driver moment."""
     q1, q2, u1, u2 = me.dynamicsymbols("q1 q2 u1 u2")
     frame = me.ReferenceFrame("N")  # N.x = i points down, gravity along +x
@@ -45,6 +46,17 @@ def sympy_model(params, x0, torque=0.0):
         (points["B"], p["slider3_mass"] * g * frame.x - k * elongation * frame.x),
         (points["C"], p["slider4_mass"] * g * frame.x + k * elongation * frame.x),
         (rod1, torque * frame.z),
+    ]
+    # Viscous dampers as loads: torques on the rods' frames from the joint rates (pin O: w1;
+    # pin A: w2 - w1, reaction on rod 1), forces at B and C against their velocities.
+    c = {"crank_joint": 0.0, "coupler_joint": 0.0, "slider3_joint": 0.0, "slider4_joint": 0.0}
+    c.update(damping or {})
+    w1, w2 = rod1.ang_vel_in(frame).dot(frame.z), rod2.ang_vel_in(frame).dot(frame.z)
+    loads += [
+        (rod1, (-c["crank_joint"] * w1 + c["coupler_joint"] * (w2 - w1)) * frame.z),
+        (rod2, -c["coupler_joint"] * (w2 - w1) * frame.z),
+        (points["B"], -c["slider3_joint"] * points["B"].vel(frame)),
+        (points["C"], -c["slider4_joint"] * points["C"].vel(frame)),
     ]
     kane = me.KanesMethod(frame, q_ind=[q1, q2], u_ind=[u1, u2],
                           kd_eqs=[q1.diff() - u1, q2.diff() - u2])
