@@ -67,8 +67,11 @@ inline bool operator==(const JointDamping& a, const JointDamping& b) {
   return a.crank == b.crank && a.coupler == b.coupler && a.slider3 == b.slider3 &&
          a.slider4 == b.slider4;
 }
+// With the line off the stall torque plays no part in the physics (the command's clamp does
+// that job), so two lines that are off are the same whatever their torque_limit.
 inline bool operator==(const MotorLine& a, const MotorLine& b) {
-  return a.torque_limit == b.torque_limit && a.no_load_speed == b.no_load_speed;
+  return a.no_load_speed == b.no_load_speed &&
+         (a.no_load_speed == 0.0 || a.torque_limit == b.torque_limit);
 }
 inline bool operator==(const SliderContact& a, const SliderContact& b) {
   return a.enabled == b.enabled && a.gap == b.gap && a.restitution == b.restitution;
