@@ -3,12 +3,14 @@
 #define KANE_SIM_TEST_NODE_TEST_UTILS_H
 
 #include <chrono>
+#include <cmath>
 #include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include <dynamic_reconfigure/Reconfigure.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <std_msgs/Float64.h>
@@ -82,6 +84,23 @@ inline void send(ros::Publisher& pub, double value) {
   std_msgs::Float64 msg;
   msg.data = value;
   pub.publish(msg);
+}
+
+// Sets one double parameter of the node under test through dynamic_reconfigure; returns the
+// value the server answers with (the one in force: a refused value comes back reverted).
+inline double reconfigure(const std::string& name, double value,
+                          const std::string& server = "kane_sim") {
+  dynamic_reconfigure::Reconfigure srv;
+  dynamic_reconfigure::DoubleParameter p;
+  p.name = name;
+  p.value = value;
+  srv.request.config.doubles.push_back(p);
+  EXPECT_TRUE(ros::service::waitForService(server + "/set_parameters", ros::Duration(10)));
+  EXPECT_TRUE(ros::service::call(server + "/set_parameters", srv));
+  for (const auto& d : srv.response.config.doubles)
+    if (d.name == name) return d.value;
+  ADD_FAILURE() << name << " missing from the answer of " << server;
+  return std::nan("");
 }
 
 // The fixture most node tests share: the node under test (started by test/node/sim_node.launch)

@@ -4,7 +4,6 @@
 // `rosrun dynamic_reconfigure dynparam set` works as the README says.
 #include <cmath>
 
-#include <dynamic_reconfigure/Reconfigure.h>
 #include <gtest/gtest.h>
 #include <std_srvs/Empty.h>
 
@@ -17,20 +16,7 @@ namespace {
 
 class Reconfigure : public test::SimNodeTest {
  protected:
-  // Sets one double parameter; returns the value the server answers with (in force).
-  double set(const std::string& name, double value) {
-    dynamic_reconfigure::Reconfigure srv;
-    dynamic_reconfigure::DoubleParameter p;
-    p.name = name;
-    p.value = value;
-    srv.request.config.doubles.push_back(p);
-    EXPECT_TRUE(ros::service::waitForService("kane_sim/set_parameters", ros::Duration(10)));
-    EXPECT_TRUE(ros::service::call("kane_sim/set_parameters", srv));
-    for (const auto& d : srv.response.config.doubles)
-      if (d.name == name) return d.value;
-    ADD_FAILURE() << name << " missing from the answer";
-    return std::nan("");
-  }
+  double set(const std::string& name, double value) { return test::reconfigure(name, value); }
   bool waitForState(const std::function<bool(const MechanismState&)>& done, double timeout) {
     return test::waitFor([&] { return state_.count() > 0 && done(state_.last()); }, timeout);
   }
