@@ -25,6 +25,7 @@ endfunction()
 
 kane_sim_unit_test(test_textbook_equations test/core/test_textbook_equations.cpp)
 kane_sim_unit_test(test_lagrange_crosscheck test/core/test_lagrange_crosscheck.cpp)
+kane_sim_unit_test(test_generated_equations test/core/test_generated_equations.cpp)
 kane_sim_unit_test(test_energy test/core/test_energy.cpp)
 kane_sim_unit_test(test_physics_options test/core/test_physics_options.cpp)
 kane_sim_unit_test(test_linear_analysis test/core/test_linear_analysis.cpp)

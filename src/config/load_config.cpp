@@ -215,6 +215,9 @@ void readSimulation(Section& s, SimulationSettings* sim) {
   std::string integrator = integratorName(sim->integrator);
   s.text("integrator", &integrator);
   sim->integrator = parseIntegratorName(integrator, s.keyPath("integrator"));
+  std::string equations = equationsName(sim->equations);
+  s.text("equations", &equations);
+  sim->equations = parseEquationsName(equations, s.keyPath("equations"));
   s.number("absolute_tolerance", &sim->absolute_tolerance);
   s.number("relative_tolerance", &sim->relative_tolerance);
   s.number("publish_rate", &sim->publish_rate);
@@ -342,6 +345,12 @@ IntegratorType parseIntegratorName(const std::string& name, const std::string& k
   for (IntegratorType type : {IntegratorType::kRk4, IntegratorType::kDopri5})
     if (name == integratorName(type)) return type;
   throw ConfigError(key, "names an unknown integrator '" + name + "' (valid: rk4, dopri5)");
+}
+
+EquationsSource parseEquationsName(const std::string& name, const std::string& key) {
+  for (EquationsSource source : {EquationsSource::kGenerated, EquationsSource::kGeneric})
+    if (name == equationsName(source)) return source;
+  throw ConfigError(key, "names unknown equations '" + name + "' (valid: generated, generic)");
 }
 
 LoadedConfig loadConfig(const YAML::Node& root) {

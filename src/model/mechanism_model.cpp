@@ -76,11 +76,7 @@ MechanismKinematics MechanismModel::kinematics(const State& x) const {
 }
 
 double MechanismModel::appliedMotorTorque(double command, double u1) const {
-  const MotorLine& line = parameters_.motor;
-  if (line.no_load_speed <= 0.0 || command * u1 <= 0.0) return command;  // off, or braking
-  const double available =
-      line.torque_limit * std::max(0.0, 1.0 - std::abs(u1) / line.no_load_speed);
-  return std::copysign(std::min(std::abs(command), available), command);
+  return motorLineTorque(parameters_.motor, command, u1);
 }
 
 MechanismLoads MechanismModel::loads(const MechanismKinematics& k, const State& x,

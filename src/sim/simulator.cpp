@@ -11,13 +11,15 @@ namespace odeint = boost::numeric::odeint;
 
 namespace {
 
-// Odeint's view of the model's first-order system x' = f(x) at a held torque.
+// Odeint's view of the first-order system x' = f(x) at a held torque, f from either the
+// generated equations (GeneratedMechanism) or the generic assembly (MechanismModel).
+template <class Equations>
 struct EquationsOfMotion {
-  const MechanismModel* model;
+  const Equations* equations;
   double torque;
 
   void operator()(const OdeState& x, OdeState& dxdt, double /*t*/) const {
-    dxdt = model->stateDerivative(fromOdeState(x), torque);
+    dxdt = equations->stateDerivative(fromOdeState(x), torque);
   }
 };
 
@@ -42,7 +44,8 @@ class Simulator::Integrator {
 
   // Advances x from t to exactly t + dt. `reuse_last_derivative`: x is where the last
   // successful call left it and the right-hand side (the torque) is unchanged.
-  Status advance(const EquationsOfMotion& system, OdeState& x, double t, double dt,
+  template <class System>
+  Status advance(const System& system, OdeState& x, double t, double dt,
                  bool reuse_last_derivative) {
     if (type_ == IntegratorType::kRk4) {
       rk4_.do_step(system, x, t, dt);
@@ -81,12 +84,14 @@ class Simulator::Integrator {
 
 Simulator::Simulator(const Config& config)
     : model_(mechanismModel(config)),
+      generated_(model_),
+      equations_(config.simulation.equations),
       integrator_type_(config.simulation.integrator),
       initial_state_(config.initial_state),
       state_(config.initial_state),
       step_size_(1.0 / config.simulation.physics_rate),
       integrator_(std::make_unique<Integrator>(config.simulation)),
-      slider_separation_(model_.geometry(state_.q1, state_.q2).sliderSeparation()) {}
+      slider4_below_(separationAtLeast(toOdeState(state_), 0.0)) {}
 
 Simulator::~Simulator() = default;
 
@@ -101,13 +106,24 @@ Status Simulator::setTorque(double torque) {
   return {};
 }
 
-double Simulator::separation(const OdeState& x) const {
-  return model_.geometry(x[0], x[1]).sliderSeparation();
+bool Simulator::separationAtLeast(const OdeState& x, double threshold) const {
+  // x_C - x_B = q2 - 4L cos q1 lies within q2 -+ 4L: those bounds settle most calls (slider 4
+  // hangs below the crank's reach) without the cosine, which costs as much as an rk4 stage's.
+  const double reach = 4.0 * model_.parameters().rod_half_length;
+  if (x[1] - reach >= threshold) return true;
+  if (x[1] + reach < threshold) return false;
+  return model_.geometry(x[0], x[1]).sliderSeparation() >= threshold;
 }
 
 Status Simulator::step() {
+  if (equations_ == EquationsSource::kGenerated) return stepWith(generated_);
+  return stepWith(model_);
+}
+
+template <class Equations>
+Status Simulator::stepWith(const Equations& equations) {
   OdeState x = toOdeState(state_, motor_work_, dissipated_energy_);
-  const EquationsOfMotion system{&model_, torque_};
+  const EquationsOfMotion<Equations> system{&equations, torque_};
   const SliderContact& contact = model_.parameters().contact;
   double t = time();
   double remaining = step_size_;
@@ -117,7 +133,8 @@ Status Simulator::step() {
     result = integrator_->advance(system, trial, t, remaining, last_derivative_valid_);
     if (result.ok && !isFinite(trial)) result = {false, "the step produced a non-finite state"};
     if (!result.ok) break;
-    if (!contact.enabled || separation(trial) >= contact.gap || impacts == kMaxImpactsPerStep) {
+    if (!contact.enabled || separationAtLeast(trial, contact.gap) ||
+        impacts == kMaxImpactsPerStep) {
       x = trial;
       break;
     }
@@ -129,7 +146,7 @@ Status Simulator::step() {
       const double mid = 0.5 * (before + after);
       OdeState probe = x;
       if (!integrator_->advance(system, probe, t, mid, false).ok) break;
-      if (separation(probe) >= contact.gap) {
+      if (separationAtLeast(probe, contact.gap)) {
         before = mid;
         at_touch = probe;
       } else {
@@ -161,9 +178,9 @@ Status Simulator::step() {
   // same weights as q1' = u1, so W = M_m Δq1 to rounding, as exact as before.
   motor_work_ = x[4];
   dissipated_energy_ = x[5];
-  const double separation_now = separation(x);
-  if ((separation_now > 0) != (slider_separation_ > 0)) ++slider_crossings_;
-  slider_separation_ = separation_now;
+  const bool slider4_below = separationAtLeast(x, 0.0);
+  if (slider4_below != slider4_below_) ++slider_crossings_;
+  slider4_below_ = slider4_below;
   if (integrator_type_ == IntegratorType::kRk4 &&
       std::abs(next.u1) * step_size_ > kMaxCrankAnglePerStep)
     step_too_coarse_ = true;
@@ -201,13 +218,14 @@ Status Simulator::setState(const State& x) {
   contact_impacts_ = 0;
   step_too_coarse_ = false;
   last_derivative_valid_ = false;
-  slider_separation_ = model_.geometry(state_.q1, state_.q2).sliderSeparation();
+  slider4_below_ = separationAtLeast(toOdeState(state_), 0.0);
   return {};
 }
 
 void Simulator::setParameters(const MechanismParameters& parameters) {
   const double before = model_.energy(state_).total();
   model_ = MechanismModel(parameters, model_.springRestLength());
+  generated_ = GeneratedMechanism(model_);
   parameter_energy_ += model_.energy(state_).total() - before;
   ++parameter_changes_;
   last_derivative_valid_ = false;
@@ -235,7 +253,7 @@ Snapshot Simulator::snapshot() const {
   snap.dissipated_power = power.dissipated;
   snap.contact_impacts = contact_impacts_;
   snap.spring_elongation = model_.springElongation(k.geometry);
-  snap.slider_separation = slider_separation_;
+  snap.slider_separation = k.geometry.sliderSeparation();
   snap.slider_crossings = slider_crossings_;
   snap.geometry = k.geometry;
   snap.joints = MechanismModel::jointValues(k, state_, snap.torque);

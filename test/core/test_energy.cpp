@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -29,33 +30,43 @@ double maxEnergyDrift(const Config& config, double torque, double seconds) {
   return drift;
 }
 
-Config withRate(Config c, IntegratorType type, double rate) {
-  c.simulation.integrator = type;
-  c.simulation.physics_rate = rate;
-  return c;
-}
+// Every test runs on both equations of motion: the generated ones the integrators use by
+// default and the generic Kane assembly (simulation.equations).
+class Energy : public ::testing::TestWithParam<EquationsSource> {
+ protected:
+  Config config() const {
+    Config c = test::defaultConfig();
+    c.simulation.equations = GetParam();
+    return c;
+  }
+  Config withRate(IntegratorType type, double rate) const {
+    Config c = config();
+    c.simulation.integrator = type;
+    c.simulation.physics_rate = rate;
+    return c;
+  }
+};
 
 // The default motion exchanges ~3 J between T and V (the crank swings from π/6, slider 4
 // oscillates on a 200 N/m spring); rk4 at 1 kHz keeps the error well below a microjoule.
-TEST(Energy, Rk4At1kHzConservesEnergyWithoutTorque) {
-  const Config c = withRate(test::defaultConfig(), IntegratorType::kRk4, 1000);
+TEST_P(Energy, Rk4At1kHzConservesEnergyWithoutTorque) {
+  const Config c = withRate(IntegratorType::kRk4, 1000);
   const double drift = maxEnergyDrift(c, 0.0, 10.0);
   std::cout << "drift " << drift << " J\n";
   EXPECT_LT(drift, 1e-6) << "drift " << drift << " J";
 }
 
 // rk4's error is O(h^4): doubling the rate must shrink the drift about 16x. Demand > 8x.
-TEST(Energy, Rk4DriftConvergesAtFourthOrder) {
-  const Config base = test::defaultConfig();
-  const double coarse = maxEnergyDrift(withRate(base, IntegratorType::kRk4, 250), 0.0, 5.0);
-  const double fine = maxEnergyDrift(withRate(base, IntegratorType::kRk4, 500), 0.0, 5.0);
+TEST_P(Energy, Rk4DriftConvergesAtFourthOrder) {
+  const double coarse = maxEnergyDrift(withRate(IntegratorType::kRk4, 250), 0.0, 5.0);
+  const double fine = maxEnergyDrift(withRate(IntegratorType::kRk4, 500), 0.0, 5.0);
   EXPECT_GT(coarse / fine, 8.0) << "coarse " << coarse << " fine " << fine;
 }
 
 // dopri5 with tolerances 1e-9 keeps each sub-step's local error near 1e-9 relative to the state
 // (~1 m, ~10 rad/s): energy stays within 1e-6 J over 10 s.
-TEST(Energy, Dopri5ConservesEnergyWithoutTorque) {
-  const Config c = withRate(test::defaultConfig(), IntegratorType::kDopri5, 1000);
+TEST_P(Energy, Dopri5ConservesEnergyWithoutTorque) {
+  const Config c = withRate(IntegratorType::kDopri5, 1000);
   const double drift = maxEnergyDrift(c, 0.0, 10.0);
   std::cout << "drift " << drift << " J\n";
   EXPECT_LT(drift, 1e-6) << "drift " << drift << " J";
@@ -63,9 +74,9 @@ TEST(Energy, Dopri5ConservesEnergyWithoutTorque) {
 
 // A steady 20 N m exceeds the largest gravity moment (4 g L (m + M1) = 14.7 N m), so the crank
 // spins up; the motor's work (tens of joules) goes into T + V, and E - W stays constant.
-TEST(Energy, EnergyMinusMotorWorkIsConservedUnderTorque) {
+TEST_P(Energy, EnergyMinusMotorWorkIsConservedUnderTorque) {
   for (IntegratorType type : {IntegratorType::kRk4, IntegratorType::kDopri5}) {
-    const Config c = withRate(test::defaultConfig(), type, 1000);
+    const Config c = withRate(type, 1000);
     Simulator sim(c);
     sim.setTorque(20.0);
     for (int i = 0; i < 5000; ++i) ASSERT_TRUE(sim.step().ok);
@@ -84,9 +95,9 @@ TEST(Energy, EnergyMinusMotorWorkIsConservedUnderTorque) {
 // holds (measured 5e-7 W), and it says so when it no longer does (u1 > 50 rad/s); dopri5 refines
 // its steps and keeps the balance (measured 1.5e-6 W after 10 s, at u1 ~ 1500 rad/s). Bound: 5e-6
 // W.
-TEST(Energy, DrivenAtTheTorqueLimit) {
+TEST_P(Energy, DrivenAtTheTorqueLimit) {
   for (IntegratorType type : {IntegratorType::kRk4, IntegratorType::kDopri5}) {
-    Config c = test::defaultConfig();
+    Config c = config();
     c.simulation.integrator = type;
     Simulator sim(c);
     ASSERT_TRUE(sim.setTorque(50.0).ok);
@@ -118,6 +129,10 @@ TEST(Energy, DrivenAtTheTorqueLimit) {
     }
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(BothEquations, Energy,
+                         ::testing::Values(EquationsSource::kGenerated, EquationsSource::kGeneric),
+                         [](const auto& info) { return std::string(equationsName(info.param)); });
 
 }  // namespace
 }  // namespace kane_sim

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "kane_sim/model/generated_mechanism.h"
 #include "kane_sim/model/mechanism_model.h"
 #include "test_helpers.h"
 
@@ -132,6 +133,11 @@ TEST_P(LagrangeCrossCheck, MassMatrixAndAccelerationsAgree) {
     EXPECT_LT((kane_accel - lagrange_accel).norm(), 1e-6 * (1 + lagrange_accel.norm()))
         << "q1 = " << x.q1 << " u1 = " << x.u1 << " kane " << kane_accel.transpose() << " lagrange "
         << lagrange_accel.transpose();
+    // The generated equations (the integrators' default) against the same independent model.
+    const OdeState generated = GeneratedMechanism(kane).stateDerivative(x, tau);
+    EXPECT_LT((Vec2(generated[2], generated[3]) - lagrange_accel).norm(),
+              1e-6 * (1 + lagrange_accel.norm()))
+        << "generated, q1 = " << x.q1 << " u1 = " << x.u1;
   }
 }
 

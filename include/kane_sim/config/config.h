@@ -19,9 +19,19 @@ constexpr const char* integratorName(IntegratorType type) {
   return type == IntegratorType::kRk4 ? "rk4" : "dopri5";
 }
 
+// Which equations of motion the integrators step: the ones generated from a SymPy KanesMethod
+// derivation (model/generated_equations.h, the fast path) or the generic Kane assembly term by
+// term (model/mechanism_model.h, the readable reference). They agree to rounding.
+enum class EquationsSource { kGenerated, kGeneric };
+
+constexpr const char* equationsName(EquationsSource source) {
+  return source == EquationsSource::kGenerated ? "generated" : "generic";
+}
+
 struct SimulationSettings {
   double physics_rate = 1000.0;  // [Hz], one physics step is 1/physics_rate of sim time
   IntegratorType integrator = IntegratorType::kRk4;
+  EquationsSource equations = EquationsSource::kGenerated;
   double absolute_tolerance = 1e-9;  // dopri5 only
   double relative_tolerance = 1e-9;  // dopri5 only
   double publish_rate = 100.0;       // [Hz] joint_states, tf, mechanism_state

@@ -37,6 +37,8 @@ LoadedConfig loadConfigFile(const std::string& path);
 
 // "rk4" -> kRk4, ...; throws ConfigError(key, ...) listing the valid names otherwise.
 IntegratorType parseIntegratorName(const std::string& name, const std::string& key);
+// "generated" -> kGenerated, "generic" -> kGeneric; throws ConfigError(key, ...) otherwise.
+EquationsSource parseEquationsName(const std::string& name, const std::string& key);
 
 }  // namespace kane_sim
 

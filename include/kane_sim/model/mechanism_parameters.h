@@ -4,6 +4,8 @@
 #ifndef KANE_SIM_MODEL_MECHANISM_PARAMETERS_H
 #define KANE_SIM_MODEL_MECHANISM_PARAMETERS_H
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace kane_sim {
@@ -29,6 +31,15 @@ struct MotorLine {
   double torque_limit = std::numeric_limits<double>::infinity();  // [N m] stall torque
   double no_load_speed = 0.0;                                     // w0 [rad/s], 0 = off
 };
+
+// The torque M_m the drive delivers at crank speed u1 for a command (already within the torque
+// limit): the command itself when the line is off or the command brakes.
+inline double motorLineTorque(const MotorLine& line, double command, double u1) {
+  if (line.no_load_speed <= 0.0 || command * u1 <= 0.0) return command;  // off, or braking
+  const double available =
+      line.torque_limit * std::max(0.0, 1.0 - std::abs(u1) / line.no_load_speed);
+  return std::copysign(std::min(std::abs(command), available), command);
+}
 
 // Contact between the sliders, as impacts: when x_C - x_B closes to `gap` with the sliders
 // approaching, an impulse along the rail (Kane's generalized impulses through the partial

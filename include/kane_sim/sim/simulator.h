@@ -15,6 +15,7 @@
 #include <string>
 
 #include "kane_sim/config/config.h"
+#include "kane_sim/model/generated_mechanism.h"
 #include "kane_sim/model/mechanism_model.h"
 #include "kane_sim/model/state.h"
 #include "kane_sim/sim/snapshot.h"
@@ -75,15 +76,21 @@ class Simulator {
   static constexpr double kMaxCrankAnglePerStep = 0.05;  // [rad]
   bool stepTooCoarse() const { return step_too_coarse_; }
   const MechanismModel& model() const { return model_; }
+  EquationsSource equations() const { return equations_; }
 
   // The physics of this instant (command fields left at their defaults: see SimDriver).
   Snapshot snapshot() const;
 
  private:
   class Integrator;
-  double separation(const OdeState& x) const;  // x_C - x_B
+  template <class Equations>
+  Status stepWith(const Equations& equations);
+  // x_C - x_B >= threshold at x (the cosine only when q2's bounds leave it open).
+  bool separationAtLeast(const OdeState& x, double threshold) const;
 
   MechanismModel model_;
+  GeneratedMechanism generated_;  // the same model as generated equations: the fast path
+  EquationsSource equations_;     // which of the two the integrators step
   IntegratorType integrator_type_;
   State initial_state_;
   State state_;
@@ -99,7 +106,7 @@ class Simulator {
   // as last") only while the state is where it left it and the torque is unchanged.
   bool last_derivative_valid_ = false;
   std::unique_ptr<Integrator> integrator_;
-  double slider_separation_;  // x_C - x_B at the current state
+  bool slider4_below_;  // x_C - x_B >= 0 at the current state (crossings count its changes)
   double parameter_energy_ = 0.0;
   std::uint64_t parameter_changes_ = 0;
 };
