@@ -1,14 +1,17 @@
 // Core throughput (Google Benchmark): one evaluation of the equations of motion through the
-// generic Kane assembly, one rk4 step, dopri5 per simulated second, and - in the same binary -
-// the floor: a hand-written closed-form rk4 step of the same equations, so that the cost of
-// the general assembly and of odeint shows as a ratio.
+// generic Kane assembly and through the generated equations, one rk4 step of the Simulator on
+// each, dopri5 per simulated second, and - in the same binary - the floor: a hand-written
+// closed-form rk4 step of the same equations. The table at the end gives every time as a ratio
+// to that floor.
 //   $KANE_SIM_BUILD_DIR/devel/lib/kane_sim/bench_core --benchmark_min_time=0.5
 #include <cmath>
 
 #include <benchmark/benchmark.h>
 
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/model/generated_mechanism.h"
 #include "kane_sim/sim/simulator.h"
+#include "ratio_reporter.h"
 
 namespace {
 
@@ -32,9 +35,23 @@ void BM_KaneEvaluation(benchmark::State& st) {
 }
 BENCHMARK(BM_KaneEvaluation);
 
-void BM_Rk4Step(benchmark::State& st) {
+void BM_GeneratedEvaluation(benchmark::State& st) {
+  const kane_sim::Config c = defaultConfig();
+  const kane_sim::GeneratedMechanism generated(kane_sim::mechanismModel(c));
+  kane_sim::State x = kBusyState;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(x);
+    const kane_sim::OdeState dx = generated.stateDerivative(x, 2.0);
+    benchmark::DoNotOptimize(dx);
+  }
+  st.SetItemsProcessed(st.iterations());
+}
+BENCHMARK(BM_GeneratedEvaluation);
+
+void BM_Rk4Step(benchmark::State& st, kane_sim::EquationsSource equations) {
   kane_sim::Config c = defaultConfig();
   c.simulation.integrator = kane_sim::IntegratorType::kRk4;
+  c.simulation.equations = equations;
   kane_sim::Simulator sim(c);
   sim.setTorque(2.0);
   for (auto _ : st) {
@@ -43,7 +60,8 @@ void BM_Rk4Step(benchmark::State& st) {
   }
   st.SetItemsProcessed(st.iterations());
 }
-BENCHMARK(BM_Rk4Step);
+BENCHMARK_CAPTURE(BM_Rk4Step, generated, kane_sim::EquationsSource::kGenerated);
+BENCHMARK_CAPTURE(BM_Rk4Step, generic, kane_sim::EquationsSource::kGeneric);
 
 // dopri5: the cost of one simulated second at 1 kHz physics, per tolerance.
 void BM_Dopri5PerSimSecond(benchmark::State& st) {
@@ -112,4 +130,6 @@ BENCHMARK(BM_ClosedFormRk4StepFloor);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  return kane_sim::bench::runWithRatios(argc, argv, "BM_ClosedFormRk4StepFloor");
+}

@@ -7,6 +7,22 @@ if(benchmark_FOUND)
   target_link_libraries(bench_core kane_sim_sim benchmark::benchmark kane_sim_warnings)
   target_compile_definitions(bench_core PRIVATE KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config")
   set_target_properties(bench_core PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME})
+  # The peers side by side (MuJoCo, Debian's libmujoco-dev: bench/run_all.sh installs it).
+  # Found by hand: Debian 12's mujocoConfig.cmake names /usr/include/libqhull_r, which only
+  # libqhull-dev provides, and the headers here do not need.
+  find_library(MUJOCO_LIBRARY mujoco)
+  find_path(MUJOCO_INCLUDE_DIR mujoco/mujoco.h)
+  if(MUJOCO_LIBRARY AND MUJOCO_INCLUDE_DIR)
+    #catkin_lint: ignore uninstalled_target
+    add_executable(bench_peers bench/bench_peers.cpp)
+    target_include_directories(bench_peers SYSTEM PRIVATE ${MUJOCO_INCLUDE_DIR})
+    target_link_libraries(bench_peers kane_sim_sim ${MUJOCO_LIBRARY} benchmark::benchmark
+      kane_sim_warnings)
+    target_compile_definitions(bench_peers PRIVATE KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config")
+    set_target_properties(bench_peers PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME})
+  else()
+    message(STATUS "kane_sim: MuJoCo not found, bench_peers is not built")
+  endif()
 else()
   message(STATUS "kane_sim: Google Benchmark not found, bench_core is not built")
 endif()

@@ -107,9 +107,16 @@ def derive():
     for where, load in dampers:
         velocity = where.ang_vel_in(N) if isinstance(where, me.ReferenceFrame) else where.vel(N)
         power -= load.dot(velocity)
-    # Expanded, not simplified: simplify() would fold 2 sin q1 cos q1 into sin 2q1, a third
-    # trigonometric call where one sincos serves.
-    plain = [sp.expand(ex.subs(speeds).subs(coords)) for ex in list(u_dot) + [power]]
+    # Simplified (cos^2 = 1 - sin^2 shortens M11), then any sin 2q1 that simplify() folds
+    # written back as 2 sin q1 cos q1: one sincos serves the whole kernel.
+    q1s = sp.Symbol("q1")
+    plain = []
+    for ex in list(u_dot) + [power]:
+        ex = sp.simplify(ex.subs(speeds).subs(coords))
+        ex = ex.subs(sp.cos(q1s) ** 2, 1 - sp.sin(q1s) ** 2)
+        ex = ex.replace(lambda e: e.func in (sp.sin, sp.cos) and e.args[0] != q1s,
+                        lambda e: sp.expand_trig(e))
+        plain.append(sp.factor_terms(sp.expand(ex)))
     return p, M_m, plain
 
 
@@ -132,9 +139,15 @@ def to_cpp(expr):
 
 
 def render():
-    p, M_m, (u1_dot, u2_dot, power) = derive()
-    replacements, (e1, e2, ep) = sp.cse([u1_dot, u2_dot, power], symbols=sp.numbered_symbols("t"),
-                                       optimizations="basic")
+    p, M_m, rates = derive()
+    # sin q1 and cos q1 as two named inputs of the common subexpressions, computed by one
+    # sincos call (GCC and Clang fuse std::sin and std::cos of one argument only sometimes
+    # once this is inlined into an integrator's stages).
+    q1 = sp.Symbol("q1")
+    sin_q1, cos_q1 = sp.Symbol("sin_q1"), sp.Symbol("cos_q1")
+    rates = [ex.subs({sp.sin(q1): sin_q1, sp.cos(q1): cos_q1}) for ex in rates]
+    replacements, (e1, e2, ep) = sp.cse(rates, symbols=sp.numbered_symbols("t"),
+                                        optimizations="basic")
     used = set().union(*(ex.free_symbols for _, ex in replacements), e1.free_symbols,
                        e2.free_symbols, ep.free_symbols)
     lines = []
@@ -170,11 +183,13 @@ def render():
     for name, field, _ in PARAMETERS:
         if p[name] in used:
             out("  const double %s = p.%s;" % (name, field))
-    unused = [n for n in ("q1", "q2", "u1", "u2") if sp.Symbol(n) not in used]
+    unused = [n for n in ("q2", "u1", "u2") if sp.Symbol(n) not in used]
     for name in unused:
         out("  static_cast<void>(%s);" % name)
     if M_m not in used:
         out("  static_cast<void>(M_m);")
+    out("  double sin_q1, cos_q1;")
+    out("  __builtin_sincos(q1, &sin_q1, &cos_q1);")
     for symbol, ex in replacements:
         out("  const double %s = %s;" % (symbol, to_cpp(ex)))
     out("  return {%s," % to_cpp(e1))

@@ -61,6 +61,7 @@ kane_sim_unit_test(test_simulate_bag test/tools/test_simulate_bag.cpp ROS RUNS_S
 set(tools_dir ${PROJECT_SOURCE_DIR}/test/tools)
 add_test(NAME sympy_crosscheck
   COMMAND /usr/bin/python3 ${tools_dir}/sympy_crosscheck_test.py ${CMAKE_BINARY_DIR})
+add_test(NAME codegen COMMAND ${tools_dir}/codegen_test.sh)
 add_test(NAME analyze_cli COMMAND /usr/bin/python3 ${tools_dir}/analyze_cli_test.py ${CMAKE_BINARY_DIR})
 add_test(NAME config_fuzz COMMAND /usr/bin/python3 ${tools_dir}/config_fuzz_test.py ${CMAKE_BINARY_DIR} 300)
 add_test(NAME plot_bag COMMAND ${tools_dir}/plot_bag_test.sh ${CMAKE_BINARY_DIR})

@@ -43,13 +43,14 @@ class Simulator::Integrator {
                                         odeint::runge_kutta_dopri5<OdeState>())) {}
 
   // Advances x from t to exactly t + dt. `reuse_last_derivative`: x is where the last
-  // successful call left it and the right-hand side (the torque) is unchanged.
+  // successful call left it and the right-hand side (the torque) is unchanged. Returns nullptr,
+  // or why it failed (a literal: no string is built on the good path).
   template <class System>
-  Status advance(const System& system, OdeState& x, double t, double dt,
-                 bool reuse_last_derivative) {
+  const char* advance(const System& system, OdeState& x, double t, double dt,
+                      bool reuse_last_derivative) {
     if (type_ == IntegratorType::kRk4) {
       rk4_.do_step(system, x, t, dt);
-      return {};
+      return nullptr;
     }
     // dopri5 reuses the derivative at the end of its last step (first same as last); that is
     // only valid for the same state and the same torque.
@@ -58,21 +59,20 @@ class Simulator::Integrator {
     double substep = std::min(dopri5_substep_, dt);
     for (int n = 0; n < kMaxSubstepsPerTick; ++n) {
       const double remaining = t_end - t;
-      if (remaining <= 1e-12 * dt) return {};
+      if (remaining <= 1e-12 * dt) return nullptr;
       const bool last = substep >= remaining;
       double h = last ? remaining : substep;
       if (dopri5_.try_step(system, x, t, h) == odeint::success) {
-        if (!isFinite(x)) return {false, "dopri5 produced a non-finite state"};
+        if (!isFinite(x)) return "dopri5 produced a non-finite state";
         // Keep the controller's suggestion for the next tick, unless this step was shortened
         // only to land on the tick boundary.
         if (!last) dopri5_substep_ = h;
-        if (last) return {};
+        if (last) return nullptr;
       }
       substep = h;
     }
-    std::ostringstream msg;
-    msg << "dopri5 needed more than " << kMaxSubstepsPerTick << " sub-steps for one physics step";
-    return {false, msg.str()};
+    static_assert(kMaxSubstepsPerTick == 100000, "the message below names the limit");
+    return "dopri5 needed more than 100000 sub-steps for one physics step";
   }
 
  private:
@@ -112,7 +112,7 @@ bool Simulator::separationAtLeast(const OdeState& x, double threshold) const {
   const double reach = 4.0 * model_.parameters().rod_half_length;
   if (x[1] - reach >= threshold) return true;
   if (x[1] + reach < threshold) return false;
-  return model_.geometry(x[0], x[1]).sliderSeparation() >= threshold;
+  return sliderSeparation(model_.parameters().rod_half_length, x[0], x[1]) >= threshold;
 }
 
 Status Simulator::step() {
@@ -127,12 +127,12 @@ Status Simulator::stepWith(const Equations& equations) {
   const SliderContact& contact = model_.parameters().contact;
   double t = time();
   double remaining = step_size_;
-  Status result;
+  const char* error = nullptr;
   for (int impacts = 0;; ++impacts) {
     OdeState trial = x;
-    result = integrator_->advance(system, trial, t, remaining, last_derivative_valid_);
-    if (result.ok && !isFinite(trial)) result = {false, "the step produced a non-finite state"};
-    if (!result.ok) break;
+    error = integrator_->advance(system, trial, t, remaining, last_derivative_valid_);
+    if (!error && !isFinite(trial)) error = "the step produced a non-finite state";
+    if (error) break;
     if (!contact.enabled || separationAtLeast(trial, contact.gap) ||
         impacts == kMaxImpactsPerStep) {
       x = trial;
@@ -145,7 +145,7 @@ Status Simulator::stepWith(const Equations& equations) {
     for (int i = 0; i < 50; ++i) {
       const double mid = 0.5 * (before + after);
       OdeState probe = x;
-      if (!integrator_->advance(system, probe, t, mid, false).ok) break;
+      if (integrator_->advance(system, probe, t, mid, false)) break;
       if (separationAtLeast(probe, contact.gap)) {
         before = mid;
         at_touch = probe;
@@ -165,10 +165,10 @@ Status Simulator::stepWith(const Equations& equations) {
     remaining -= before;
     last_derivative_valid_ = false;
   }
-  last_derivative_valid_ = result.ok;
-  if (!result.ok) {
+  last_derivative_valid_ = !error;
+  if (error) {
     std::ostringstream msg;
-    msg << result.error << " at t = " << time() << " s (q1 = " << state_.q1
+    msg << error << " at t = " << time() << " s (q1 = " << state_.q1
         << ", q2 = " << state_.q2 << ", u1 = " << state_.u1 << ", u2 = " << state_.u2
         << ", M_m = " << torque_ << "); step refused, state kept";
     return {false, msg.str()};
@@ -186,7 +186,7 @@ Status Simulator::stepWith(const Equations& equations) {
     step_too_coarse_ = true;
   state_ = next;
   ++ticks_;
-  return result;
+  return {};
 }
 
 void Simulator::reset() {

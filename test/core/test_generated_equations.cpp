@@ -27,13 +27,16 @@ struct OptionCase {
   double agreement;  // of the two paths' trajectories after 20 s, relative to 1 + |value|
 };
 
-// Agreement: 1e-12 for smooth motion (measured 5e-14 ... 2.4e-13). Lossless-ish bounces are
-// the exception: at each impact a difference δ in the state moves the touch instant by δ/v and
-// the rebound by (1 + e) times that, so five undamped impacts grow the measured 2.6e-12; 1e-11.
+// Agreement: 1e-12 for smooth motion (measured 6e-14 ... 9e-14, one damped impact included).
+// Repeated undamped bounces are the exception: at each impact a difference δ in the state moves
+// the touch instant by δ/v_approach and the post-impact state by the jump in acceleration times
+// that, so differences grow by orders of magnitude over five impacts - measured 2.6e-12 and
+// 1.3e-10 for two algebraically equal generated kernels (the sensitivity is the bounces', not
+// the kernel's); 1e-9.
 const OptionCase kCases[] = {{"textbook", false, false, false, 10.0, 0.0, 1e-12},
                              {"damping", true, false, false, 10.0, 0.0, 1e-12},
                              {"motor_line", false, true, false, 10.0, 0.0, 1e-12},
-                             {"contact", false, false, true, 10.0, -6.0, 1e-11},
+                             {"contact", false, false, true, 10.0, -6.0, 1e-9},
                              {"all", true, true, true, 10.0, -6.0, 1e-12}};
 
 Config withOptions(Config c, const OptionCase& options) {

@@ -46,24 +46,26 @@ inline Rates rates(const Constants& p, double q1, double q2, double u1, double u
   const double c_A = p.coupler_damping;
   const double c_B = p.slider3_damping;
   const double c_C = p.slider4_damping;
+  double sin_q1, cos_q1;
+  __builtin_sincos(q1, &sin_q1, &cos_q1);
   const double t0 = L*L;
   const double t1 = m*t0;
-  const double t2 = std::sin(q1);
-  const double t3 = t2*t2;
-  const double t4 = 8*t0;
-  const double t5 = t3*t4;
-  const double t6 = 2*t1;
-  const double t7 = std::cos(q1);
-  const double t8 = M1*t2;
-  const double t9 = 2*L;
-  const double t10 = g*t9;
+  const double t2 = sin_q1*sin_q1;
+  const double t3 = 8*t0;
+  const double t4 = t2*t3;
+  const double t5 = M1*sin_q1;
+  const double t6 = 2*L;
+  const double t7 = g*t6;
+  const double t8 = k*sin_q1;
+  const double t9 = t6*t8;
+  const double t10 = cos_q1*t3;
   const double t11 = u1*u1;
   const double t12 = 4*t11;
   const double t13 = 1.0/M2;
   const double t14 = k*t13;
-  return {(2*L*k*s0*t2 + (1.0/2.0)*M_m - 2*c_A*u1 - c_B*t5*u1 - 1.0/2.0*c_O*u1 - k*q2*t2*t9 + 8*k*t0*t2*t7 - m*t10*t2 - t1*t12*t2*t7 - t10*t8 - t11*t4*t7*t8)/(I + M1*t5 + 3*t1 + t3*t6 - t6*t7*t7),
-          4*L*t14*t7 - c_C*t13*u2 + g - q2*t14 + s0*t14,
-          c_A*t12 + 16*c_B*t0*t11*t3 + c_C*u2*u2 + c_O*t11};
+  return {-(-1.0/2.0*M_m + 2*c_A*u1 + c_B*t4*u1 + (1.0/2.0)*c_O*u1 + cos_q1*sin_q1*t1*t12 + m*sin_q1*t7 + q2*t9 - s0*t9 + t10*t11*t5 - t10*t8 + t5*t7)/(I + M1*t4 + 4*t1*t2 + t1),
+          4*L*cos_q1*t14 - c_C*t13*u2 + g - q2*t14 + s0*t14,
+          c_A*t12 + 16*c_B*t0*t11*t2 + c_C*u2*u2 + c_O*t11};
 }
 
 }  // namespace generated

@@ -10,6 +10,7 @@
 #define KANE_SIM_MODEL_MECHANISM_MODEL_H
 
 #include <array>
+#include <cmath>
 #include <optional>
 
 #include <Eigen/Core>
@@ -41,6 +42,15 @@ struct MechanismGeometry {
 };
 
 MechanismGeometry mechanismGeometry(double rod_half_length, double q1, double q2);
+
+// x_B = 4 L cos q1 [m]: slider 3 on the rail, where rod 2's end B is (the loop's closure).
+inline double slider3Position(double rod_half_length, double cos_q1) {
+  return 4 * rod_half_length * cos_q1;
+}
+// x_C - x_B [m] without the rest of the geometry (one cosine): the simulator's per-step checks.
+inline double sliderSeparation(double rod_half_length, double q1, double q2) {
+  return q2 - slider3Position(rod_half_length, std::cos(q1));
+}
 
 // The four bodies at one instant (kinematics, eqs 1-4).
 struct MechanismKinematics {
