@@ -23,6 +23,7 @@
 #include "kane_sim/ros/bag_writer.h"
 #include "kane_sim/sim/csv_format.h"
 #include "kane_sim/sim/sim_driver.h"
+#include "kane_sim/sim/sweep.h"
 #include "kane_sim/sim/torque_profile.h"
 
 namespace po = boost::program_options;
@@ -54,6 +55,11 @@ struct Options {
   std::string integrator;                          // empty: the config's
   std::string csv_path;                            // empty: stdout (unless only a bag is asked for)
   std::string bag_path;
+  // Sweep mode: many cases, one summary row each (kane_sim/sim/sweep.h).
+  std::vector<std::string> sweep_axes;  // --sweep KEY=START:STOP:COUNT, repeatable (a grid)
+  std::string sweep_file;               // --sweep-file CSV of parameter sets
+  unsigned jobs = 0;                    // --jobs, 0 = one per core
+  bool sweep() const { return !sweep_axes.empty() || !sweep_file.empty(); }
 };
 
 po::options_description describeOptions() {
@@ -70,6 +76,14 @@ po::options_description describeOptions() {
       "  --torque-sine AMP,FREQ[,OFFSET]  OFFSET + AMP sin(2 pi FREQ t)\n"
       "  --torque-csv FILE           lines 't,torque' (optional header), each value held from\n"
       "                              its time on, 0 before the first; times non-decreasing\n\n"
+      "Sweeps (many cases in one process, spread over the cores; one CSV row per case with the\n"
+      "final state, max |q1|, max |q2|, the ledger error max|E + D - W - (E + D - W)(0)| at 10 Hz,\n"
+      "W, D, impacts, crossings, steps and wall time; the same torque for every case):\n"
+      "  --sweep KEY=START:STOP:COUNT  COUNT values of a config key (section.key, e.g.\n"
+      "                              mechanism.spring_stiffness) from START to STOP; repeat for\n"
+      "                              a grid (the last varies fastest)\n"
+      "  --sweep-file FILE           a CSV: a header of keys, one row of values per case\n"
+      "  --jobs N                    threads (default: one per core)\n\n"
       "Options");
   desc.add_options()("help,h", "print this help and exit")(
       "config", po::value<std::string>()->required(), "mechanism YAML (config/mechanism.yaml)")(
@@ -82,7 +96,10 @@ po::options_description describeOptions() {
       "rows / bag messages per simulated second [Hz]; must divide simulation.physics_rate")(
       "integrator", po::value<std::string>(), "rk4 | dopri5 (default: the config's)")(
       "csv", po::value<std::string>(), "write the CSV to this file instead of stdout")(
-      "bag", po::value<std::string>(), "also write a bag of the node's topics to this file");
+      "bag", po::value<std::string>(), "also write a bag of the node's topics to this file")(
+      "sweep", po::value<std::vector<std::string>>()->composing(), "KEY=START:STOP:COUNT")(
+      "sweep-file", po::value<std::string>(), "CSV of parameter sets")(
+      "jobs", po::value<unsigned>(), "sweep threads (default: one per core)");
   return desc;
 }
 
@@ -171,6 +188,14 @@ bool parseOptions(int argc, char** argv, Options* options) {
         options->integrator != kane_sim::integratorName(kane_sim::IntegratorType::kDopri5))
       throw UsageError("--integrator must be rk4 or dopri5, got '" + options->integrator + "'");
   }
+  if (vm.count("sweep")) options->sweep_axes = vm["sweep"].as<std::vector<std::string>>();
+  if (vm.count("sweep-file")) options->sweep_file = vm["sweep-file"].as<std::string>();
+  if (vm.count("jobs")) options->jobs = vm["jobs"].as<unsigned>();
+  if (!options->sweep_axes.empty() && !options->sweep_file.empty())
+    throw UsageError("give --sweep or --sweep-file, not both");
+  if (options->sweep() && vm.count("bag"))
+    throw UsageError("--bag writes one run's topics; a sweep writes one summary row per case");
+  if (vm.count("jobs") && !options->sweep()) throw UsageError("--jobs is for --sweep");
   if (vm.count("csv")) options->csv_path = vm["csv"].as<std::string>();
   if (vm.count("bag")) options->bag_path = vm["bag"].as<std::string>();
   for (const char* flag : {"csv", "bag"})
@@ -284,6 +309,59 @@ long rowCount(double duration, double output_rate) {
   return static_cast<long>(whole);
 }
 
+// Sweep mode: every case through the library's runSweep, one row each, in case order.
+int runSweepMode(const Options& options, const YAML::Node& base) {
+  kane_sim::SweepPlan plan;
+  try {
+    if (!options.sweep_file.empty()) {
+      std::ifstream in(options.sweep_file);
+      if (!in) throw UsageError("cannot read --sweep-file '" + options.sweep_file + "'");
+      plan = kane_sim::sweepFromCsv(in);
+    } else {
+      std::vector<kane_sim::SweepAxis> axes;
+      for (const std::string& spec : options.sweep_axes)
+        axes.push_back(kane_sim::parseSweepAxis(spec));
+      plan = kane_sim::sweepGrid(axes);
+    }
+  } catch (const std::invalid_argument& e) {
+    throw UsageError((options.sweep_file.empty() ? "" : "--sweep-file: ") + std::string(e.what()));
+  }
+  // The first case is built here, so a typo or a refused value stops the run before it starts.
+  static_cast<void>(kane_sim::sweepCaseConfig(base, plan, 0));
+  kane_sim::SweepSettings settings;
+  settings.duration = options.duration;
+  settings.torque = *options.profile;
+  settings.jobs = options.jobs;
+  std::ofstream file;
+  std::ostream* out = &std::cout;
+  if (!options.csv_path.empty()) {
+    file.open(options.csv_path);
+    if (!file) throw OutputError("cannot write --csv '" + options.csv_path + "'");
+    out = &file;
+  }
+  const auto wall_start = std::chrono::steady_clock::now();
+  const std::vector<kane_sim::SweepResult> results = kane_sim::runSweep(base, plan, settings);
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  kane_sim::writeSweepCsvHeader(*out, plan);
+  std::uint64_t steps = 0;
+  size_t failed = 0;
+  for (size_t i = 0; i < results.size(); ++i) {
+    kane_sim::writeSweepCsvRow(*out, plan, i, results[i]);
+    steps += results[i].steps;
+    if (results[i].status != "ok" && failed++ < 5)
+      std::cerr << "warning: case " << i << ": " << results[i].error << "\n";
+  }
+  out->flush();
+  if (!*out) throw OutputError("writing the CSV failed (disk full?)");
+  std::cerr << "swept " << results.size() << " cases (" << failed << " not ok) of " << options.duration
+            << " s each, torque " << options.profile->describe() << ": " << steps
+            << " physics steps, wall time " << wall << " s, "
+            << (wall > 0 ? results.size() / wall : 0.0) << " cases/s, "
+            << (wall > 0 ? steps / wall : 0.0) << " steps/s\n";
+  return failed ? kExitStepRefused : 0;
+}
+
 int run(const Options& options) {
   // --integrator goes into the tree before validation, so the stability check judges the
   // integrator that will run.
@@ -295,6 +373,7 @@ int run(const Options& options) {
   }
   kane_sim::LoadedConfig loaded = kane_sim::loadConfig(root);
   for (const std::string& warning : loaded.warnings) std::cerr << "warning: " << warning << "\n";
+  if (options.sweep()) return runSweepMode(options, root);
   const kane_sim::Config& config = loaded.config;
 
   const long steps_per_row = stepsPerRow(config.simulation.physics_rate, options.output_rate);

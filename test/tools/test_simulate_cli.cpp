@@ -170,4 +170,63 @@ TEST(SimulateCli, HostileInputEndsWithItsExitCode) {
   }
 }
 
+// --sweep: one row per case with the swept values, and a row equal to the final row of the same
+// case run alone (a config file with that value), to the last digit printed.
+TEST(SimulateCli, SweepRowsMatchSingleRuns) {
+  const std::string csv = ::testing::TempDir() + "/sweep.csv";
+  const RunResult r = runSimulate(kConfig + " --duration 1 --torque 3 --jobs 2 --csv " + csv +
+                                  " --sweep mechanism.slider4_mass=0.4:1.2:3 --sweep "
+                                  "damping.crank_joint=0:0.5:2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("swept 6 cases (0 not ok)"), std::string::npos) << r.err;
+  std::ifstream in(csv);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string header;
+  std::istringstream lines(text.str());
+  std::getline(lines, header);
+  EXPECT_EQ(header.rfind("case,mechanism.slider4_mass,damping.crank_joint,status,t,q1,q2,u1,u2,", 0),
+            0u)
+      << header;
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(lines, line);) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(rows[3].rfind("3,0.80000000000000004,0.5,ok,1,", 0), 0u) << rows[3];
+
+  // Case 3 alone: slider4_mass 0.8 (the shipped value) with crank damping 0.5.
+  std::ifstream shipped(kane_sim::test::configPath("mechanism.yaml"));
+  std::stringstream yaml;
+  yaml << shipped.rdbuf();
+  std::string config = yaml.str();
+  const std::string from = "  crank_joint: 0.0";
+  ASSERT_NE(config.find(from), std::string::npos);
+  config.replace(config.find(from), from.size(), "  crank_joint: 0.5");
+  const std::string path = ::testing::TempDir() + "/damped.yaml";
+  std::ofstream(path) << config;
+  const RunResult single = runSimulate("--config " + path + " --duration 1 --torque 3 --output-rate 1");
+  ASSERT_EQ(single.exit_code, 0) << single.err;
+  std::string single_header;
+  const auto single_rows = parseRows(single.out, &single_header);
+  ASSERT_EQ(single_rows.size(), 2u);
+  std::vector<double> swept;
+  std::istringstream fields(rows[3]);
+  for (std::string field; std::getline(fields, field, ',');)
+    swept.push_back(field == "ok" ? 0.0 : std::stod(field));
+  // Columns: case, 2 keys, status, t, q1, q2, u1, u2 (CSV of the single run: t,q1,q2,u1,u2).
+  for (int c = 0; c < 5; ++c) EXPECT_NEAR(swept[4 + c], single_rows[1][c], 1e-12) << c;
+}
+
+TEST(SimulateCli, SweepRefusesTyposAndBagsNamingThem) {
+  RunResult r = runSimulate(kConfig + " --duration 1 --sweep mechanism.spring=1:2:2");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("'mechanism.spring' is not a config key"), std::string::npos) << r.err;
+  r = runSimulate(kConfig + " --duration 1 --sweep mechanism.gravity=1:2 ");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("START:STOP:COUNT"), std::string::npos) << r.err;
+  r = runSimulate(kConfig + " --duration 1 --sweep mechanism.gravity=1:2:2 --bag /tmp/x.bag");
+  EXPECT_EQ(r.exit_code, 2);
+  r = runSimulate(kConfig + " --duration 1 --jobs 2");
+  EXPECT_EQ(r.exit_code, 2);
+}
+
 }  // namespace

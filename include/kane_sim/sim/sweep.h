@@ -1,0 +1,89 @@
+// Many simulations in one process (`simulate --sweep`, `--sweep-file`): a grid or a list of
+// parameter sets over one base config, each case built by the one config loader and run by the
+// one driver (SimDriver) that the node and `simulate` use, the cases spread over threads. A
+// parameter study or a Monte-Carlo run then costs what its physics costs, not a process and a
+// config file per case.
+#ifndef KANE_SIM_SIM_SWEEP_H
+#define KANE_SIM_SIM_SWEEP_H
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "kane_sim/config/config.h"
+#include "kane_sim/model/state.h"
+#include "kane_sim/sim/torque_profile.h"
+
+namespace kane_sim {
+
+// The parameter sets: `keys` name config entries as "section.key" (mechanism.spring_stiffness,
+// initial_state.q1, damping.crank_joint, ...); each case gives one value per key.
+struct SweepPlan {
+  std::vector<std::string> keys;
+  std::vector<std::vector<double>> cases;
+};
+
+// "section.key=start:stop:count" -> count values evenly from start to stop (both included;
+// count 1 gives start). Throws std::invalid_argument naming the part that is wrong.
+struct SweepAxis {
+  std::string key;
+  std::vector<double> values;
+};
+SweepAxis parseSweepAxis(const std::string& spec);
+
+// The grid of several axes: every combination, the last axis varying fastest.
+SweepPlan sweepGrid(const std::vector<SweepAxis>& axes);
+
+// A CSV of parameter sets: a header of keys, then one row of numbers per case. Throws
+// std::invalid_argument naming the line.
+SweepPlan sweepFromCsv(std::istream& in);
+
+// The config of one case: `base` with the case's values set, through loadConfig (so a value the
+// loader refuses is refused here, by key). A key the loader does not know is refused too (a
+// typo would otherwise sweep nothing). Throws ConfigError.
+Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t index);
+
+struct SweepSettings {
+  double duration = 10.0;  // [s] simulated per case
+  TorqueProfile torque = TorqueProfile::constant(0.0);
+  // The ledger E + D - W is checked at this rate [Hz] of sim time (a snapshot each time);
+  // max |q| and the final state use every step.
+  double ledger_rate = 10.0;
+  unsigned jobs = 0;  // threads; 0 = one per core
+};
+
+struct SweepResult {
+  // "ok"; "step_refused" (the rest is up to that step); "config_refused" (nothing ran)
+  std::string status = "config_refused";
+  std::string error;  // why, when not ok
+  State final_state;
+  double time = 0.0;           // [s] simulated
+  double max_abs_q1 = 0.0;     // [rad]
+  double max_abs_q2 = 0.0;     // [m]
+  double ledger_error = 0.0;   // [J] max |(E + D - W)(t) - (E + D - W)(0)| at the samples
+  double motor_work = 0.0;     // [J] W
+  double dissipated_energy = 0.0;  // [J] D
+  std::uint64_t contact_impacts = 0;
+  std::uint64_t slider_crossings = 0;
+  std::uint64_t steps = 0;
+  double wall_time = 0.0;  // [s] this case, on its thread
+};
+
+// Runs one case (also what a single `simulate` run of that config would do, step for step).
+SweepResult runSweepCase(const Config& config, const SweepSettings& settings);
+
+// Runs every case of `plan` over `base`, in parallel; results in case order.
+std::vector<SweepResult> runSweep(const YAML::Node& base, const SweepPlan& plan,
+                                  const SweepSettings& settings);
+
+// One CSV row per case: case, the swept keys, then the result columns.
+void writeSweepCsvHeader(std::ostream& out, const SweepPlan& plan);
+void writeSweepCsvRow(std::ostream& out, const SweepPlan& plan, size_t index,
+                      const SweepResult& result);
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_SIM_SWEEP_H

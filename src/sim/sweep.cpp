@@ -1,0 +1,244 @@
+#include "kane_sim/sim/sweep.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include "kane_sim/config/load_config.h"
+#include "kane_sim/sim/sim_driver.h"
+
+namespace kane_sim {
+namespace {
+
+double parseNumber(const std::string& text, const std::string& what) {
+  try {
+    size_t used = 0;
+    const double value = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(value)) return value;
+  } catch (const std::exception&) {
+  }
+  throw std::invalid_argument(what + ": '" + text + "' is not a finite number");
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> parts;
+  std::istringstream in(text);
+  std::string part;
+  while (std::getline(in, part, separator)) parts.push_back(part);
+  if (!text.empty() && text.back() == separator) parts.emplace_back();
+  return parts;
+}
+
+std::string trim(const std::string& s) {
+  const size_t begin = s.find_first_not_of(" \t\r");
+  const size_t end = s.find_last_not_of(" \t\r");
+  return begin == std::string::npos ? "" : s.substr(begin, end - begin + 1);
+}
+
+void requireKey(const std::string& key) {
+  const std::vector<std::string> parts = split(key, '.');
+  if (parts.size() != 2 || parts[0].empty() || parts[1].empty())
+    throw std::invalid_argument("sweep key '" + key +
+                                "' must be section.key as in the config file, e.g. "
+                                "mechanism.spring_stiffness");
+}
+
+// At most this many cases: a grid typo (count 1e9) should be an error, not an out-of-memory.
+constexpr double kMaxCases = 1e7;
+
+}  // namespace
+
+SweepAxis parseSweepAxis(const std::string& spec) {
+  const size_t equals = spec.find('=');
+  if (equals == std::string::npos)
+    throw std::invalid_argument("--sweep '" + spec + "' must be KEY=START:STOP:COUNT");
+  SweepAxis axis;
+  axis.key = trim(spec.substr(0, equals));
+  requireKey(axis.key);
+  const std::vector<std::string> range = split(spec.substr(equals + 1), ':');
+  if (range.size() != 3)
+    throw std::invalid_argument("--sweep '" + spec + "': the range must be START:STOP:COUNT");
+  const double start = parseNumber(range[0], "--sweep " + axis.key + " START");
+  const double stop = parseNumber(range[1], "--sweep " + axis.key + " STOP");
+  const double count = parseNumber(range[2], "--sweep " + axis.key + " COUNT");
+  if (!(count >= 1 && count <= kMaxCases && count == std::floor(count)))
+    throw std::invalid_argument("--sweep " + axis.key + " COUNT must be a whole number in [1, " +
+                                std::to_string(static_cast<long>(kMaxCases)) + "], got '" +
+                                range[2] + "'");
+  const long n = static_cast<long>(count);
+  for (long i = 0; i < n; ++i)
+    axis.values.push_back(n == 1 ? start : start + (stop - start) * i / (n - 1));
+  return axis;
+}
+
+SweepPlan sweepGrid(const std::vector<SweepAxis>& axes) {
+  SweepPlan plan;
+  double total = 1;
+  for (const SweepAxis& axis : axes) {
+    if (std::find(plan.keys.begin(), plan.keys.end(), axis.key) != plan.keys.end())
+      throw std::invalid_argument("--sweep names " + axis.key + " twice");
+    plan.keys.push_back(axis.key);
+    total *= static_cast<double>(axis.values.size());
+  }
+  if (axes.empty() || total > kMaxCases)
+    throw std::invalid_argument("a sweep needs 1 to " + std::to_string(static_cast<long>(kMaxCases)) +
+                                " cases, the grid has " + std::to_string(total));
+  std::vector<size_t> at(axes.size(), 0);
+  for (long c = 0; c < static_cast<long>(total); ++c) {
+    std::vector<double> values;
+    for (size_t a = 0; a < axes.size(); ++a) values.push_back(axes[a].values[at[a]]);
+    plan.cases.push_back(std::move(values));
+    for (size_t a = axes.size(); a-- > 0;) {  // the last axis varies fastest
+      if (++at[a] < axes[a].values.size()) break;
+      at[a] = 0;
+    }
+  }
+  return plan;
+}
+
+SweepPlan sweepFromCsv(std::istream& in) {
+  SweepPlan plan;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    line = trim(line);
+    if (line.empty() || line[0] == '#') continue;
+    const std::vector<std::string> fields = split(line, ',');
+    if (plan.keys.empty()) {
+      for (const std::string& field : fields) {
+        plan.keys.push_back(trim(field));
+        requireKey(plan.keys.back());
+        if (std::count(plan.keys.begin(), plan.keys.end(), plan.keys.back()) > 1)
+          throw std::invalid_argument("line 1: " + plan.keys.back() + " appears twice");
+      }
+      continue;
+    }
+    if (fields.size() != plan.keys.size())
+      throw std::invalid_argument("line " + std::to_string(number) + " has " +
+                                  std::to_string(fields.size()) + " values for " +
+                                  std::to_string(plan.keys.size()) + " keys");
+    std::vector<double> values;
+    for (size_t i = 0; i < fields.size(); ++i)
+      values.push_back(
+          parseNumber(trim(fields[i]), "line " + std::to_string(number) + ", " + plan.keys[i]));
+    plan.cases.push_back(std::move(values));
+    if (plan.cases.size() > kMaxCases) throw std::invalid_argument("more cases than a sweep takes");
+  }
+  if (plan.keys.empty() || plan.cases.empty())
+    throw std::invalid_argument("needs a header of keys and at least one row of values");
+  return plan;
+}
+
+Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t index) {
+  YAML::Node root = YAML::Clone(base);
+  for (size_t k = 0; k < plan.keys.size(); ++k) {
+    const std::vector<std::string> parts = split(plan.keys[k], '.');
+    if (!root[parts[0]] || root[parts[0]].IsNull()) root[parts[0]] = YAML::Node(YAML::NodeType::Map);
+    if (!root[parts[0]].IsMap())
+      throw ConfigError(plan.keys[k], "cannot be set: '" + parts[0] + "' is not a section");
+    root[parts[0]][parts[1]] = plan.cases[index][k];
+  }
+  const LoadedConfig loaded = loadConfig(root);
+  for (const std::string& key : plan.keys)
+    for (const std::string& warning : loaded.warnings)
+      if (warning.find("'" + key + "'") != std::string::npos)
+        throw ConfigError(key, "is not a config key the simulation reads (a typo?)");
+  return loaded.config;
+}
+
+SweepResult runSweepCase(const Config& config, const SweepSettings& settings) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  SweepResult r;
+  std::string refusal;
+  SimDriver driver(config, [&refusal](const SimEvent& event) {
+    if (event.kind == SimEvent::Kind::kStepRefused) refusal = event.message;
+  });
+  const long steps = std::lround(settings.duration * config.simulation.physics_rate);
+  const long steps_per_sample =
+      std::max(1L, std::lround(config.simulation.physics_rate / settings.ledger_rate));
+  const double start_balance = driver.snapshot().energyBalance();
+  r.status = "ok";
+  driver.command(settings.torque.at(driver.time()));
+  for (long i = 1; i <= steps; ++i) {
+    if (!driver.step()) {
+      r.status = "step_refused";
+      r.error = refusal;
+      break;
+    }
+    driver.command(settings.torque.at(driver.time()));
+    const State& x = driver.simulator().state();
+    r.max_abs_q1 = std::max(r.max_abs_q1, std::abs(x.q1));
+    r.max_abs_q2 = std::max(r.max_abs_q2, std::abs(x.q2));
+    if (i % steps_per_sample == 0 || i == steps)
+      r.ledger_error =
+          std::max(r.ledger_error, std::abs(driver.snapshot().energyBalance() - start_balance));
+  }
+  const Simulator& sim = driver.simulator();
+  r.final_state = sim.state();
+  r.time = sim.time();
+  r.motor_work = sim.motorWork();
+  r.dissipated_energy = sim.dissipatedEnergy();
+  r.contact_impacts = sim.contactImpacts();
+  r.slider_crossings = sim.sliderCrossings();
+  r.steps = sim.ticks();
+  r.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return r;
+}
+
+std::vector<SweepResult> runSweep(const YAML::Node& base, const SweepPlan& plan,
+                                  const SweepSettings& settings) {
+  std::vector<SweepResult> results(plan.cases.size());
+  std::atomic<size_t> next{0};
+  // yaml-cpp nodes share state between copies: each worker clones the base once, alone.
+  auto worker = [&](const YAML::Node& own_base) {
+    for (size_t i = next++; i < plan.cases.size(); i = next++) {
+      try {
+        results[i] = runSweepCase(sweepCaseConfig(own_base, plan, i), settings);
+      } catch (const std::exception& e) {
+        results[i].status = "config_refused";
+        results[i].error = e.what();
+      }
+    }
+  };
+  unsigned jobs = settings.jobs ? settings.jobs : std::max(1u, std::thread::hardware_concurrency());
+  jobs = static_cast<unsigned>(std::min<size_t>(jobs, plan.cases.size()));
+  std::vector<YAML::Node> bases;
+  for (unsigned j = 0; j < jobs; ++j) bases.push_back(YAML::Clone(base));
+  std::vector<std::thread> threads;
+  for (unsigned j = 1; j < jobs; ++j) threads.emplace_back(worker, bases[j]);
+  worker(bases[0]);
+  for (std::thread& t : threads) t.join();
+  return results;
+}
+
+void writeSweepCsvHeader(std::ostream& out, const SweepPlan& plan) {
+  out << "case";
+  for (const std::string& key : plan.keys) out << ',' << key;
+  out << ",status,t,q1,q2,u1,u2,max_abs_q1,max_abs_q2,ledger_error,motor_work,dissipated_energy,"
+         "contact_impacts,slider_crossings,steps,wall_time\n";
+}
+
+void writeSweepCsvRow(std::ostream& out, const SweepPlan& plan, size_t index,
+                      const SweepResult& r) {
+  char buffer[64];
+  auto num = [&](double v) {
+    std::snprintf(buffer, sizeof(buffer), "%.17g", v);
+    return std::string(buffer);
+  };
+  out << index;
+  for (double v : plan.cases[index]) out << ',' << num(v);
+  out << ',' << r.status << ',' << num(r.time) << ',' << num(r.final_state.q1)
+      << ',' << num(r.final_state.q2) << ',' << num(r.final_state.u1) << ','
+      << num(r.final_state.u2) << ',' << num(r.max_abs_q1) << ',' << num(r.max_abs_q2) << ','
+      << num(r.ledger_error) << ',' << num(r.motor_work) << ',' << num(r.dissipated_energy) << ','
+      << r.contact_impacts << ',' << r.slider_crossings << ',' << r.steps << ','
+      << num(r.wall_time) << '\n';
+}
+
+}  // namespace kane_sim
