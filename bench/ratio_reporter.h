@@ -58,12 +58,21 @@ class RatioReporter : public benchmark::ConsoleReporter {
   std::map<std::string, bool> medians_;
 };
 
-// BENCHMARK_MAIN() with the ratio table appended.
+// BENCHMARK_MAIN() with the ratio table appended (console output only: with
+// --benchmark_format=json or csv the output stays machine-readable, without the table).
 inline int runWithRatios(int argc, char** argv, const std::string& baseline) {
+  bool console = true;
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]).rfind("--benchmark_format=", 0) == 0 &&
+        std::string(argv[i]) != "--benchmark_format=console")
+      console = false;
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   RatioReporter reporter(baseline);
-  benchmark::RunSpecifiedBenchmarks(&reporter);
+  if (console)
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+  else
+    benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;
 }

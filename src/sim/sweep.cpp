@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/sim/profile_commands.h"
 #include "kane_sim/sim/sim_driver.h"
 
 namespace kane_sim {
@@ -164,14 +165,15 @@ SweepResult runSweepCase(const Config& config, const SweepSettings& settings) {
       std::max(1L, std::lround(config.simulation.physics_rate / settings.ledger_rate));
   const double start_balance = driver.snapshot().energyBalance();
   r.status = "ok";
-  driver.command(settings.torque.at(driver.time()));
+  ProfileCommands commands(settings.torque, config.command.timeout);
+  commands.update(driver);
   for (long i = 1; i <= steps; ++i) {
     if (!driver.step()) {
       r.status = "step_refused";
       r.error = refusal;
       break;
     }
-    driver.command(settings.torque.at(driver.time()));
+    commands.update(driver);
     const State& x = driver.simulator().state();
     r.max_abs_q1 = std::max(r.max_abs_q1, std::abs(x.q1));
     r.max_abs_q2 = std::max(r.max_abs_q2, std::abs(x.q2));

@@ -22,6 +22,7 @@
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/ros/bag_writer.h"
 #include "kane_sim/sim/csv_format.h"
+#include "kane_sim/sim/profile_commands.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/sweep.h"
 #include "kane_sim/sim/torque_profile.h"
@@ -391,7 +392,8 @@ int run(const Options& options) {
 
   Outputs out(options, config);
   const auto wall_start = std::chrono::steady_clock::now();
-  driver.command(options.profile->at(driver.time()));
+  kane_sim::ProfileCommands commands(*options.profile, config.command.timeout);
+  commands.update(driver);
   out.write(driver.snapshot());
   for (long row = 1; row <= rows; ++row) {
     for (long i = 0; i < steps_per_row; ++i) {
@@ -399,7 +401,7 @@ int run(const Options& options) {
         out.finish();  // what was simulated up to the refusal stays readable
         return kExitStepRefused;
       }
-      driver.command(options.profile->at(driver.time()));
+      commands.update(driver);
     }
     out.write(driver.snapshot());
   }

@@ -1,0 +1,42 @@
+// A torque profile fed to the driver as the command stream a node would send, for the offline
+// tools (`simulate`, sweeps): a command whenever the profile's value changes, and at least every
+// half command timeout so the timeout never lapses. The applied torque is the same as with a
+// command at every step (a lapse needs a gap longer than the timeout: with dt > timeout/2 this
+// still commands every step), without a command's bookkeeping at every step.
+#ifndef KANE_SIM_SIM_PROFILE_COMMANDS_H
+#define KANE_SIM_SIM_PROFILE_COMMANDS_H
+
+#include "kane_sim/sim/sim_driver.h"
+#include "kane_sim/sim/torque_profile.h"
+
+namespace kane_sim {
+
+class ProfileCommands {
+ public:
+  // timeout: command.timeout [s] of the driver's config (0 = none).
+  ProfileCommands(const TorqueProfile& profile, double timeout)
+      : profile_(profile), refresh_(timeout > 0 ? 0.5 * timeout : -1.0) {}
+
+  // Commands the profile's value at driver.time() when due (always on the first call).
+  void update(SimDriver& driver) {
+    const double now = driver.time();
+    const double torque = profile_.at(now);
+    if (first_ || torque != last_torque_ || (refresh_ >= 0 && now - last_time_ >= refresh_)) {
+      driver.command(torque);
+      first_ = false;
+      last_torque_ = torque;
+      last_time_ = now;
+    }
+  }
+
+ private:
+  const TorqueProfile& profile_;
+  double refresh_;  // [s] re-send at least this often; < 0: only on change
+  bool first_ = true;
+  double last_torque_ = 0.0;
+  double last_time_ = 0.0;
+};
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_SIM_PROFILE_COMMANDS_H
