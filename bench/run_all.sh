@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
-# One command for the whole benchmark suite (about 5 minutes): core throughput, the offline
-# tool at length, kane_sim against SymPy + SciPy with the accuracy table, and the live node.
+# One command for the whole benchmark suite (about 6 minutes): core throughput against the
+# closed-form floor, kane_sim against MuJoCo (cost and agreement), the offline tool at length
+# and a sweep, kane_sim against SymPy + SciPy with the accuracy table, and the live node.
 # Installs what it needs (Debian packages), builds, and prints Markdown tables.
 # Usage: bench/run_all.sh [NODE_SECONDS_PER_CASE (default 60)]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install_deps.sh
 missing=()
-for p in python3-scipy; do
+for p in python3-scipy libmujoco-dev; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -gt 0 ]; then
@@ -26,7 +27,10 @@ set -u
 echo "## Core throughput (Google Benchmark)"
 "$build/devel/lib/kane_sim/bench_core" --benchmark_min_time=1 --benchmark_repetitions=3 \
   --benchmark_report_aggregates_only=true 2>/dev/null
-echo; echo "## simulate, 600 s simulated at 1 kHz"
+echo; echo "## Against MuJoCo (RK4, dt = 1 ms, same mechanism and parameters)"
+"$build/devel/lib/kane_sim/bench_peers" --benchmark_min_time=1 --benchmark_repetitions=3 \
+  --benchmark_report_aggregates_only=true 2>/dev/null
+echo; echo "## simulate: 600 s and 3600 s simulated at 1 kHz, a 1000-case sweep"
 bench/simulate_perf.sh "$build"
 echo; echo "## Against SymPy + SciPy; accuracy"
 /usr/bin/python3 bench/compare_sympy.py "$build"
