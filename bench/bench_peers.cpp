@@ -54,15 +54,18 @@ void printAgreement() {
   runKaneSim(reference_config, reference);
   runKaneSim(base, kane);
 
-  std::printf("Agreement with a tight reference (kane_sim dopri5 at 1e-12), torque %g N m held,\n"
-              "both peers RK4 at dt = %g s (MuJoCo %s)\n\n",
-              kTorque, kStep, mj_versionString());
-  std::printf("| peer | abs(q1 error) 1 s [rad] | abs(q2 error) 1 s [m] | abs(q1 error) 10 s "
-              "[rad] | abs(q2 error) 10 s [m] | max loop-closure error [m] |\n"
-              "|---|---|---|---|---|---|\n");
-  std::printf("| kane_sim rk4 (generated) | %.2e | %.2e | %.2e | %.2e | 0 (minimal coordinates) |\n",
-              std::abs(kane[0].q1 - reference[0].q1), std::abs(kane[0].q2 - reference[0].q2),
-              std::abs(kane[1].q1 - reference[1].q1), std::abs(kane[1].q2 - reference[1].q2));
+  std::printf(
+      "Agreement with a tight reference (kane_sim dopri5 at 1e-12), torque %g N m held,\n"
+      "both peers RK4 at dt = %g s (MuJoCo %s)\n\n",
+      kTorque, kStep, mj_versionString());
+  std::printf(
+      "| peer | abs(q1 error) 1 s [rad] | abs(q2 error) 1 s [m] | abs(q1 error) 10 s "
+      "[rad] | abs(q2 error) 10 s [m] | max loop-closure error [m] |\n"
+      "|---|---|---|---|---|---|\n");
+  std::printf(
+      "| kane_sim rk4 (generated) | %.2e | %.2e | %.2e | %.2e | 0 (minimal coordinates) |\n",
+      std::abs(kane[0].q1 - reference[0].q1), std::abs(kane[0].q2 - reference[0].q2),
+      std::abs(kane[1].q1 - reference[1].q1), std::abs(kane[1].q2 - reference[1].q2));
   for (LoopClosure closure : {LoopClosure::kMujocoDefault, LoopClosure::kStiff}) {
     MujocoMechanism mujoco(base, kStep, closure);
     mujoco.setTorque(kTorque);

@@ -47,12 +47,13 @@ inline std::string mechanismMjcf(const Config& c, double dt, LoopClosure closure
     << "    <body name=\"rod1\">\n"
     << "      <joint name=\"crank\" type=\"hinge\" axis=\"0 0 1\"/>\n"
     << "      <inertial pos=\"" << L << " 0 0\" mass=\"" << p.rod_mass << "\" diaginertia=\"1e-9 "
-    << p.rod_inertia << " " << p.rod_inertia << "\"/>\n"
+    << p.rod_inertia << " " << p.rod_inertia
+    << "\"/>\n"
     // Rod 2 (AB): hinge at A, its angle relative to rod 1 (-2 q1 when B is on the rail).
     << "      <body name=\"rod2\" pos=\"" << 2 * L << " 0 0\">\n"
     << "        <joint name=\"coupler\" type=\"hinge\" axis=\"0 0 1\"/>\n"
-    << "        <inertial pos=\"" << L << " 0 0\" mass=\"" << p.rod_mass
-    << "\" diaginertia=\"1e-9 " << p.rod_inertia << " " << p.rod_inertia << "\"/>\n"
+    << "        <inertial pos=\"" << L << " 0 0\" mass=\"" << p.rod_mass << "\" diaginertia=\"1e-9 "
+    << p.rod_inertia << " " << p.rod_inertia << "\"/>\n"
     << "        <site name=\"rod2_end\" pos=\"" << 2 * L << " 0 0\"/>\n"
     << "      </body>\n"
     << "    </body>\n"
@@ -60,8 +61,8 @@ inline std::string mechanismMjcf(const Config& c, double dt, LoopClosure closure
     // places connect's anchor on body 2 where it is in the reference configuration (qpos = 0,
     // both rods along x, B at 4L): slider 3's body sits there, its qpos is x_B - 4L.
     << "    <body name=\"slider3\" pos=\"" << 4 * L << " 0 0\">\n"
-    << "      <joint name=\"slider3\" type=\"slide\" axis=\"1 0 0\" springref=\""
-    << x_b0 - 4 * L << "\"/>\n"
+    << "      <joint name=\"slider3\" type=\"slide\" axis=\"1 0 0\" springref=\"" << x_b0 - 4 * L
+    << "\"/>\n"
     << "      <inertial pos=\"0 0 0\" mass=\"" << p.slider3_mass
     << "\" diaginertia=\"1e-9 1e-9 1e-9\"/>\n"
     << "      <site name=\"slider3\"/>\n"
@@ -107,7 +108,7 @@ class MujocoMechanism {
     const double q1 = c.initial_state.q1;
     const double L = c.mechanism.rod_half_length;
     qpos(kCrank) = q1;
-    qpos(kCoupler) = -2 * q1;  // rod 2 at -q1 absolute
+    qpos(kCoupler) = -2 * q1;                       // rod 2 at -q1 absolute
     qpos(kSlider3) = 4 * L * std::cos(q1) - 4 * L;  // x_B - 4L (see mechanismMjcf)
     qpos(kSlider4) = c.initial_state.q2;
     qvel(kCrank) = c.initial_state.u1;

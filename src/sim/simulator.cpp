@@ -168,9 +168,9 @@ Status Simulator::stepWith(const Equations& equations) {
   last_derivative_valid_ = !error;
   if (error) {
     std::ostringstream msg;
-    msg << error << " at t = " << time() << " s (q1 = " << state_.q1
-        << ", q2 = " << state_.q2 << ", u1 = " << state_.u1 << ", u2 = " << state_.u2
-        << ", M_m = " << torque_ << "); step refused, state kept";
+    msg << error << " at t = " << time() << " s (q1 = " << state_.q1 << ", q2 = " << state_.q2
+        << ", u1 = " << state_.u1 << ", u2 = " << state_.u2 << ", M_m = " << torque_
+        << "); step refused, state kept";
     return {false, msg.str()};
   }
   const State next = fromOdeState(x);

@@ -87,7 +87,8 @@ SweepPlan sweepGrid(const std::vector<SweepAxis>& axes) {
     total *= static_cast<double>(axis.values.size());
   }
   if (axes.empty() || total > kMaxCases)
-    throw std::invalid_argument("a sweep needs 1 to " + std::to_string(static_cast<long>(kMaxCases)) +
+    throw std::invalid_argument("a sweep needs 1 to " +
+                                std::to_string(static_cast<long>(kMaxCases)) +
                                 " cases, the grid has " + std::to_string(total));
   std::vector<size_t> at(axes.size(), 0);
   for (long c = 0; c < static_cast<long>(total); ++c) {
@@ -140,7 +141,8 @@ Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t ind
   YAML::Node root = YAML::Clone(base);
   for (size_t k = 0; k < plan.keys.size(); ++k) {
     const std::vector<std::string> parts = split(plan.keys[k], '.');
-    if (!root[parts[0]] || root[parts[0]].IsNull()) root[parts[0]] = YAML::Node(YAML::NodeType::Map);
+    if (!root[parts[0]] || root[parts[0]].IsNull())
+      root[parts[0]] = YAML::Node(YAML::NodeType::Map);
     if (!root[parts[0]].IsMap())
       throw ConfigError(plan.keys[k], "cannot be set: '" + parts[0] + "' is not a section");
     root[parts[0]][parts[1]] = plan.cases[index][k];
@@ -189,7 +191,8 @@ SweepResult runSweepCase(const Config& config, const SweepSettings& settings) {
   r.contact_impacts = sim.contactImpacts();
   r.slider_crossings = sim.sliderCrossings();
   r.steps = sim.ticks();
-  r.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  r.wall_time =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return r;
 }
 
@@ -235,12 +238,11 @@ void writeSweepCsvRow(std::ostream& out, const SweepPlan& plan, size_t index,
   };
   out << index;
   for (double v : plan.cases[index]) out << ',' << num(v);
-  out << ',' << r.status << ',' << num(r.time) << ',' << num(r.final_state.q1)
-      << ',' << num(r.final_state.q2) << ',' << num(r.final_state.u1) << ','
-      << num(r.final_state.u2) << ',' << num(r.max_abs_q1) << ',' << num(r.max_abs_q2) << ','
-      << num(r.ledger_error) << ',' << num(r.motor_work) << ',' << num(r.dissipated_energy) << ','
-      << r.contact_impacts << ',' << r.slider_crossings << ',' << r.steps << ','
-      << num(r.wall_time) << '\n';
+  out << ',' << r.status << ',' << num(r.time) << ',' << num(r.final_state.q1) << ','
+      << num(r.final_state.q2) << ',' << num(r.final_state.u1) << ',' << num(r.final_state.u2)
+      << ',' << num(r.max_abs_q1) << ',' << num(r.max_abs_q2) << ',' << num(r.ledger_error) << ','
+      << num(r.motor_work) << ',' << num(r.dissipated_energy) << ',' << r.contact_impacts << ','
+      << r.slider_crossings << ',' << r.steps << ',' << num(r.wall_time) << '\n';
 }
 
 }  // namespace kane_sim

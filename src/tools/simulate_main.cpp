@@ -78,7 +78,8 @@ po::options_description describeOptions() {
       "  --torque-csv FILE           lines 't,torque' (optional header), each value held from\n"
       "                              its time on, 0 before the first; times non-decreasing\n\n"
       "Sweeps (many cases in one process, spread over the cores; one CSV row per case with the\n"
-      "final state, max |q1|, max |q2|, the ledger error max|E + D - W - (E + D - W)(0)| at 10 Hz,\n"
+      "final state, max |q1|, max |q2|, the ledger error max|E + D - W - (E + D - W)(0)| at 10 "
+      "Hz,\n"
       "W, D, impacts, crossings, steps and wall time; the same torque for every case):\n"
       "  --sweep KEY=START:STOP:COUNT  COUNT values of a config key (section.key, e.g.\n"
       "                              mechanism.spring_stiffness) from START to STOP; repeat for\n"
@@ -355,9 +356,9 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
   }
   out->flush();
   if (!*out) throw OutputError("writing the CSV failed (disk full?)");
-  std::cerr << "swept " << results.size() << " cases (" << failed << " not ok) of " << options.duration
-            << " s each, torque " << options.profile->describe() << ": " << steps
-            << " physics steps, wall time " << wall << " s, "
+  std::cerr << "swept " << results.size() << " cases (" << failed << " not ok) of "
+            << options.duration << " s each, torque " << options.profile->describe() << ": "
+            << steps << " physics steps, wall time " << wall << " s, "
             << (wall > 0 ? results.size() / wall : 0.0) << " cases/s, "
             << (wall > 0 ? steps / wall : 0.0) << " steps/s\n";
   return failed ? kExitStepRefused : 0;

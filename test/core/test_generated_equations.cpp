@@ -68,8 +68,9 @@ SpeedVector termSizes(const MechanismModel& model, const State& x, double comman
   add(l.coupler_damper_on_rod2);
   add(l.slider3_damper);
   add(l.slider4_damper);
-  const double spring_size = p.spring_stiffness * (std::abs(x.q2) + std::abs(model.springRestLength()) +
-                                                   4 * p.rod_half_length);
+  const double spring_size =
+      p.spring_stiffness *
+      (std::abs(x.q2) + std::abs(model.springRestLength()) + 4 * p.rod_half_length);
   for (const auto* at : {&l.spring_on_slider3, &l.spring_on_slider4})
     sizes += spring_size * at->partial_velocity.row(0).transpose().cwiseAbs();
   const MechanismModel::Equations eq = MechanismModel::equations(k, l, x);
@@ -113,17 +114,17 @@ TEST_P(GeneratedEquations, RatesMatchTheGenericAssemblyAtRandomStates) {
       const double error = std::abs(got[i] - want[i]);
       worst = std::max(worst, error / std::max(scales[j], 1e-300));
       ASSERT_LE(error, 1e-13 * scales[j])
-          << GetParam().name << " component " << i << " trial " << trial << ": generated "
-          << got[i] << " generic " << want[i] << " term size " << scales[j];
+          << GetParam().name << " component " << i << " trial " << trial << ": generated " << got[i]
+          << " generic " << want[i] << " term size " << scales[j];
     }
   }
   std::cout << GetParam().name << ": worst difference / term size " << worst << "\n";
 }
 
 // The two paths through the Simulator, each by rk4 at 1 kHz: after 20 s of the case's motion
-// the states agree to the case's `agreement` (relative to 1 + |value|), W and D too. Regular motions only: where the motion
-// is chaotic (the crank spun over the top by a strong drive) any two summation orders part
-// exponentially, and no tolerance would be meaningful.
+// the states agree to the case's `agreement` (relative to 1 + |value|), W and D too. Regular
+// motions only: where the motion is chaotic (the crank spun over the top by a strong drive) any two
+// summation orders part exponentially, and no tolerance would be meaningful.
 TEST_P(GeneratedEquations, TrajectoriesOfBothPathsAgreeOver20Seconds) {
   Config c = withOptions(test::defaultConfig(), GetParam());
   c.initial_state.u2 = GetParam().u20;

@@ -26,9 +26,9 @@ TEST(Sweep, AxisGivesCountValuesFromStartToStop) {
 }
 
 TEST(Sweep, BadAxesAreRefusedNamingThePart) {
-  const char* bad[] = {"spring_stiffness=1:2:3",  "mechanism.k=1:2",   "mechanism.k=1:2:0",
-                       "mechanism.k=1:x:3",       "mechanism.k=1:2:2.5", "mechanism.k",
-                       "mechanism.k=nan:1:2",     "a.b.c=1:2:3"};
+  const char* bad[] = {"spring_stiffness=1:2:3", "mechanism.k=1:2",     "mechanism.k=1:2:0",
+                       "mechanism.k=1:x:3",      "mechanism.k=1:2:2.5", "mechanism.k",
+                       "mechanism.k=nan:1:2",    "a.b.c=1:2:3"};
   for (const char* spec : bad) EXPECT_THROW(parseSweepAxis(spec), std::invalid_argument) << spec;
   try {
     parseSweepAxis("mechanism.gravity=1:x:3");
@@ -53,7 +53,8 @@ TEST(Sweep, GridIsEveryCombinationLastAxisFastest) {
 }
 
 TEST(Sweep, CsvPlanReadsKeysAndRowsAndNamesBadLines) {
-  std::istringstream good("# a comment\nmechanism.gravity, damping.crank_joint\n9.81,0\n1.62,0.1\n");
+  std::istringstream good(
+      "# a comment\nmechanism.gravity, damping.crank_joint\n9.81,0\n1.62,0.1\n");
   const SweepPlan plan = sweepFromCsv(good);
   EXPECT_EQ(plan.keys, (std::vector<std::string>{"mechanism.gravity", "damping.crank_joint"}));
   ASSERT_EQ(plan.cases.size(), 2u);

@@ -127,9 +127,9 @@ TEST_F(Options, MotorLineSetAtRuntimeLimitsTheAppliedTorque) {
   }
   // Offline the same line swings u1 within [-27, 57] rad/s (README); without it > 100.
   EXPECT_LT(max_speed, 80.0);
-  EXPECT_TRUE(std::any_of(ms.begin(), ms.end(),
-                          [](const MechanismState& m) { return m.applied_torque < 40.0; }))
-      << "the line never acted";
+  EXPECT_TRUE(std::any_of(ms.begin(), ms.end(), [](const MechanismState& m) {
+    return m.applied_torque < 40.0;
+  })) << "the line never acted";
 }
 
 }  // namespace

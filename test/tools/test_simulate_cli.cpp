@@ -185,8 +185,8 @@ TEST(SimulateCli, SweepRowsMatchSingleRuns) {
   std::string header;
   std::istringstream lines(text.str());
   std::getline(lines, header);
-  EXPECT_EQ(header.rfind("case,mechanism.slider4_mass,damping.crank_joint,status,t,q1,q2,u1,u2,", 0),
-            0u)
+  EXPECT_EQ(
+      header.rfind("case,mechanism.slider4_mass,damping.crank_joint,status,t,q1,q2,u1,u2,", 0), 0u)
       << header;
   std::vector<std::string> rows;
   for (std::string line; std::getline(lines, line);) rows.push_back(line);
@@ -203,7 +203,8 @@ TEST(SimulateCli, SweepRowsMatchSingleRuns) {
   config.replace(config.find(from), from.size(), "  crank_joint: 0.5");
   const std::string path = ::testing::TempDir() + "/damped.yaml";
   std::ofstream(path) << config;
-  const RunResult single = runSimulate("--config " + path + " --duration 1 --torque 3 --output-rate 1");
+  const RunResult single =
+      runSimulate("--config " + path + " --duration 1 --torque 3 --output-rate 1");
   ASSERT_EQ(single.exit_code, 0) << single.err;
   std::string single_header;
   const auto single_rows = parseRows(single.out, &single_header);

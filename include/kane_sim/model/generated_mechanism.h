@@ -31,18 +31,18 @@ class GeneratedMechanism {
   static generated::Constants constantsOf(const MechanismModel& model) {
     const MechanismParameters& p = model.parameters();
     generated::Constants c;
-    c.rod_mass = p.rod_mass;                      // m
-    c.rod_half_length = p.rod_half_length;        // L
-    c.rod_inertia = p.rod_inertia;                // I1z = I2z
-    c.slider3_mass = p.slider3_mass;              // M1
-    c.slider4_mass = p.slider4_mass;              // M2
-    c.spring_stiffness = p.spring_stiffness;      // k
-    c.gravity = p.gravity;                        // g
+    c.rod_mass = p.rod_mass;                  // m
+    c.rod_half_length = p.rod_half_length;    // L
+    c.rod_inertia = p.rod_inertia;            // I1z = I2z
+    c.slider3_mass = p.slider3_mass;          // M1
+    c.slider4_mass = p.slider4_mass;          // M2
+    c.spring_stiffness = p.spring_stiffness;  // k
+    c.gravity = p.gravity;                    // g
     c.spring_rest_length = model.springRestLength();
-    c.crank_damping = p.damping.crank;            // c_O
-    c.coupler_damping = p.damping.coupler;        // c_A
-    c.slider3_damping = p.damping.slider3;        // c_B
-    c.slider4_damping = p.damping.slider4;        // c_C
+    c.crank_damping = p.damping.crank;      // c_O
+    c.coupler_damping = p.damping.coupler;  // c_A
+    c.slider3_damping = p.damping.slider3;  // c_B
+    c.slider4_damping = p.damping.slider4;  // c_C
     return c;
   }
 

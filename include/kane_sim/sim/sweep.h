@@ -60,11 +60,11 @@ struct SweepResult {
   std::string status = "config_refused";
   std::string error;  // why, when not ok
   State final_state;
-  double time = 0.0;           // [s] simulated
-  double max_abs_q1 = 0.0;     // [rad]
-  double max_abs_q2 = 0.0;     // [m]
-  double ledger_error = 0.0;   // [J] max |(E + D - W)(t) - (E + D - W)(0)| at the samples
-  double motor_work = 0.0;     // [J] W
+  double time = 0.0;               // [s] simulated
+  double max_abs_q1 = 0.0;         // [rad]
+  double max_abs_q2 = 0.0;         // [m]
+  double ledger_error = 0.0;       // [J] max |(E + D - W)(t) - (E + D - W)(0)| at the samples
+  double motor_work = 0.0;         // [J] W
   double dissipated_energy = 0.0;  // [J] D
   std::uint64_t contact_impacts = 0;
   std::uint64_t slider_crossings = 0;
