@@ -15,13 +15,18 @@ namespace kane_sim {
 class GeneratedMechanism {
  public:
   explicit GeneratedMechanism(const MechanismModel& model)
-      : constants_(constantsOf(model)), motor_(model.parameters().motor) {}
+      : constants_(constantsOf(model)),
+        motor_(model.parameters().motor),
+        damped_(!(model.parameters().damping == JointDamping{})) {}
 
   // As MechanismModel::stateDerivative: q' = u, u' (eq 18), W' = M_m u1, D' (dampers' power),
   // with M_m the motor line's torque at u1 for the command.
   OdeState stateDerivative(const State& x, double motor_command) const {
     const double torque = motorLineTorque(motor_, motor_command, x.u1);  // M_m
-    const generated::Rates r = generated::rates(constants_, x.q1, x.q2, x.u1, x.u2, torque);
+    // Without dampers the shorter generated variant (the branch is the same every call).
+    const generated::Rates r =
+        damped_ ? generated::rates(constants_, x.q1, x.q2, x.u1, x.u2, torque)
+                : generated::ratesUndamped(constants_, x.q1, x.q2, x.u1, x.u2, torque);
     return {x.u1, x.u2, r.u1_dot, r.u2_dot, torque * x.u1, r.dissipated_power};
   }
 
@@ -48,6 +53,7 @@ class GeneratedMechanism {
 
   generated::Constants constants_;
   MotorLine motor_;
+  bool damped_;  // any joint damper non-zero
 };
 
 }  // namespace kane_sim
