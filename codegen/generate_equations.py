@@ -9,7 +9,7 @@ k, g, the spring's rest separation, the four joint dampers and the applied drive
 impulses between steps). The generic Kane assembly (src/model/mechanism_model.cpp) remains the
 readable reference and the tests' oracle.
 
-Usage (regenerate after changing the derivation; test/tools/codegen_test.py fails otherwise):
+Usage (regenerate after changing the derivation; test/tools/codegen_test.sh fails otherwise):
     codegen/generate_equations.py [OUTPUT]       (default: the header above)
     codegen/generate_equations.py --check FILE   (exit 1 if FILE differs from a fresh derivation)
 Debian 12's python3-sympy (1.11) generated the committed header.
