@@ -5,30 +5,17 @@
 #include <stdexcept>
 #include <string>
 
+#include "kane_sim/ros/node_params.h"
+
 namespace kane_sim {
-namespace {
-
-double readParam(const ros::NodeHandle& pnh, const std::string& name, double fallback,
-                 bool non_negative) {
-  double value = fallback;
-  if (pnh.hasParam(name) && !pnh.getParam(name, value))
-    throw std::invalid_argument("parameter " + pnh.resolveName(name) + " must be a number");
-  if (!std::isfinite(value) || (non_negative && value < 0))
-    throw std::invalid_argument("parameter " + pnh.resolveName(name) + " must be finite" +
-                                (non_negative ? " and >= 0" : "") + ", got " +
-                                std::to_string(value));
-  return value;
-}
-
-}  // namespace
 
 PdControllerNode::PdControllerNode(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh)
     : nh_(nh) {
   const PdGains defaults;
-  gains_.kp = readParam(private_nh, "kp", defaults.kp, true);
-  gains_.kd = readParam(private_nh, "kd", defaults.kd, true);
-  gains_.torque_limit = readParam(private_nh, "torque_limit", defaults.torque_limit, true);
-  setpoint_ = readParam(private_nh, "setpoint", 0.0, false);
+  gains_.kp = boundedParam(private_nh, "kp", defaults.kp, ParamBound::kNonNegative);
+  gains_.kd = boundedParam(private_nh, "kd", defaults.kd, ParamBound::kNonNegative);
+  gains_.torque_limit = boundedParam(private_nh, "torque_limit", defaults.torque_limit, ParamBound::kNonNegative);
+  setpoint_ = boundedParam(private_nh, "setpoint", 0.0, ParamBound::kAnyFinite);
   torque_pub_ = nh_.advertise<std_msgs::Float64>("torque_command", 10);
   joint_state_sub_ = nh_.subscribe("joint_states", 10, &PdControllerNode::onJointState, this,
                                    ros::TransportHints().tcpNoDelay());

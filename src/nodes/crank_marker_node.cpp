@@ -8,6 +8,7 @@
 
 #include "kane_sim/description/body_shapes.h"
 #include "kane_sim/description/frame_names.h"
+#include "kane_sim/ros/node_params.h"
 #include "kane_sim/teleop/crank_angle.h"
 
 namespace kane_sim {
@@ -101,13 +102,7 @@ visualization_msgs::InteractiveMarker crankMarker(const std::string& frame, doub
 
 CrankMarkerNode::CrankMarkerNode(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh)
     : nh_(nh), frame_(mechanismFrame(nh, private_nh)), server_("crank_marker") {
-  double scale = 0.6;
-  if (private_nh.hasParam("scale") && !private_nh.getParam("scale", scale))
-    throw std::invalid_argument("parameter " + private_nh.resolveName("scale") +
-                                " must be a number");
-  if (!std::isfinite(scale) || scale <= 0)
-    throw std::invalid_argument("parameter " + private_nh.resolveName("scale") +
-                                " must be finite and > 0, got " + std::to_string(scale));
+  const double scale = boundedParam(private_nh, "scale", 0.6, ParamBound::kPositive);  // [m]
   setpoint_pub_ = nh_.advertise<std_msgs::Float64>("setpoint", 10, /*latch=*/true);
   setpoint_sub_ = nh_.subscribe("setpoint", 10, &CrankMarkerNode::onSetpoint, this);
   server_.insert(crankMarker(frame_, scale),

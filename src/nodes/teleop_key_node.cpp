@@ -9,19 +9,18 @@
 
 #include <std_msgs/Float64.h>
 
+#include "kane_sim/ros/node_params.h"
+
 namespace kane_sim {
 
 TeleopKeyParams readTeleopKeyParams(const ros::NodeHandle& pnh) {
   TeleopKeyParams params;
   TeleopSettings& settings = params.teleop;
-  const auto number = [&](const std::string& name, double& value) {
-    if (pnh.hasParam(name) && !pnh.getParam(name, value))
-      throw std::invalid_argument("parameter " + pnh.resolveName(name) + " must be a number");
-  };
-  number("torque_step", settings.torque_step);
-  number("torque_limit", settings.torque_limit);
-  number("setpoint_step", settings.setpoint_step);
-  number("repeat_rate", params.repeat_rate);
+  // Read as numbers here; their ranges are the key map's (validate) and the repeat rate's.
+  settings.torque_step = numberParam(pnh, "torque_step", settings.torque_step);
+  settings.torque_limit = numberParam(pnh, "torque_limit", settings.torque_limit);
+  settings.setpoint_step = numberParam(pnh, "setpoint_step", settings.setpoint_step);
+  params.repeat_rate = numberParam(pnh, "repeat_rate", params.repeat_rate);
   std::string mode = "torque";
   if (pnh.hasParam("mode") && !pnh.getParam("mode", mode))
     throw std::invalid_argument("parameter " + pnh.resolveName("mode") +

@@ -82,4 +82,29 @@ TEST(BadParam, NoParametersAtAllSaysWhatToLoad) {
   EXPECT_NE(out.output.find("config/mechanism.yaml"), std::string::npos) << out.output;
 }
 
+// The small nodes' numeric private parameters (kane_sim/ros/node_params.h): not a number, not
+// finite or out of range stops them with exit 1 naming the parameter and the value.
+TEST(BadParam, SmallNodesRefuseBadNumbersNamingThem) {
+  struct Case {
+    const char* command;
+    const char* message;
+  };
+  const Case cases[] = {
+      {"pd_controller __name:=pd_bad _kp:=-1", "parameter /pd_bad/kp must be finite and >= 0"},
+      {"pd_controller __name:=pd_text _setpoint:=left",
+       "parameter /pd_text/setpoint must be a number"},
+      {"crank_marker __name:=marker_bad _scale:=0",
+       "parameter /marker_bad/scale must be finite and > 0"},
+      {"teleop_key __name:=teleop_bad _repeat_rate:=fast",
+       "parameter /teleop_bad/repeat_rate must be a number"},
+  };
+  for (const Case& c : cases) {
+    const kane_sim::test::CommandResult r = kane_sim::test::runCommand(
+        std::string("timeout 30 rosrun kane_sim ") + c.command + " </dev/null");
+    EXPECT_EQ(r.exit_code, 1) << c.command << ": " << r.out << r.err;
+    EXPECT_NE((r.out + r.err).find(c.message), std::string::npos)
+        << c.command << ": " << r.out << r.err;
+  }
+}
+
 }  // namespace
