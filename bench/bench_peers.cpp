@@ -2,10 +2,12 @@
 // parameters, same held torque, both by RK4 at dt = 1 ms:
 //  1. agreement: q1, q2 after 1 s and 10 s against a tight reference (kane_sim, dopri5 at
 //     1e-12), and MuJoCo's loop-closure error (its soft equality constraint), for MuJoCo's
-//     default constraint softness and the stiffest its integrator safety allows;
+//     default constraint softness and the stiffest its integrator safety allows; and, when
+//     Debian's libsimbody-dev is installed, Simbody (exact loop closure) as an accuracy peer;
 //  2. cost: one step of each (Google Benchmark), with the ratio in the same run.
 //   $KANE_SIM_BUILD_DIR/devel/lib/kane_sim/bench_peers [--benchmark_min_time=1]
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -15,6 +17,9 @@
 #include "kane_sim/sim/simulator.h"
 #include "mujoco_mechanism.h"
 #include "ratio_reporter.h"
+#ifdef KANE_SIM_HAVE_SIMBODY
+#include "simbody_mechanism.h"
+#endif
 
 namespace {
 
@@ -32,8 +37,13 @@ struct Sample {
   double q1 = 0, q2 = 0;
 };
 
-// kane_sim's state at 1 s and 10 s.
-void runKaneSim(kane_sim::Config c, Sample out[2]) {
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// kane_sim's state at 1 s and 10 s; returns the wall time of the run [s].
+double runKaneSim(kane_sim::Config c, Sample out[2]) {
+  const auto start = std::chrono::steady_clock::now();
   kane_sim::Simulator sim(c);
   sim.setTorque(kTorque);
   const int steps_at[2] = {static_cast<int>(std::lround(1.0 * c.simulation.physics_rate)),
@@ -42,6 +52,15 @@ void runKaneSim(kane_sim::Config c, Sample out[2]) {
     sim.step();
     if (i == steps_at[k]) out[k++] = {sim.state().q1, sim.state().q2};
   }
+  return secondsSince(start);
+}
+
+void printRow(const char* peer, const Sample at[2], const Sample reference[2], double wall,
+              const char* loop_error) {
+  std::printf("| %s | %.2e | %.2e | %.2e | %.2e | %s | %.2f |\n", peer,
+              std::abs(at[0].q1 - reference[0].q1), std::abs(at[0].q2 - reference[0].q2),
+              std::abs(at[1].q1 - reference[1].q1), std::abs(at[1].q2 - reference[1].q2),
+              loop_error, 1e3 * wall);
 }
 
 void printAgreement() {
@@ -52,21 +71,20 @@ void printAgreement() {
   reference_config.simulation.relative_tolerance = 1e-12;
   Sample reference[2], kane[2];
   runKaneSim(reference_config, reference);
-  runKaneSim(base, kane);
+  const double kane_wall = runKaneSim(base, kane);
 
   std::printf(
       "Agreement with a tight reference (kane_sim dopri5 at 1e-12), torque %g N m held,\n"
-      "both peers RK4 at dt = %g s (MuJoCo %s)\n\n",
-      kTorque, kStep, mj_versionString());
+      "10 s simulated; MuJoCo %s RK4 at dt = %g s like kane_sim's rk4\n\n",
+      kTorque, mj_versionString(), kStep);
   std::printf(
       "| peer | abs(q1 error) 1 s [rad] | abs(q2 error) 1 s [m] | abs(q1 error) 10 s "
-      "[rad] | abs(q2 error) 10 s [m] | max loop-closure error [m] |\n"
-      "|---|---|---|---|---|---|\n");
-  std::printf(
-      "| kane_sim rk4 (generated) | %.2e | %.2e | %.2e | %.2e | 0 (minimal coordinates) |\n",
-      std::abs(kane[0].q1 - reference[0].q1), std::abs(kane[0].q2 - reference[0].q2),
-      std::abs(kane[1].q1 - reference[1].q1), std::abs(kane[1].q2 - reference[1].q2));
+      "[rad] | abs(q2 error) 10 s [m] | max loop-closure error [m] | wall time of 10 s [ms] |\n"
+      "|---|---|---|---|---|---|---|\n");
+  printRow("kane_sim rk4 (generated)", kane, reference, kane_wall, "0 (minimal coordinates)");
+  char text[32];
   for (LoopClosure closure : {LoopClosure::kMujocoDefault, LoopClosure::kStiff}) {
+    const auto start = std::chrono::steady_clock::now();
     MujocoMechanism mujoco(base, kStep, closure);
     mujoco.setTorque(kTorque);
     Sample at[2];
@@ -77,13 +95,34 @@ void printAgreement() {
       if (i == 1000) at[0] = {mujoco.q1(), mujoco.q2()};
       if (i == 10000) at[1] = {mujoco.q1(), mujoco.q2()};
     }
-    std::printf("| MuJoCo RK4, %s | %.2e | %.2e | %.2e | %.2e | %.2e |\n",
-                closure == LoopClosure::kStiff ? "stiff loop (solref 2 dt, solimp 0.9999)"
-                                               : "default solref/solimp",
-                std::abs(at[0].q1 - reference[0].q1), std::abs(at[0].q2 - reference[0].q2),
-                std::abs(at[1].q1 - reference[1].q1), std::abs(at[1].q2 - reference[1].q2),
-                worst_loop);
+    const double wall = secondsSince(start);
+    std::snprintf(text, sizeof(text), "%.2e", worst_loop);
+    printRow(closure == LoopClosure::kStiff ? "MuJoCo RK4, stiff loop (solref 2 dt, solimp 0.9999)"
+                                            : "MuJoCo RK4, default solref/solimp",
+             at, reference, wall, text);
   }
+#ifdef KANE_SIM_HAVE_SIMBODY
+  for (double accuracy : {1e-6, 1e-10}) {
+    const auto start = std::chrono::steady_clock::now();
+    kane_sim::bench::SimbodyMechanism simbody(base, kTorque, accuracy);
+    Sample at[2];
+    double worst_loop = 0.0;
+    for (int i = 1; i <= 1000; ++i) {  // every 10 ms: the loop-closure error, and 1 s, 10 s
+      simbody.advanceTo(i * 0.01);
+      worst_loop = std::max(worst_loop, simbody.loopClosureError());
+      if (i == 100) at[0] = {simbody.q1(), simbody.q2()};
+      if (i == 1000) at[1] = {simbody.q1(), simbody.q2()};
+    }
+    const double wall = secondsSince(start);
+    std::snprintf(text, sizeof(text), "%.2e", worst_loop);
+    int major = 0, minor = 0, build = 0;
+    SimTK_version_simbody(&major, &minor, &build);
+    char peer[64];
+    std::snprintf(peer, sizeof(peer), "Simbody %d.%d RK-Merson, accuracy %g", major, minor,
+                  accuracy);
+    printRow(peer, at, reference, wall, text);
+  }
+#endif
   std::printf("\n");
 }
 

@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install_deps.sh
 missing=()
-for p in python3-scipy libmujoco-dev; do
+for p in python3-scipy libmujoco-dev libsimbody-dev; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -gt 0 ]; then
@@ -27,7 +27,7 @@ set -u
 echo "## Core throughput (Google Benchmark)"
 "$build/devel/lib/kane_sim/bench_core" --benchmark_min_time=1 --benchmark_repetitions=3 \
   --benchmark_report_aggregates_only=true 2>/dev/null
-echo; echo "## Against MuJoCo (RK4, dt = 1 ms, same mechanism and parameters)"
+echo; echo "## Against MuJoCo (RK4, dt = 1 ms) and Simbody, same mechanism and parameters"
 "$build/devel/lib/kane_sim/bench_peers" --benchmark_min_time=1 --benchmark_repetitions=3 \
   --benchmark_report_aggregates_only=true 2>/dev/null
 echo; echo "## simulate: 600 s and 3600 s simulated at 1 kHz, a 1000-case sweep"
