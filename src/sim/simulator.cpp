@@ -241,7 +241,14 @@ Snapshot Simulator::snapshot() const {
   snap.state = state_;
   snap.torque = loads.motor.torque.z();  // what the drive delivers (motor line) at u1
   snap.command.commanded = torque_;
-  snap.u_dot = equations.solveAccelerations();
+  // u' as the integrators step it: from the generated equations on that path (so a check of
+  // the published u' checks the equations in use), else from the assembly; equal to rounding.
+  if (equations_ == EquationsSource::kGenerated) {
+    const OdeState dx = generated_.stateDerivative(state_, torque_);
+    snap.u_dot = SpeedVector(dx[2], dx[3]);
+  } else {
+    snap.u_dot = equations.solveAccelerations();
+  }
   snap.active_forces = equations.active_forces;
   snap.inertia_forces = equations.inertiaForces(snap.u_dot);
   snap.energy = model_.energy(k, state_);

@@ -1,4 +1,5 @@
-// The generic Kane assembly against the textbook's printed results, eqs (13), (15) and (17).
+// The generic Kane assembly against the textbook's printed results, eqs (13), (15) and (17),
+// and the generated equations against the u' those results give.
 //
 // With the textbook inertia (I1z = I2z = m L^2/12, the textbook's script) eqs (13) and F_1 of (17)
 // hold as printed (13 up to the truncated constant 6.1666). Two printed results are wrong; the
@@ -10,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "kane_sim/model/generated_mechanism.h"
 #include "kane_sim/model/mechanism_model.h"
 #include "test_helpers.h"
 
@@ -156,6 +158,30 @@ TEST_F(TextbookEquationsTest, KaneEquationsHoldAtTheSolvedAccelerations) {
     const SpeedVector u_dot = forces.solveAccelerations();
     const SpeedVector residual = forces.inertiaForces(u_dot) + forces.active_forces;
     EXPECT_LT(residual.norm(), 1e-12 * (1 + forces.active_forces.norm()));
+  }
+}
+
+// The generated equations (the integrators' default) against the textbook's eqs (13) and (17)
+// solved for u' as eq (18) says, with the textbook's inertia and F_2's gravity sign corrected:
+// u1' = (F1 + F*1|u'=0) / M11 and u2' = F2 / M2 (M is diagonal).
+TEST_F(TextbookEquationsTest, GeneratedEquationsSolveEq18FromTheTextbooksTerms) {
+  const MechanismParameters& p = config_.mechanism;
+  const double m = p.rod_mass, L = p.rod_half_length, M1 = p.slider3_mass, M2 = p.slider4_mass,
+               k = p.spring_stiffness, g = p.gravity, q10 = config_.initial_state.q1,
+               q20 = config_.initial_state.q2;
+  const GeneratedMechanism generated(model_);
+  for (const RandomInstant& r : randomInstants(500)) {
+    const double q1 = r.x.q1, q2 = r.x.q2, u1 = r.x.u1;
+    const double m11 = (37.0 / 6.0) * m * L * L - 8 * M1 * L * L * (std::cos(2 * q1) - 1) -
+                       4 * m * L * L * std::cos(2 * q1);
+    const double remainder1 = -4 * L * L * (m + 2 * M1) * u1 * u1 * std::sin(2 * q1);
+    const double e = 4 * L * std::cos(q1) - 4 * L * std::cos(q10) - q2 + q20;
+    const double f1 = r.torque - 4 * g * L * (m + M1) * std::sin(q1) + 4 * k * L * e * std::sin(q1);
+    const double f2 = M2 * g + k * e;
+    const OdeState dx = generated.stateDerivative(r.x, r.torque);
+    const double u1_dot = (f1 + remainder1) / m11, u2_dot = f2 / M2;
+    EXPECT_NEAR(dx[2], u1_dot, 1e-12 * (1 + std::abs(u1_dot)));
+    EXPECT_NEAR(dx[3], u2_dot, 1e-12 * (1 + std::abs(u2_dot)));
   }
 }
 

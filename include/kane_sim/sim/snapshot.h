@@ -22,7 +22,8 @@ struct CommandStatus {
 struct Snapshot {
   double time = 0.0;  // [s] sim time
   State state;
-  SpeedVector u_dot = SpeedVector::Zero();  // u1' [rad/s^2], u2' [m/s^2]
+  // u1' [rad/s^2], u2' [m/s^2] from the equations the integrators step (simulation.equations)
+  SpeedVector u_dot = SpeedVector::Zero();
   double torque = 0.0;  // M_m [N m] the drive applies at this instant (after the motor line)
   CommandStatus command;
   SpeedVector active_forces = SpeedVector::Zero();   // F_r: F_1 [N m], F_2 [N]
