@@ -1,6 +1,6 @@
 #include "kane_sim/sim/csv_format.h"
 
-#include <cstdio>
+#include <charconv>
 
 namespace kane_sim {
 
@@ -33,16 +33,19 @@ void writeCsvRow(std::ostream& out, const Snapshot& s) {
                            s.energyBalance(),
                            s.command.commanded,
                            static_cast<double>(s.contact_impacts)};
-  // %.17g round-trips every double exactly.
-  char buffer[32];
   bool first = true;
   for (double v : values) {
-    std::snprintf(buffer, sizeof(buffer), "%.17g", v);
     if (!first) out << ',';
-    out << buffer;
+    writeCsvNumber(out, v);
     first = false;
   }
   out << '\n';
+}
+
+void writeCsvNumber(std::ostream& out, double value) {
+  char buffer[32];  // the longest shortest form of a double is 24 characters
+  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  out.write(buffer, r.ptr - buffer);
 }
 
 }  // namespace kane_sim

@@ -4,12 +4,12 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
 
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/sim/csv_format.h"
 #include "kane_sim/sim/profile_commands.h"
 #include "kane_sim/sim/sim_driver.h"
 
@@ -231,18 +231,21 @@ void writeSweepCsvHeader(std::ostream& out, const SweepPlan& plan) {
 
 void writeSweepCsvRow(std::ostream& out, const SweepPlan& plan, size_t index,
                       const SweepResult& r) {
-  char buffer[64];
-  auto num = [&](double v) {
-    std::snprintf(buffer, sizeof(buffer), "%.17g", v);
-    return std::string(buffer);
-  };
   out << index;
-  for (double v : plan.cases[index]) out << ',' << num(v);
-  out << ',' << r.status << ',' << num(r.time) << ',' << num(r.final_state.q1) << ','
-      << num(r.final_state.q2) << ',' << num(r.final_state.u1) << ',' << num(r.final_state.u2)
-      << ',' << num(r.max_abs_q1) << ',' << num(r.max_abs_q2) << ',' << num(r.ledger_error) << ','
-      << num(r.motor_work) << ',' << num(r.dissipated_energy) << ',' << r.contact_impacts << ','
-      << r.slider_crossings << ',' << r.steps << ',' << num(r.wall_time) << '\n';
+  for (double v : plan.cases[index]) {
+    out << ',';
+    writeCsvNumber(out, v);
+  }
+  out << ',' << r.status;
+  for (double v : {r.time, r.final_state.q1, r.final_state.q2, r.final_state.u1,
+                   r.final_state.u2, r.max_abs_q1, r.max_abs_q2, r.ledger_error, r.motor_work,
+                   r.dissipated_energy}) {
+    out << ',';
+    writeCsvNumber(out, v);
+  }
+  out << ',' << r.contact_impacts << ',' << r.slider_crossings << ',' << r.steps << ',';
+  writeCsvNumber(out, r.wall_time);
+  out << '\n';
 }
 
 }  // namespace kane_sim

@@ -92,7 +92,7 @@ TEST_F(SimulateBag, ValuesEqualTheCsvOfTheSameRun) {
     ASSERT_TRUE(s);
     ASSERT_LT(i, rows.size());
     const auto& r = rows[i++];
-    // The CSV prints 17 significant digits: the values round-trip exactly.
+    // The CSV prints each double's shortest exact form: the values round-trip exactly.
     EXPECT_EQ(s->sim_time, r[0]);
     EXPECT_EQ(s->q[0], r[1]);
     EXPECT_EQ(s->q[1], r[2]);

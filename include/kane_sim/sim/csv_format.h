@@ -15,6 +15,10 @@ namespace kane_sim {
 void writeCsvHeader(std::ostream& out);
 void writeCsvRow(std::ostream& out, const Snapshot& snapshot);
 
+// One number as the CSVs print it: the shortest text that reads back as exactly this double
+// (std::to_chars), so every value round-trips and none carries noise digits.
+void writeCsvNumber(std::ostream& out, double value);
+
 }  // namespace kane_sim
 
 #endif  // KANE_SIM_SIM_CSV_FORMAT_H
