@@ -67,7 +67,8 @@ bool SimDriver::step() {
                   "once per start or reset)",
                   std::abs(sim_.state().u1) * sim_.stepSize(), sim_.time(), sim_.state().u1,
                   config_.simulation.physics_rate));
-  applyCommand();  // the timeout may lapse at the new time
+  // The torque in force changes between commands only when the timeout lapses.
+  if (command_.lapsesAt(sim_.time())) applyCommand();
   return true;
 }
 

@@ -35,7 +35,7 @@ TorqueCommand::Verdict TorqueCommand::receive(double torque, double now, std::st
 double TorqueCommand::applied(double now, bool* timed_out_now) {
   *timed_out_now = false;
   if (!have_command_) return 0.0;
-  if (!timed_out_ && settings_.timeout > 0 && now - last_command_time_ > settings_.timeout) {
+  if (lapsesAt(now)) {
     timed_out_ = true;
     *timed_out_now = true;
   }

@@ -16,11 +16,12 @@ class ProfileCommands {
   // timeout: command.timeout [s] of the driver's config (0 = none).
   ProfileCommands(const TorqueProfile& profile, double timeout)
       : profile_(profile), refresh_(timeout > 0 ? 0.5 * timeout : -1.0) {}
+  ProfileCommands(const TorqueProfile&&, double) = delete;  // keeps a reference: no temporaries
 
   // Commands the profile's value at driver.time() when due (always on the first call).
   void update(SimDriver& driver) {
     const double now = driver.time();
-    const double torque = profile_.at(now);
+    const double torque = first_ || !profile_.isConstant() ? profile_.at(now) : last_torque_;
     if (first_ || torque != last_torque_ || (refresh_ >= 0 && now - last_time_ >= refresh_)) {
       driver.command(torque);
       first_ = false;

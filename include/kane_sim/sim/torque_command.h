@@ -21,6 +21,12 @@ class TorqueCommand {
   // The torque to apply from sim time `now`: the clamped command, or 0 after a timeout.
   // `timed_out_now` is set true only on the call at which the timeout first takes effect.
   double applied(double now, bool* timed_out_now);
+  // True when applied(now) would take the timeout into effect (its own test, inline: the
+  // driver asks this at every step and calls applied() only then).
+  bool lapsesAt(double now) const {
+    return have_command_ && !timed_out_ && settings_.timeout > 0 &&
+           now - last_command_time_ > settings_.timeout;
+  }
 
   double commanded() const { return commanded_; }  // last accepted value, before clamping
   double torqueLimit() const { return settings_.torque_limit; }

@@ -22,6 +22,7 @@ class TorqueProfile {
   static TorqueProfile fromCsvFile(const std::string& path);
 
   double at(double t) const;  // [N m]
+  bool isConstant() const { return kind_ == Kind::kConstant; }
   std::string describe() const;
 
  private:
