@@ -14,7 +14,8 @@ PdControllerNode::PdControllerNode(const ros::NodeHandle& nh, const ros::NodeHan
   const PdGains defaults;
   gains_.kp = boundedParam(private_nh, "kp", defaults.kp, ParamBound::kNonNegative);
   gains_.kd = boundedParam(private_nh, "kd", defaults.kd, ParamBound::kNonNegative);
-  gains_.torque_limit = boundedParam(private_nh, "torque_limit", defaults.torque_limit, ParamBound::kNonNegative);
+  gains_.torque_limit =
+      boundedParam(private_nh, "torque_limit", defaults.torque_limit, ParamBound::kNonNegative);
   setpoint_ = boundedParam(private_nh, "setpoint", 0.0, ParamBound::kAnyFinite);
   torque_pub_ = nh_.advertise<std_msgs::Float64>("torque_command", 10);
   joint_state_sub_ = nh_.subscribe("joint_states", 10, &PdControllerNode::onJointState, this,

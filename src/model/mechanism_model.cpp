@@ -18,9 +18,9 @@ MechanismGeometry geometryFromTrig(double L, double q1, double c, double s, doub
   g.rod_length = 2 * L;
   g.pin_a = Eigen::Vector3d(2 * L * c, 2 * L * s, 0);
   g.pin_b = Eigen::Vector3d(slider3Position(L, c), 0, 0);  // r_B
-  g.point_c = Eigen::Vector3d(q2, 0, 0);                 // r_C
-  g.rod1_center = Eigen::Vector3d(L * c, L * s, 0);      // r_C1
-  g.rod2_center = Eigen::Vector3d(3 * L * c, L * s, 0);  // r_C2
+  g.point_c = Eigen::Vector3d(q2, 0, 0);                   // r_C
+  g.rod1_center = Eigen::Vector3d(L * c, L * s, 0);        // r_C1
+  g.rod2_center = Eigen::Vector3d(3 * L * c, L * s, 0);    // r_C2
   g.rod1_angle = q1;
   g.rod2_angle = -q1;
   return g;

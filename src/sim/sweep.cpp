@@ -237,9 +237,8 @@ void writeSweepCsvRow(std::ostream& out, const SweepPlan& plan, size_t index,
     writeCsvNumber(out, v);
   }
   out << ',' << r.status;
-  for (double v : {r.time, r.final_state.q1, r.final_state.q2, r.final_state.u1,
-                   r.final_state.u2, r.max_abs_q1, r.max_abs_q2, r.ledger_error, r.motor_work,
-                   r.dissipated_energy}) {
+  for (double v : {r.time, r.final_state.q1, r.final_state.q2, r.final_state.u1, r.final_state.u2,
+                   r.max_abs_q1, r.max_abs_q2, r.ledger_error, r.motor_work, r.dissipated_energy}) {
     out << ',';
     writeCsvNumber(out, v);
   }

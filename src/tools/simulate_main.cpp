@@ -412,9 +412,10 @@ int run(const Options& options) {
   std::cerr << "simulated " << driver.time() << " s in " << driver.ticks() << " physics steps ("
             << kane_sim::integratorName(config.simulation.integrator) << " at "
             << config.simulation.physics_rate << " Hz on the "
-            << kane_sim::equationsName(config.simulation.equations) << " equations, torque " << options.profile->describe()
-            << "), " << rows + 1 << " outputs, wall time " << wall << " s, "
-            << (wall > 0 ? static_cast<double>(driver.ticks()) / wall : 0.0) << " steps/s\n";
+            << kane_sim::equationsName(config.simulation.equations) << " equations, torque "
+            << options.profile->describe() << "), " << rows + 1 << " outputs, wall time " << wall
+            << " s, " << (wall > 0 ? static_cast<double>(driver.ticks()) / wall : 0.0)
+            << " steps/s\n";
   return 0;
 }
 

@@ -32,12 +32,11 @@ inline double boundedParam(const ros::NodeHandle& pnh, const std::string& name, 
   const bool ok = std::isfinite(value) && (bound != ParamBound::kNonNegative || value >= 0) &&
                   (bound != ParamBound::kPositive || value > 0);
   if (!ok)
-    throw std::invalid_argument(
-        "parameter " + pnh.resolveName(name) + " must be finite" +
-        (bound == ParamBound::kNonNegative ? " and >= 0"
-         : bound == ParamBound::kPositive  ? " and > 0"
-                                           : "") +
-        ", got " + std::to_string(value));
+    throw std::invalid_argument("parameter " + pnh.resolveName(name) + " must be finite" +
+                                (bound == ParamBound::kNonNegative ? " and >= 0"
+                                 : bound == ParamBound::kPositive  ? " and > 0"
+                                                                   : "") +
+                                ", got " + std::to_string(value));
   return value;
 }
 
