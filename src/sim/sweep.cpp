@@ -237,6 +237,10 @@ void writeSweepCsvRow(std::ostream& out, const SweepPlan& plan, size_t index,
     writeCsvNumber(out, v);
   }
   out << ',' << r.status;
+  if (r.status == "config_refused") {  // nothing ran: empty fields, not zeros that read as data
+    out << std::string(14, ',') << '\n';  // the 14 result columns
+    return;
+  }
   for (double v : {r.time, r.final_state.q1, r.final_state.q2, r.final_state.u1, r.final_state.u2,
                    r.max_abs_q1, r.max_abs_q2, r.ledger_error, r.motor_work, r.dissipated_energy}) {
     out << ',';

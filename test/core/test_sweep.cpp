@@ -1,5 +1,6 @@
 // Sweeps (sim/sweep.h): the grid and CSV plans, each case's config through the one loader,
 // results in case order whatever the threads, and a case equal to the same single run.
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -113,6 +114,22 @@ TEST(Sweep, ResultsAreInCaseOrderAndEqualSingleRuns) {
   EXPECT_EQ(mixed[0].status, "ok");
   EXPECT_EQ(mixed[1].status, "config_refused");
   EXPECT_NE(mixed[1].error.find("spring_stiffness"), std::string::npos) << mixed[1].error;
+  // Its row keeps the columns, with nothing where nothing ran.
+  std::ostringstream rows;
+  writeSweepCsvHeader(rows, stiff);
+  writeSweepCsvRow(rows, stiff, 0, mixed[0]);
+  writeSweepCsvRow(rows, stiff, 1, mixed[1]);
+  std::istringstream lines(rows.str());
+  std::string header, ok_row, refused_row;
+  std::getline(lines, header);
+  std::getline(lines, ok_row);
+  std::getline(lines, refused_row);
+  const auto fields = [](const std::string& line) {
+    return std::count(line.begin(), line.end(), ',') + 1;
+  };
+  EXPECT_EQ(fields(ok_row), fields(header));
+  EXPECT_EQ(fields(refused_row), fields(header));
+  EXPECT_EQ(refused_row, "1,1e+09,config_refused,,,,,,,,,,,,,,");
 }
 
 }  // namespace
