@@ -25,6 +25,12 @@
 namespace kane_sim {
 namespace bench {
 
+// The config's initial state as the four joints (the peers' joint coordinates are these).
+inline JointValues initialJoints(const Config& c) {
+  const MechanismModel model = mechanismModel(c);
+  return MechanismModel::jointValues(model.kinematics(c.initial_state), c.initial_state, 0.0);
+}
+
 // How hard the loop closure is enforced: MuJoCo's defaults, or as stiff as its integrator
 // safety allows at this time step (solref time constant 2 dt, impedance near 1).
 enum class LoopClosure { kMujocoDefault, kStiff };
@@ -32,7 +38,7 @@ enum class LoopClosure { kMujocoDefault, kStiff };
 inline std::string mechanismMjcf(const Config& c, double dt, LoopClosure closure) {
   const MechanismParameters& p = c.mechanism;
   const double L = p.rod_half_length;
-  const double x_b0 = 4 * L * std::cos(c.initial_state.q1);
+  const double x_b0 = initialJoints(c).position[kSlider3Joint];
   std::ostringstream x;
   x.precision(17);
   const std::string eq_params =
@@ -105,16 +111,13 @@ class MujocoMechanism {
     std::remove(path);
     if (!model_) throw std::runtime_error(std::string("MuJoCo refused the model: ") + error);
     data_ = mj_makeData(model_);
-    const double q1 = c.initial_state.q1;
-    const double L = c.mechanism.rod_half_length;
-    qpos(kCrank) = q1;
-    qpos(kCoupler) = -2 * q1;                       // rod 2 at -q1 absolute
-    qpos(kSlider3) = 4 * L * std::cos(q1) - 4 * L;  // x_B - 4L (see mechanismMjcf)
-    qpos(kSlider4) = c.initial_state.q2;
-    qvel(kCrank) = c.initial_state.u1;
-    qvel(kCoupler) = -2 * c.initial_state.u1;
-    qvel(kSlider3) = -4 * L * std::sin(q1) * c.initial_state.u1;
-    qvel(kSlider4) = c.initial_state.u2;
+    // The MJCF's joints are joint_states' four, in that order; slider 3's body sits at 4L.
+    const JointValues j = initialJoints(c);
+    for (int i = 0; i < kNumJoints; ++i) {
+      data_->qpos[model_->jnt_qposadr[i]] = j.position[i];
+      data_->qvel[model_->jnt_dofadr[i]] = j.velocity[i];
+    }
+    data_->qpos[model_->jnt_qposadr[kSlider3Joint]] -= 4 * c.mechanism.rod_half_length;
     mj_forward(model_, data_);
   }
   ~MujocoMechanism() {
@@ -126,8 +129,8 @@ class MujocoMechanism {
 
   void setTorque(double torque) { data_->ctrl[0] = torque; }
   void step() { mj_step(model_, data_); }
-  double q1() const { return data_->qpos[kCrank]; }
-  double q2() const { return data_->qpos[kSlider4]; }
+  double q1() const { return data_->qpos[model_->jnt_qposadr[kCrankJoint]]; }
+  double q2() const { return data_->qpos[model_->jnt_qposadr[kSlider4Joint]]; }
   double time() const { return data_->time; }
   // |B on rod 2 - slider 3| [m]: how far the soft constraint lets the loop open.
   double loopClosureError() const {
@@ -138,11 +141,6 @@ class MujocoMechanism {
   }
 
  private:
-  // Joint order in the MJCF above: one qpos/qvel each.
-  enum Joint { kCrank = 0, kCoupler = 1, kSlider3 = 2, kSlider4 = 3 };
-  double& qpos(Joint j) { return data_->qpos[model_->jnt_qposadr[j]]; }
-  double& qvel(Joint j) { return data_->qvel[model_->jnt_dofadr[j]]; }
-
   mjModel* model_ = nullptr;
   mjData* data_ = nullptr;
 };

@@ -9,7 +9,6 @@
 #ifndef KANE_SIM_BENCH_SIMBODY_MECHANISM_H
 #define KANE_SIM_BENCH_SIMBODY_MECHANISM_H
 
-#include <cmath>
 #include <memory>
 
 #include <Simbody.h>
@@ -26,7 +25,6 @@ class SimbodyMechanism {
     using SimTK::Vec3;
     const MechanismParameters& p = c.mechanism;
     const double L = p.rod_half_length;
-    const double q1 = c.initial_state.q1;
     SimTK::Force::UniformGravity(forces_, matter_, Vec3(p.gravity, 0, 0));
     // A rod along its own x from its pin, mass center at L: inertia about the pin.
     const double tiny = 1e-9;  // the rods' and sliders' unused moments (planar motion)
@@ -48,21 +46,21 @@ class SimbodyMechanism {
                                     Vec3(2 * L, 0, 0));
     SimTK::Constraint::PointInPlane(slider3_, SimTK::UnitVec3(1, 0, 0), 0.0, rod2_,
                                     Vec3(2 * L, 0, 0));
-    const double x_b0 = 4 * L * std::cos(q1);
+    const MechanismModel model = mechanismModel(c);
     SimTK::Force::TwoPointLinearSpring(forces_, slider3_, Vec3(0), slider4_, Vec3(0),
-                                       p.spring_stiffness, c.initial_state.q2 - x_b0);
+                                       p.spring_stiffness, model.springRestLength());
     SimTK::Force::MobilityConstantForce(forces_, rod1_, SimTK::MobilizerUIndex(0), torque);
     system_.realizeTopology();
 
+    // The mobilizers' coordinates are joint_states' four joints.
     SimTK::State state = system_.getDefaultState();
-    rod1_.setOneQ(state, 0, q1);
-    rod2_.setOneQ(state, 0, -2 * q1);  // rod 2 at -q1 absolute: B on the rail
-    slider3_.setOneQ(state, 0, x_b0);
-    slider4_.setOneQ(state, 0, c.initial_state.q2);
-    rod1_.setOneU(state, 0, c.initial_state.u1);
-    rod2_.setOneU(state, 0, -2 * c.initial_state.u1);
-    slider3_.setOneU(state, 0, -4 * L * std::sin(q1) * c.initial_state.u1);
-    slider4_.setOneU(state, 0, c.initial_state.u2);
+    const JointValues j =
+        MechanismModel::jointValues(model.kinematics(c.initial_state), c.initial_state, 0.0);
+    const SimTK::MobilizedBody* mobilizers[kNumJoints] = {&rod1_, &rod2_, &slider3_, &slider4_};
+    for (int i = 0; i < kNumJoints; ++i) {
+      mobilizers[i]->setOneQ(state, 0, j.position[i]);
+      mobilizers[i]->setOneU(state, 0, j.velocity[i]);
+    }
     integrator_ = std::make_unique<SimTK::RungeKuttaMersonIntegrator>(system_);
     integrator_->setAccuracy(accuracy);
     integrator_->setConstraintTolerance(accuracy * 1e-2);
