@@ -66,8 +66,8 @@ std::string describe(const YAML::Node& node) {
 class Section {
  public:
   Section(const YAML::Node& parent, const std::string& name, bool required,
-          std::vector<std::string>* warnings)
-      : path_(name), warnings_(warnings) {
+          std::vector<std::string>* unknown_keys)
+      : path_(name), unknown_keys_(unknown_keys) {
     // yaml-cpp's lookup of a missing key gives an invalid node that must not be stored.
     const YAML::Node child = parent[name];
     // An optional section whose keys are all commented out is null: an empty map.
@@ -111,12 +111,11 @@ class Section {
     *out = value.Scalar();
   }
 
-  void warnAboutUnknownKeys() const {
+  void collectUnknownKeys() const {
     if (!present_) return;
     for (const auto& entry : node_) {
       const std::string key = entry.first.Scalar();
-      if (!used_.count(key))
-        warnings_->push_back("unknown config key '" + keyPath(key) + "' is ignored");
+      if (!used_.count(key)) unknown_keys_->push_back(keyPath(key));
     }
   }
 
@@ -143,7 +142,7 @@ class Section {
   bool present_ = false;
   std::string path_;
   std::set<std::string> used_;
-  std::vector<std::string>* warnings_;
+  std::vector<std::string>* unknown_keys_;
 };
 
 void requirePositive(const std::string& key, double value) {
@@ -358,33 +357,35 @@ LoadedConfig loadConfig(const YAML::Node& root) {
     throw ConfigError("<root>", "must be a map with sections mechanism, initial_state, ...");
   checkKeys(root, "");
   LoadedConfig loaded;
-  std::vector<std::string>* warnings = &loaded.warnings;
+  std::vector<std::string>* unknown = &loaded.unknown_keys;
   Config& config = loaded.config;
 
-  Section mechanism(root, "mechanism", true, warnings);
+  Section mechanism(root, "mechanism", true, unknown);
   readMechanism(mechanism, &config.mechanism);
-  Section initial_state(root, "initial_state", true, warnings);
+  Section initial_state(root, "initial_state", true, unknown);
   readInitialState(initial_state, &config.initial_state);
-  Section simulation(root, "simulation", false, warnings);
+  Section simulation(root, "simulation", false, unknown);
   readSimulation(simulation, &config.simulation);
-  Section command(root, "command", false, warnings);
+  Section command(root, "command", false, unknown);
   readCommand(command, &config.command, &config.mechanism.motor);
-  Section frames(root, "frames", false, warnings);
+  Section frames(root, "frames", false, unknown);
   readFrames(frames, &config.frames);
-  Section damping(root, "damping", false, warnings);
+  Section damping(root, "damping", false, unknown);
   readDamping(damping, &config.mechanism.damping);
-  Section contact(root, "contact", false, warnings);
+  Section contact(root, "contact", false, unknown);
   readContact(contact, &config.mechanism.contact);
 
   const std::set<std::string> sections = {"mechanism", "initial_state", "simulation", "command",
                                           "frames",    "damping",       "contact"};
   for (const auto& entry : root) {
     const std::string key = entry.first.Scalar();
-    if (!sections.count(key)) warnings->push_back("unknown config key '" + key + "' is ignored");
+    if (!sections.count(key)) unknown->push_back(key);
   }
   for (const Section* s :
        {&mechanism, &initial_state, &simulation, &command, &frames, &damping, &contact})
-    s->warnAboutUnknownKeys();
+    s->collectUnknownKeys();
+  for (const std::string& key : loaded.unknown_keys)
+    loaded.warnings.push_back("unknown config key '" + key + "' is ignored");
   checkInitialState(config);
   checkIntegrable(config);
   return loaded;

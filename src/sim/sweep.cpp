@@ -149,9 +149,9 @@ Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t ind
   }
   const LoadedConfig loaded = loadConfig(root);
   for (const std::string& key : plan.keys)
-    for (const std::string& warning : loaded.warnings)
-      if (warning.find("'" + key + "'") != std::string::npos)
-        throw ConfigError(key, "is not a config key the simulation reads (a typo?)");
+    if (std::find(loaded.unknown_keys.begin(), loaded.unknown_keys.end(), key) !=
+        loaded.unknown_keys.end())
+      throw ConfigError(key, "is not a config key the simulation reads (a typo?)");
   return loaded.config;
 }
 
@@ -237,7 +237,7 @@ void writeSweepCsvRow(std::ostream& out, const SweepPlan& plan, size_t index,
     writeCsvNumber(out, v);
   }
   out << ',' << r.status;
-  if (r.status == "config_refused") {  // nothing ran: empty fields, not zeros that read as data
+  if (r.status == "config_refused") {     // nothing ran: empty fields, not zeros that read as data
     out << std::string(14, ',') << '\n';  // the 14 result columns
     return;
   }

@@ -25,7 +25,8 @@ class ConfigError : public std::runtime_error {
 
 struct LoadedConfig {
   Config config;
-  std::vector<std::string> warnings;  // unknown keys, one sentence each
+  std::vector<std::string> unknown_keys;  // dotted paths the loader does not read
+  std::vector<std::string> warnings;      // unknown keys, one sentence each
 };
 
 // Throws ConfigError on a missing required key, a wrong type or an out-of-range value.
