@@ -112,6 +112,11 @@ class SimNodeTest : public ::testing::Test {
     ASSERT_TRUE(state_.waitForCount(1, 15.0)) << "no mechanism_state from the node under test";
   }
 
+  // Waits until the latest mechanism_state satisfies `done`.
+  bool waitForState(const std::function<bool(const MechanismState&)>& done, double timeout) {
+    return waitFor([&] { return state_.count() > 0 && done(state_.last()); }, timeout);
+  }
+
   ros::NodeHandle nh_;
   Recorder<MechanismState> state_{nh_, "mechanism_state"};
   ros::Publisher torque_;

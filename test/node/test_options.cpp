@@ -23,9 +23,6 @@ class Options : public test::SimNodeTest {
     test::sleepWall(seconds);
     return state_.messages();
   }
-  bool waitForState(const std::function<bool(const MechanismState&)>& done, double timeout) {
-    return test::waitFor([&] { return state_.count() > 0 && done(state_.last()); }, timeout);
-  }
   void setAllDampers(double crank, double coupler, double slider3, double slider4) {
     EXPECT_EQ(test::reconfigure("crank_damping", crank), crank);
     EXPECT_EQ(test::reconfigure("coupler_damping", coupler), coupler);

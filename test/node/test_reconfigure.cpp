@@ -17,9 +17,6 @@ namespace {
 class Reconfigure : public test::SimNodeTest {
  protected:
   double set(const std::string& name, double value) { return test::reconfigure(name, value); }
-  bool waitForState(const std::function<bool(const MechanismState&)>& done, double timeout) {
-    return test::waitFor([&] { return state_.count() > 0 && done(state_.last()); }, timeout);
-  }
 };
 
 TEST_F(Reconfigure, TorqueLimitClampsTheCommandInForce) {
