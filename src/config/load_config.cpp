@@ -1,6 +1,6 @@
 #include "kane_sim/config/load_config.h"
 
-#include "kane_sim/analysis/linear_analysis.h"
+#include "kane_sim/analysis/stability.h"
 
 #include <cctype>
 #include <cmath>
@@ -20,9 +20,6 @@ constexpr double kMaxPhysicsRate = 1e6;  // [Hz]; beyond this a step is below do
 constexpr double kMaxStepsPerPublish = 1e5;
 constexpr double kMinRealTimeFactor = 1e-3;  // besides 0 (free-running)
 constexpr double kMaxRealTimeFactor = 1e6;
-// rk4's region of absolute stability reaches 2.785 along the imaginary axis: an undamped mode
-// of angular frequency ω is integrated stably only while ω h stays below it. Keep a margin.
-constexpr double kRk4StabilityLimit = 2.5;
 
 // The keys of a map, each a plain name and each once (yaml-cpp would keep one of two
 // duplicates silently).
@@ -309,30 +306,35 @@ void checkInitialState(const Config& c) {
                           " m: with contact enabled the sliders must start apart");
 }
 
-// The fastest mode of the linearisation at the initial configuration (u = 0, no torque): the
-// largest |eigenvalue| of A, from the spring, gravity and the dampers. Only an estimate (the
-// motion moves the operating point), but the spring mode sqrt(k/M2) and the dampers' rates
-// that make a model stiff are nearly constant.
-double fastestMode(const Config& c) {
-  State x = c.initial_state;
-  x.u1 = x.u2 = 0.0;
-  const LinearModel linear = linearize(mechanismModel(c), x, 0.0);
-  return linear.A.eigenvalues().cwiseAbs().maxCoeff();
-}
-
 void checkIntegrable(const Config& c) {
   if (c.simulation.integrator != IntegratorType::kRk4) return;  // dopri5 adapts its step
   const double h = 1.0 / c.simulation.physics_rate;
-  const double omega = fastestMode(c);
-  if (!(omega * h <= kRk4StabilityLimit))
+  const MechanismModel model = mechanismModel(c);
+  StiffestConfiguration stiffest = stiffestConfiguration(model, c.initial_state);
+  // The initial speeds add their own (centripetal) rates.
+  const double initial = fastestRate(model, c.initial_state, 0.0);
+  if (!(initial <= stiffest.rate)) stiffest = {initial, c.initial_state.q1, c.initial_state.u1};
+  if (!std::isfinite(stiffest.rate))
+    throw ConfigError(
+        "mechanism",
+        "gives equations of motion that are not finite at q1 = " + formatValue(stiffest.q1) +
+            " rad: the masses, lengths, stiffness and damping are too far apart "
+            "for double precision (rod_mass " +
+            formatValue(c.mechanism.rod_mass) + ", slider3_mass " +
+            formatValue(c.mechanism.slider3_mass) + ", slider4_mass " +
+            formatValue(c.mechanism.slider4_mass) + ", spring_stiffness " +
+            formatValue(c.mechanism.spring_stiffness) + ")");
+  if (!(stiffest.rate * h <= kRk4StabilityLimit))
     throw ConfigError(
         "simulation.physics_rate",
-        "is too low for rk4 on this mechanism: its stiffest mode (" + formatValue(omega) +
-            " rad/s, from spring_stiffness, the masses and damping) needs omega h <= " +
-            formatValue(kRk4StabilityLimit) + ", got " + formatValue(omega * h) + " at " +
+        "is too low for rk4 on this mechanism: its fastest rate (" + formatValue(stiffest.rate) +
+            " 1/s at q1 = " + formatValue(stiffest.q1) + " rad, u1 = " + formatValue(stiffest.u1) +
+            " rad/s, from spring_stiffness, the masses, damping and the motor line) needs rate h "
+            "<= " +
+            formatValue(kRk4StabilityLimit) + ", got " + formatValue(stiffest.rate * h) + " at " +
             formatValue(c.simulation.physics_rate) +
             " Hz; use simulation.integrator dopri5 or a physics_rate of at least " +
-            formatValue(std::ceil(omega / kRk4StabilityLimit)) + " Hz");
+            formatValue(std::ceil(stiffest.rate / kRk4StabilityLimit)) + " Hz");
 }
 
 }  // namespace

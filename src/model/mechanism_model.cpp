@@ -127,20 +127,18 @@ PowerTerms MechanismModel::power(const MechanismLoads& l, const State& x) {
   return p;
 }
 
-std::optional<SliderImpact> MechanismModel::sliderImpact(const State& x) const {
+std::optional<SliderImpact> MechanismModel::sliderImpact(const State& x, double restitution) const {
   const SliderContact& contact = parameters_.contact;
   if (!contact.enabled) return std::nullopt;
   const MechanismKinematics k = kinematics(x);
-  // J_r: the partial velocities of the separation rate, (∂v_C/∂u_r - ∂v_B/∂u_r) · i.
-  const SpeedVector J =
-      (k.slider4.partial_velocity.row(0) - k.slider3.partial_velocity.row(0)).transpose();
+  const SpeedVector J = separationJacobian(k);
   const SpeedVector u = x.speeds();
   const double closing = -J.dot(u);  // approach speed
   if (!(closing > 0.0)) return std::nullopt;
   const Equations eq = equations(k, loads(k, x, 0.0), x);
   const SpeedVector minv_j = eq.mass_matrix.inverse() * J;
   // λ from J (u + M^-1 J λ) = e · closing: the impulse on slider 4 along +i.
-  const double lambda = (1.0 + contact.restitution) * closing / J.dot(minv_j);
+  const double lambda = (1.0 + restitution) * closing / J.dot(minv_j);
   SliderImpact impact;
   impact.after = x;
   const SpeedVector u_after = u + minv_j * lambda;
@@ -150,6 +148,34 @@ std::optional<SliderImpact> MechanismModel::sliderImpact(const State& x) const {
   impact.impulse = lambda;
   impact.energy_loss = energy(x).kinetic - energy(impact.after).kinetic;
   return impact;
+}
+
+SpeedVector MechanismModel::separationJacobian(const MechanismKinematics& k) {
+  // The partial velocities of the separation rate, (∂v_C/∂u_r - ∂v_B/∂u_r) · i.
+  return (k.slider4.partial_velocity.row(0) - k.slider3.partial_velocity.row(0)).transpose();
+}
+
+State MechanismModel::onContact(const State& x) const {
+  const MechanismKinematics k = kinematics(x);  // J does not depend on q2
+  State held = x;
+  held.q2 = k.geometry.pin_b.x() + parameters_.contact.gap;  // x_C = x_B + gap
+  held.u2 = -separationJacobian(k)[0] * x.u1;                // J u = 0 (J_2 = 1)
+  return held;
+}
+
+RestingContact MechanismModel::restingContact(const State& x, const SpeedVector& u_dot_free,
+                                              double motor_command) const {
+  const MechanismKinematics k = kinematics(x);
+  const SpeedVector J = separationJacobian(k);
+  // J' u: the separation's acceleration at u' = 0, from the acceleration remainders of C and B.
+  const double bias = (k.slider4.acceleration_remainder - k.slider3.acceleration_remainder).x();
+  const SpeedVector minv_j = equations(k, loads(k, x, motor_command), x).mass_matrix.inverse() * J;
+  RestingContact contact;
+  contact.closing_acceleration = -(J.dot(u_dot_free) + bias);
+  contact.force = contact.closing_acceleration / J.dot(minv_j);
+  contact.u_dot = u_dot_free + minv_j * contact.force;
+  contact.generalized_force = J * contact.force;
+  return contact;
 }
 
 MechanismModel::Equations MechanismModel::equations(const MechanismKinematics& k,

@@ -305,8 +305,17 @@ void KaneSimNode::publishState() {
     clock.clock = now;
     clock_pub_.publish(clock);
   }
-  const PublishedMessages msgs =
-      buildMessages(driver_.snapshot(), robot_, achieved_real_time_factor_, now);
+  const Snapshot snapshot = driver_.snapshot();
+  if (!snapshot.allFinite()) {
+    // Never sent: a subscriber must not receive inf or NaN. The core refuses states and steps
+    // that would give one, so this is a defect to report, not an expected path.
+    ROS_ERROR_THROTTLE(1.0,
+                       "kane_sim: the state at t = %.6f s has a non-finite derived quantity; "
+                       "nothing published (please report this with the config and commands)",
+                       driver_.time());
+    return;
+  }
+  const PublishedMessages msgs = buildMessages(snapshot, robot_, achieved_real_time_factor_, now);
   joint_state_pub_.publish(msgs.joint_state);
   mechanism_state_pub_.publish(msgs.mechanism_state);
   marker_pub_.publish(msgs.markers);

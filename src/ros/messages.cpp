@@ -82,6 +82,8 @@ kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_ti
   msg.parameter_energy = s.parameter_energy;
   msg.energy_balance = s.energyBalance();
   msg.contact_impacts = static_cast<std::uint32_t>(s.contact_impacts);
+  msg.resting_contact = s.resting_contact;
+  msg.contact_force = s.contact_force;
   msg.parameter_changes = static_cast<std::uint32_t>(s.parameter_changes);
   msg.spring_elongation = s.spring_elongation;
   msg.slider_separation = s.slider_separation;

@@ -6,6 +6,8 @@
 
 #include <boost/numeric/odeint.hpp>
 
+#include "kane_sim/analysis/stability.h"
+
 namespace kane_sim {
 namespace odeint = boost::numeric::odeint;
 
@@ -23,8 +25,36 @@ struct EquationsOfMotion {
   }
 };
 
+// Resting contact: the same equations with the sliders held together at the gap, the
+// constraint force from Kane's equations (MechanismModel::restingContact). q2 and u2 follow from
+// q1 and u1 on the contact, so the motion is integrated on the contact and never drifts off it.
+template <class Equations>
+struct RestingContactMotion {
+  const MechanismModel* model;
+  const Equations* equations;
+  double torque;
+
+  void operator()(const OdeState& x, OdeState& dxdt, double /*t*/) const {
+    const State held = model->onContact(fromOdeState(x));
+    dxdt = equations->stateDerivative(held, torque);  // free u', and W', D' on the contact
+    const RestingContact contact =
+        model->restingContact(held, SpeedVector(dxdt[2], dxdt[3]), torque);
+    dxdt[1] = held.u2;
+    dxdt[2] = contact.u_dot[0];
+    dxdt[3] = contact.u_dot[1];
+  }
+};
+
 bool isFinite(const OdeState& x) {
   return std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); });
+}
+
+// Within these magnitudes every derived quantity (energies, forces, F*_r) of a state stays
+// finite for any accepted parameters; beyond them a state is a runaway, not a mechanism.
+constexpr double kMaxMagnitude = 1e100;
+
+bool withinScale(const OdeState& x) {
+  return std::all_of(x.begin(), x.end(), [](double v) { return std::abs(v) <= kMaxMagnitude; });
 }
 
 // dopri5 gives up on a physics step after this many rejected or accepted sub-steps; reaching
@@ -116,58 +146,115 @@ bool Simulator::separationAtLeast(const OdeState& x, double threshold) const {
   return sliderSeparation(L, x[0], x[1]) >= threshold;
 }
 
+void Simulator::putOnContact(OdeState* x) const {
+  const State held = model_.onContact(fromOdeState(*x));
+  (*x)[1] = held.q2;
+  (*x)[3] = held.u2;
+}
+
+template <class Equations>
+RestingContact Simulator::restingContactAt(const Equations& equations, const State& held) const {
+  const OdeState free = equations.stateDerivative(held, torque_);
+  return model_.restingContact(held, SpeedVector(free[2], free[3]), torque_);
+}
+
 Status Simulator::step() {
   if (equations_ == EquationsSource::kGenerated) return stepWith(generated_);
   return stepWith(model_);
 }
 
+// Advances from x over at most `span`, and finds by bisection (to 2^-50 of the span) the last
+// instant at which `holds` is still true; `holds` is true at x and false at x + span. Returns
+// that instant's offset and leaves the state there in *at.
+template <class System, class Holds>
+double Simulator::lastInstantWhere(const System& system, const OdeState x, double t, double span,
+                                   const Holds& holds, OdeState* at) {
+  // x by value: `at` may be the caller's x.
+  double before = 0.0, after = span;
+  *at = x;
+  for (int i = 0; i < 50; ++i) {
+    const double mid = 0.5 * (before + after);
+    OdeState probe = x;
+    if (integrator_->advance(system, probe, t, mid, false)) break;
+    if (holds(probe)) {
+      before = mid;
+      *at = probe;
+    } else {
+      after = mid;
+    }
+  }
+  return before;
+}
+
 template <class Equations>
 Status Simulator::stepWith(const Equations& equations) {
   OdeState x = toOdeState(state_, motor_work_, dissipated_energy_);
-  const EquationsOfMotion<Equations> system{&equations, torque_};
+  const EquationsOfMotion<Equations> free{&equations, torque_};
+  const RestingContactMotion<Equations> held{&model_, &equations, torque_};
   const SliderContact& contact = model_.parameters().contact;
   double t = time();
   double remaining = step_size_;
+  bool reuse_derivative = last_derivative_valid_;
+  const bool rk4 = integrator_type_ == IntegratorType::kRk4;
   const char* error = nullptr;
-  for (int impacts = 0;; ++impacts) {
-    OdeState trial = x;
-    error = integrator_->advance(system, trial, t, remaining, last_derivative_valid_);
-    if (!error && !isFinite(trial)) error = "the step produced a non-finite state";
-    if (error) break;
-    if (!contact.enabled || separationAtLeast(trial, contact.gap) ||
-        impacts == kMaxImpactsPerStep) {
-      x = trial;
+  const auto pushes = [&](const OdeState& at) {  // the held contact still pushes (N >= 0)
+    return restingContactAt(equations, fromOdeState(at)).force >= 0.0;
+  };
+  const auto apart = [&](const OdeState& at) { return separationAtLeast(at, contact.gap); };
+  for (int events = 0;; ++events) {
+    if (events > kMaxContactEventsPerStep) {
+      error = "the sliders' contact changed more than 16 times within one physics step";
       break;
     }
-    // The sliders closed to the gap within this step: find when (bisection on the integrated
-    // motion to 2^-50 of the step), apply the impact there, integrate the rest of the step.
-    double before = 0.0, after = remaining;
-    OdeState at_touch = x;
-    for (int i = 0; i < 50; ++i) {
-      const double mid = 0.5 * (before + after);
-      OdeState probe = x;
-      if (integrator_->advance(system, probe, t, mid, false)) break;
-      if (separationAtLeast(probe, contact.gap)) {
-        before = mid;
-        at_touch = probe;
-      } else {
-        after = mid;
+    if (resting_contact_ && !pushes(x)) {  // the contact would pull: it lets go
+      resting_contact_ = false;
+      reuse_derivative = false;
+    }
+    OdeState trial = x;
+    error = resting_contact_ ? integrator_->advance(held, trial, t, remaining, reuse_derivative)
+                             : integrator_->advance(free, trial, t, remaining, reuse_derivative);
+    if (!error && !withinScale(trial))  // NaN fails it too
+      error = "the step produced a non-finite or runaway state (beyond 1e100)";
+    if (!error && rk4 && !(std::abs(trial[2]) * step_size_ <= kMaxCrankTurnPerStep))
+      error =
+          "the crank would turn more than 1 rad in one rk4 step, which rk4 cannot resolve "
+          "(use simulation.integrator dopri5 or a higher simulation.physics_rate)";
+    if (error) break;
+    double span = 0.0;  // how far into the remaining step the event lies
+    if (resting_contact_) {
+      // Integrated on the contact: q2, u2 follow from q1, u1 exactly (no drift off it).
+      putOnContact(&trial);
+      if (pushes(trial)) {
+        x = trial;
+        break;
       }
+      // The contact force turns to a pull within the step: let go where it does.
+      span = lastInstantWhere(
+          held, x, t, remaining,
+          [&](OdeState at) {
+            putOnContact(&at);
+            return pushes(at);
+          },
+          &x);
+      putOnContact(&x);
+      resting_contact_ = false;
+    } else {
+      if (!contact.enabled || apart(trial)) {
+        x = trial;
+        break;
+      }
+      // The sliders closed to the gap within this step: find when, resolve the touch there,
+      // integrate the rest of the step.
+      span = lastInstantWhere(free, x, t, remaining, apart, &x);
+      touch(equations, &x);
     }
-    const std::optional<SliderImpact> impact = model_.sliderImpact(fromOdeState(at_touch));
-    x = at_touch;
-    if (impact) {
-      x[2] = impact->after.u1;
-      x[3] = impact->after.u2;
-      x[5] += impact->energy_loss;  // D: the ledger books the impact's loss
-      ++contact_impacts_;
-    }
-    t += before;
-    remaining -= before;
-    last_derivative_valid_ = false;
+    t += span;
+    remaining -= span;
+    reuse_derivative = false;
   }
   last_derivative_valid_ = !error;
   if (error) {
+    resting_contact_ = resting_contact_at_start_of_step_;
     std::ostringstream msg;
     msg << error << " at t = " << time() << " s (q1 = " << state_.q1 << ", q2 = " << state_.q2
         << ", u1 = " << state_.u1 << ", u2 = " << state_.u2 << ", M_m = " << torque_
@@ -186,8 +273,36 @@ Status Simulator::stepWith(const Equations& equations) {
       std::abs(next.u1) * step_size_ > kMaxCrankAnglePerStep)
     step_too_coarse_ = true;
   state_ = next;
+  resting_contact_at_start_of_step_ = resting_contact_;
   ++ticks_;
   return {};
+}
+
+template <class Equations>
+void Simulator::touch(const Equations& equations, OdeState* x) {
+  // At the gap. A rebound that the free motion would bring back within a physics step (a bounce
+  // at speed v under a closing acceleration a returns after 2 v / a) is the endless chatter of a
+  // body coming to rest: the touch ends plastically in resting contact, held by the constraint
+  // force while that force pushes. A faster approach is an impact with restitution e.
+  const State at = fromOdeState(*x);
+  const RestingContact held = restingContactAt(equations, model_.onContact(at));
+  const double approach =
+      -MechanismModel::separationJacobian(model_.kinematics(at)).dot(at.speeds());
+  const double rebound = model_.parameters().contact.restitution * std::max(approach, 0.0);
+  const bool rests =
+      held.closing_acceleration > 0.0 && rebound <= held.closing_acceleration * step_size_;
+  const std::optional<SliderImpact> impact =
+      model_.sliderImpact(at, rests ? 0.0 : model_.parameters().contact.restitution);
+  if (impact) {
+    (*x)[2] = impact->after.u1;
+    (*x)[3] = impact->after.u2;
+    (*x)[5] += impact->energy_loss;  // D: the ledger books the impact's loss
+    ++contact_impacts_;
+  }
+  if (rests) {
+    putOnContact(x);
+    resting_contact_ = true;
+  }
 }
 
 void Simulator::reset() {
@@ -196,6 +311,28 @@ void Simulator::reset() {
 }
 
 Status Simulator::setState(const State& x) {
+  const Status usable = checkState(x);
+  if (!usable.ok) return usable;
+  state_ = x;
+  motor_work_ = 0.0;
+  dissipated_energy_ = 0.0;
+  parameter_energy_ = 0.0;
+  slider_crossings_ = 0;
+  contact_impacts_ = 0;
+  step_too_coarse_ = false;
+  last_derivative_valid_ = false;
+  resting_contact_ = resting_contact_at_start_of_step_ = false;
+  slider4_below_ = separationAtLeast(toOdeState(state_), 0.0);
+  return {};
+}
+
+Status Simulator::checkState(const State& x) const {
+  const auto refuse = [&x](const std::string& why) {
+    std::ostringstream msg;
+    msg << "q1 = " << x.q1 << ", q2 = " << x.q2 << ", u1 = " << x.u1 << ", u2 = " << x.u2 << " "
+        << why << "; state kept";
+    return Status{false, msg.str()};
+  };
   const double values[] = {x.q1, x.q2, x.u1, x.u2};
   const char* names[] = {"q1", "q2", "u1", "u2"};
   for (int i = 0; i < 4; ++i) {
@@ -205,21 +342,40 @@ Status Simulator::setState(const State& x) {
       return {false, msg.str()};
     }
   }
-  if (!std::isfinite(model_.energy(x).total())) {
+  // q1 beyond a million turns: its cosine has lost every digit of the angle's fraction.
+  if (std::abs(x.q1) > kMaxCrankAngle) {
     std::ostringstream msg;
-    msg << "q1 = " << x.q1 << ", q2 = " << x.q2 << ", u1 = " << x.u1 << ", u2 = " << x.u2
-        << " gives a non-finite energy; use values of the mechanism's size; state kept";
+    msg << "q1 = " << x.q1 << " rad is beyond +-" << kMaxCrankAngle
+        << " rad, where a double no longer resolves the crank's angle; state kept";
     return {false, msg.str()};
   }
-  state_ = x;
-  motor_work_ = 0.0;
-  dissipated_energy_ = 0.0;
-  parameter_energy_ = 0.0;
-  slider_crossings_ = 0;
-  contact_impacts_ = 0;
-  step_too_coarse_ = false;
-  last_derivative_valid_ = false;
-  slider4_below_ = separationAtLeast(toOdeState(state_), 0.0);
+  if (!std::isfinite(model_.energy(x).total()))
+    return refuse("gives a non-finite energy; use values of the mechanism's size");
+  const OdeState rates = generated_.stateDerivative(x, torque_);
+  if (!isFinite(rates)) return refuse("gives non-finite accelerations u'");
+  const SliderContact& contact = model_.parameters().contact;
+  if (contact.enabled && !separationAtLeast(toOdeState(x), contact.gap)) {
+    std::ostringstream msg;
+    msg << "q1 = " << x.q1 << ", q2 = " << x.q2 << " puts slider 4 "
+        << model_.geometry(x.q1, x.q2).sliderSeparation()
+        << " m below slider 3 (x_C - x_B), closer than contact.gap " << contact.gap
+        << " m: with contact enabled the sliders must be apart; state kept";
+    return {false, msg.str()};
+  }
+  if (!withinScale(toOdeState(x)))
+    return refuse("is beyond the mechanism's scale (a magnitude over 1e100)");
+  if (integrator_type_ == IntegratorType::kRk4) {
+    if (!(std::abs(x.u1) * step_size_ <= kMaxCrankTurnPerStep))
+      return refuse("turns the crank more than 1 rad per rk4 step, which rk4 cannot resolve");
+    const double rate = fastestRate(model_, x, torque_);
+    if (!(rate * step_size_ <= kRk4StabilityLimit)) {
+      std::ostringstream msg;
+      msg << "is too stiff for rk4 at " << 1.0 / step_size_
+          << " Hz: the linearised motion's fastest rate there is " << rate
+          << " 1/s (rate h = " << rate * step_size_ << ", at most " << kRk4StabilityLimit << ")";
+      return refuse(msg.str());
+    }
+  }
   return {};
 }
 
@@ -227,6 +383,7 @@ void Simulator::setParameters(const MechanismParameters& parameters) {
   const double before = model_.energy(state_).total();
   model_ = MechanismModel(parameters, model_.springRestLength());
   generated_ = GeneratedMechanism(model_);
+  if (!parameters.contact.enabled) resting_contact_ = resting_contact_at_start_of_step_ = false;
   parameter_energy_ += model_.energy(state_).total() - before;
   ++parameter_changes_;
   last_derivative_valid_ = false;
@@ -251,6 +408,14 @@ Snapshot Simulator::snapshot() const {
     snap.u_dot = equations.solveAccelerations();
   }
   snap.active_forces = equations.active_forces;
+  if (resting_contact_) {
+    // Held together: the contact force is one more load, J^T N in F_r, and u' is constrained.
+    const RestingContact contact = model_.restingContact(state_, snap.u_dot, torque_);
+    snap.u_dot = contact.u_dot;
+    snap.active_forces += contact.generalized_force;
+    snap.contact_force = contact.force;
+    snap.resting_contact = true;
+  }
   snap.inertia_forces = equations.inertiaForces(snap.u_dot);
   snap.energy = model_.energy(k, state_);
   snap.motor_work = motor_work_;

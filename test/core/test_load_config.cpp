@@ -223,7 +223,7 @@ TEST(LoadConfig, StiffMechanismIsRefusedForRk4AtTooLowARate) {
   YAML::Node root = defaultYaml();
   root["mechanism"]["spring_stiffness"] = 1e9;
   expectError(root, "simulation.physics_rate",
-              "use simulation.integrator dopri5 or a physics_rate of at least 17205 Hz");
+              "use simulation.integrator dopri5 or a physics_rate of at least 18362 Hz");
 }
 
 TEST(LoadConfig, StiffMechanismIsFineWithDopri5OrAFastEnoughRate) {

@@ -279,5 +279,181 @@ TEST(Contact, HardDriveNeverCrossesWithContactOn) {
   EXPECT_LT(max_drift, 2e-5 * work);
 }
 
+// ---- Resting contact -----------------------------------------------------------------------
+
+// Gravity reversed (g < 0 pulls every body towards -i, i.e. up the rail towards slider 3) and no
+// spring: slider 4 falls onto slider 3 and must come to rest on it. Before resting contact the
+// impacts chattered at one per step and slider 4 passed through slider 3 (at 42 s for e = 0.5,
+// 0.64 s for e = 0 and gap 0).
+Config restingCase(double restitution, double gap, double gravity, IntegratorType integrator) {
+  Config c = test::defaultConfig();
+  c.mechanism.contact = SliderContact{true, gap, restitution};
+  c.mechanism.gravity = gravity;
+  c.mechanism.spring_stiffness = 0.0;
+  c.simulation.integrator = integrator;
+  return c;
+}
+
+struct RestingRun {
+  double min_separation_above_gap = 1e9;  // [m] min over every step of (x_C - x_B) - gap
+  double ledger_spread = 0.0;             // [J] max - min of E + D - W over every step
+  double energy_scale = 0.0;              // [J] max |E| + D + |W|: what the ledger sums
+  std::uint64_t impacts = 0, crossings = 0;
+  bool rested = false;
+};
+
+RestingRun runResting(const Config& c, double duration) {
+  Simulator sim(c);
+  RestingRun run;
+  double lo = 1e300, hi = -1e300;
+  const long steps = std::lround(duration * c.simulation.physics_rate);
+  for (long i = 0; i < steps; ++i) {
+    const Status status = sim.step();
+    if (!status.ok) {
+      ADD_FAILURE() << "step refused at t = " << sim.time() << ": " << status.error;
+      break;
+    }
+    const Snapshot s = sim.snapshot();
+    run.min_separation_above_gap =
+        std::min(run.min_separation_above_gap, s.slider_separation - c.mechanism.contact.gap);
+    lo = std::min(lo, s.energyBalance());
+    hi = std::max(hi, s.energyBalance());
+    run.energy_scale = std::max(run.energy_scale, std::abs(s.energy.total()) + s.dissipated_energy +
+                                                      std::abs(s.motor_work));
+    run.rested = run.rested || s.resting_contact;
+  }
+  run.ledger_spread = hi - lo;
+  run.impacts = sim.contactImpacts();
+  run.crossings = sim.sliderCrossings();
+  return run;
+}
+
+// The three repros of the resting-contact defect, 200 s each: the sliders never come closer
+// than the gap (1e-9 m: the constraint is held exactly, q2 follows from q1 on it), never cross,
+// the impacts are finitely many (they stop once slider 4 rests) and the ledger holds. rk4 at
+// 1 kHz: its own error while the crank swings at up to ~20 rad/s (5e-7 of the energies summed,
+// measured 1.9e-6 J of ~65 J); dopri5 at 1e-9: 1e-7 J (measured 1.9e-9 J).
+TEST(Contact, RestingContactHoldsFor200Seconds) {
+  struct Case {
+    const char* name;
+    Config config;
+    double ledger_bound;  // [J]
+  };
+  const Case cases[] = {
+      {"e 0.5, g -9.81", restingCase(0.5, 0.07, -9.81, IntegratorType::kRk4), 0.0},
+      {"e 0, gap 0", restingCase(0.0, 0.0, -9.81, IntegratorType::kRk4), 0.0},
+      {"e 0.5, g -100", restingCase(0.5, 0.07, -100.0, IntegratorType::kRk4), 0.0},
+      {"e 0.5, g -9.81, dopri5", restingCase(0.5, 0.07, -9.81, IntegratorType::kDopri5), 1e-7},
+  };
+  for (const Case& c : cases) {
+    const RestingRun run = runResting(c.config, 200.0);
+    std::cout << c.name << ": " << run.impacts << " impacts, min separation - gap "
+              << run.min_separation_above_gap << " m, ledger spread " << run.ledger_spread
+              << " J of " << run.energy_scale << " J\n";
+    EXPECT_TRUE(run.rested) << c.name;
+    EXPECT_GE(run.min_separation_above_gap, -1e-9) << c.name;
+    EXPECT_EQ(run.crossings, 0u) << c.name;
+    EXPECT_LT(run.impacts, 1000u) << c.name << ": chatter (200 000 steps)";
+    const double bound = c.ledger_bound > 0 ? c.ledger_bound : 1e-5 * run.energy_scale;
+    EXPECT_LT(run.ledger_spread, bound) << c.name;
+  }
+}
+
+// A drop with dampers comes to rest at the static equilibrium of the constrained mechanism:
+// slider 4 on slider 3 (x_C = x_B + gap), and with g < 0 the potential -g 4L cos q1 (m + M1 +
+// M2) (+ const) is least at q1 = pi. The contact force then carries slider 4's weight less the
+// spring's push: N = -M2 g - k (rest length - gap), on slider 4 along +i.
+TEST(Contact, DropComesToRestAtTheStaticEquilibrium) {
+  Config c = restingCase(0.5, 0.07, -9.81, IntegratorType::kDopri5);
+  c.mechanism.spring_stiffness = 10.0;  // k (0.3 - 0.07) = 2.3 N < M2 |g| = 7.85 N: it rests
+  c.mechanism.damping.crank = 0.5;
+  c.mechanism.damping.slider4 = 2.0;
+  Simulator sim(c);
+  for (int i = 0; i < 60000; ++i) ASSERT_TRUE(sim.step().ok);
+  const Snapshot s = sim.snapshot();
+  const MechanismParameters& p = c.mechanism;
+  const double rest_length = sim.model().springRestLength();
+  ASSERT_TRUE(s.resting_contact);
+  EXPECT_NEAR(std::sin(s.state.q1), 0.0, 1e-6);  // q1 = pi (mod 2 pi)
+  EXPECT_LT(std::cos(s.state.q1), 0.0);
+  EXPECT_NEAR(s.state.q2, -4 * p.rod_half_length + p.contact.gap, 1e-9);
+  EXPECT_NEAR(s.state.u1, 0.0, 1e-6);
+  EXPECT_NEAR(s.contact_force,
+              -p.slider4_mass * p.gravity - p.spring_stiffness * (rest_length - p.contact.gap),
+              1e-6);
+  // At rest F*_r = 0, so the generalized active forces, the contact's J^T N among them, balance.
+  EXPECT_NEAR(s.active_forces.norm(), 0.0, 1e-6);
+}
+
+// The contact lets go when the constraint force would pull: slider 4 resting on slider 3 is
+// thrown off when the crank is driven hard away from it (slider 3 pulled up faster than gravity
+// pulls slider 4 after it), and lands again later, never inside the gap.
+TEST(Contact, RestingContactLetsGoWhenItWouldPull) {
+  Config c = restingCase(0.2, 0.07, -9.81, IntegratorType::kRk4);
+  c.mechanism.damping.crank = 0.5;
+  c.mechanism.damping.slider4 = 2.0;
+  Simulator sim(c);
+  for (int i = 0; i < 20000; ++i) ASSERT_TRUE(sim.step().ok);
+  ASSERT_TRUE(sim.restingContact());
+  ASSERT_TRUE(sim.setTorque(-20.0).ok);  // q1 away from pi: slider 3 moves down (+i)
+  bool let_go = false;
+  for (int i = 0; i < 3000; ++i) {
+    ASSERT_TRUE(sim.step().ok);
+    let_go = let_go || !sim.restingContact();
+    EXPECT_GE(sim.snapshot().slider_separation, c.mechanism.contact.gap - 1e-9);
+    EXPECT_GE(sim.snapshot().contact_force, 0.0);
+  }
+  EXPECT_TRUE(let_go);
+}
+
+// ---- rk4's stability over the reachable configurations (the loader's check) ----------------
+
+// Each of these was accepted by a check at the initial configuration only and then diverged
+// (damping 1000 at 7.3 s, rod_mass 1e-4 at 0.17 s) or skipped the check (slider4_mass 1e-50), or
+// drifted silently (a motor line of w0 = 1e-9: a crank damper of 50 / 1e-9). All refused now,
+// naming the key; what the check accepts runs 10 s without a refused step.
+TEST(Stability, TheLoaderChecksEveryConfigurationAndEveryRate) {
+  const auto loads = [](const YAML::Node& root) {
+    try {
+      loadConfig(root);
+      return std::string();
+    } catch (const ConfigError& e) {
+      return e.key() + ": " + e.what();
+    }
+  };
+  struct Case {
+    const char* section;
+    const char* key;
+    double value;
+    const char* refused_key;
+  };
+  const Case refused[] = {{"damping", "crank_joint", 1000.0, "simulation.physics_rate"},
+                          {"mechanism", "rod_mass", 1e-4, "simulation.physics_rate"},
+                          {"mechanism", "slider4_mass", 1e-50, "simulation.physics_rate"},
+                          {"command", "motor_no_load_speed", 1e-9, "simulation.physics_rate"}};
+  for (const Case& r : refused) {
+    YAML::Node root = YAML::LoadFile(test::configPath("mechanism.yaml"));
+    root[r.section][r.key] = r.value;
+    const std::string error = loads(root);
+    EXPECT_EQ(error.rfind(r.refused_key, 0), 0u)
+        << r.key << " " << r.value << ": '" << error << "'";
+  }
+  // Just inside the bound: accepted, and rk4 integrates it (the crank swinging through q1 = 0,
+  // where M11 is least and the crank damper's rate c / M11 largest).
+  // (c_O / M11 at q1 = pi, M11 = 2 m L^2 + 2 I = 1/6 kg m^2: 400 gives rate h = 2.4.)
+  const Case accepted[] = {{"damping", "crank_joint", 400.0, ""},
+                           {"mechanism", "rod_mass", 0.05, ""},
+                           {"command", "motor_no_load_speed", 1.0, ""}};
+  for (const Case& a : accepted) {
+    YAML::Node root = YAML::LoadFile(test::configPath("mechanism.yaml"));
+    root[a.section][a.key] = a.value;
+    ASSERT_EQ(loads(root), "") << a.key;
+    Simulator sim(loadConfig(root).config);
+    ASSERT_TRUE(sim.setTorque(5.0).ok);
+    for (int i = 0; i < 10000; ++i) ASSERT_TRUE(sim.step().ok) << a.key << " at step " << i;
+    EXPECT_TRUE(sim.state().isFinite());
+  }
+}
+
 }  // namespace
 }  // namespace kane_sim

@@ -1,6 +1,7 @@
 // Time stepping: the fixed time grid, both integrators, torque hold, motor work, refusals, reset.
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -121,6 +122,69 @@ TEST(Simulator, StepThatWouldGoNonFiniteIsRefused) {
     EXPECT_FALSE(result.ok) << integratorName(type) << " never refused a step";
     const Snapshot snap = sim.snapshot();
     EXPECT_TRUE(snap.state.isFinite());
+  }
+}
+
+// set_state's hostile states: each refused naming the field and the reason, nothing changed.
+// u1 = 1e5 rad/s and q1 = 1e308 were accepted and put inf/NaN on every topic within 2 ms.
+TEST(Simulator, SetStateRefusesStatesThatCannotBeIntegrated) {
+  Config c = test::defaultConfig();
+  c.mechanism.contact.enabled = true;
+  Simulator sim(c);
+  const State before = sim.state();
+  const struct {
+    State state;
+    const char* says;
+  } refused[] = {
+      {{0.0, 1.2, 100000.0, 0.0}, "more than 1 rad per rk4 step"},
+      {{0.5, 1e5, 0.0, 0.0}, "too stiff for rk4 at 1000 Hz"},  // the spring stretched 1e5 m
+      {{1e308, 1.2, 0.0, 0.0}, "q1 = 1e+308 rad is beyond"},
+      {{0.0, 1e308, 0.0, 0.0}, "non-finite energy"},
+      {{0.0, 1.2, 0.0, 1e200}, "non-finite energy"},
+      {{0.0, 1.0, 0.0, 0.0}, "closer than contact.gap"},  // x_B = 1.0: touching
+      {{0.0, 0.5, 0.0, 0.0}, "closer than contact.gap"},  // slider 4 above slider 3: crossed
+      {{0.0, std::nan(""), 0.0, 0.0}, "q2 = nan is not finite"},
+      {{0.0, 1.2, -INFINITY, 0.0}, "u1 = -inf is not finite"},
+  };
+  for (const auto& r : refused) {
+    const Status result = sim.setState(r.state);
+    EXPECT_FALSE(result.ok) << r.says;
+    EXPECT_NE(result.error.find(r.says), std::string::npos) << result.error;
+    EXPECT_NE(result.error.find("state kept"), std::string::npos) << result.error;
+    EXPECT_EQ(sim.state().q1, before.q1);
+    EXPECT_EQ(sim.state().u1, before.u1);
+  }
+  EXPECT_TRUE(sim.setState(State{0.0, 1.2, 20.0, 0.0}).ok);  // a fast but resolvable spin
+}
+
+// Whatever state set_state accepts, every snapshot after it (published as it is) is finite:
+// random states over 20 decades, each accepted one stepped 200 times (dopri5: 20).
+TEST(Simulator, EverySnapshotAfterAnAcceptedStateIsFinite) {
+  std::mt19937 rng(19);
+  std::uniform_real_distribution<double> exponent(-10.0, 10.0), sign(-1.0, 1.0);
+  const auto wild = [&] { return std::copysign(std::pow(10.0, exponent(rng)), sign(rng)); };
+  for (IntegratorType type : {IntegratorType::kRk4, IntegratorType::kDopri5}) {
+    Config c = test::defaultConfig();
+    c.simulation.integrator = type;
+    Simulator sim(c);
+    int accepted = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+      if (!sim.setState(State{wild(), wild(), wild(), wild()}).ok) continue;
+      ++accepted;
+      ASSERT_TRUE(sim.snapshot().allFinite());
+      // dopri5 takes as many sub-steps as a stiff state needs (thousands for the wildest): fewer.
+      const int steps = type == IntegratorType::kRk4 ? 200 : 20;
+      for (int i = 0; i < steps; ++i) {
+        const bool stepped = sim.step().ok;  // refused or not, what is published stays finite
+        const Snapshot snap = sim.snapshot();
+        ASSERT_TRUE(snap.allFinite())
+            << integratorName(type) << " trial " << trial << " step " << i << ": q "
+            << snap.state.q1 << " " << snap.state.q2 << " u " << snap.state.u1 << " "
+            << snap.state.u2 << " E " << snap.energy.total() << " W " << snap.motor_work;
+        if (!stepped) break;  // refused steps repeat (dopri5's take 1e5 sub-steps each)
+      }
+    }
+    EXPECT_GT(accepted, 20) << integratorName(type);
   }
 }
 

@@ -85,6 +85,19 @@ struct SliderImpact {
   double energy_loss = 0.0;     // [J] T before - T after = ½ (1 - e²) m_eff v²
 };
 
+// Resting contact (contact on, the sliders held together at the gap): the contact as a
+// unilateral constraint x_C - x_B = gap, i.e. J u = 0 with J_r = ∂(v_C - v_B)/∂u_r · i. Kane's
+// equations with the constraint force N along J^T: M u' = forcing + J^T N, and J u' + J' u = 0
+// give N = -(J u'_free + J' u) / (J M^-1 J^T), u' = u'_free + M^-1 J^T N.
+struct RestingContact {
+  SpeedVector u_dot = SpeedVector::Zero();  // u' with the sliders held together
+  double force = 0.0;  // N [N] on slider 4 along +i (pushing it away from slider 3; the
+                       // opposite on slider 3); < 0 would pull: the contact lets go
+  SpeedVector generalized_force = SpeedVector::Zero();  // J^T N: its share of F_r
+  // -(J u'_free + J' u) [m/s^2]: how fast the free motion would close the gap (> 0: N > 0).
+  double closing_acceleration = 0.0;
+};
+
 struct EnergyTerms {
   double kinetic = 0.0;        // T  [J]
   double gravitational = 0.0;  // V_g = -Σ M g (r · i)  [J], zero at the level of O
@@ -119,7 +132,22 @@ class MechanismModel {
 
   // Contact on and the sliders at the gap, approaching: the impact (Newton's restitution law
   // in Kane's impulsive form: M Δu = J^T λ, J_r = ∂(v_C - v_B)/∂u_r · i, J u+ = -e J u-).
-  std::optional<SliderImpact> sliderImpact(const State& x) const;
+  // `restitution` defaults to contact.restitution; 0 gives the plastic impact that starts a
+  // resting contact.
+  std::optional<SliderImpact> sliderImpact(const State& x) const {
+    return sliderImpact(x, parameters_.contact.restitution);
+  }
+  std::optional<SliderImpact> sliderImpact(const State& x, double restitution) const;
+
+  // J_r = ∂(v_C - v_B)/∂u_r · i = (4 L sin q1, 1): the separation rate is J u.
+  static SpeedVector separationJacobian(const MechanismKinematics& k);
+  // The state with slider 4 held at the gap below slider 3 (q2 = 4L cos q1 + gap, u2 from
+  // J u = 0), q1 and u1 as given: the configuration manifold of resting contact.
+  State onContact(const State& x) const;
+  // The constraint force and u' of resting contact at x (x on the contact: onContact(x) == x),
+  // from u'_free, the unconstrained u' of the equations in use (M from the assembly).
+  RestingContact restingContact(const State& x, const SpeedVector& u_dot_free,
+                                double motor_command) const;
 
   // F*_r (as mass matrix and remainder) and F_r, eqs (12) and (16), term by term.
   static Equations equations(const MechanismKinematics& k, const MechanismLoads& loads,

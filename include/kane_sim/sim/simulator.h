@@ -48,10 +48,14 @@ class Simulator {
   void reset();
 
   // Puts the mechanism into `state` (like reset, to a chosen state): motor work, dissipated
-  // energy, crossings and impacts 0;
-  // the torque in force and the spring's rest length are kept. A non-finite value, or a state
-  // whose energy is not finite, is refused naming the field and nothing changes.
+  // energy, crossings and impacts 0; the torque in force and the spring's rest length are kept.
+  // Refused (naming the field and the value; nothing changes) unless checkState accepts it.
   Status setState(const State& state);
+  // Whether the mechanism can be put into `state`: finite values, q1 within kMaxCrankAngle, a
+  // finite energy and finite u', the sliders at least contact.gap apart when contact is on, and
+  // with rk4 the motion's fastest rate there within rk4's stability at this step size.
+  Status checkState(const State& state) const;
+  static constexpr double kMaxCrankAngle = 2 * M_PI * 1e6;  // [rad] a million turns
 
   // New physical parameters from the next step on, at the current state (the spring's rest
   // length is kept). The total energy E jumps at that instant; the jump is added to
@@ -66,14 +70,19 @@ class Simulator {
   double dissipatedEnergy() const { return dissipated_energy_; }
   std::uint64_t sliderCrossings() const { return slider_crossings_; }
   std::uint64_t contactImpacts() const { return contact_impacts_; }
-  // With contact on, at most this many impacts are resolved within one physics step; the rest
-  // of the step is then integrated as it comes (reached only by sliders pressed together, which
-  // gravity and the spring of this mechanism never do).
-  static constexpr int kMaxImpactsPerStep = 16;
+  // With contact on, at most this many contact events (impacts, the start or the end of a
+  // resting contact) are resolved within one physics step; a step that needs more is refused
+  // with the reason (never accepted with the sliders inside the gap).
+  static constexpr int kMaxContactEventsPerStep = 16;
+  // True while the sliders rest on each other (contact on): held at the gap by the constraint
+  // force of Kane's equations until that force would pull.
+  bool restingContact() const { return resting_contact_; }
   // rk4 resolves the motion only while the crank turns well under a tenth of a radian per step
   // (its error grows as (u1 h)^4); past that, energy is no longer conserved. True once the
   // crank has exceeded kMaxCrankAnglePerStep since start or reset; dopri5 refines by itself.
   static constexpr double kMaxCrankAnglePerStep = 0.05;  // [rad]
+  // Past this rk4 does not integrate the motion at all: a step that would reach it is refused.
+  static constexpr double kMaxCrankTurnPerStep = 1.0;  // [rad]
   bool stepTooCoarse() const { return step_too_coarse_; }
   const MechanismModel& model() const { return model_; }
   EquationsSource equations() const { return equations_; }
@@ -87,6 +96,16 @@ class Simulator {
   Status stepWith(const Equations& equations);
   // x_C - x_B >= threshold at x (the cosine only when q2's bounds leave it open).
   bool separationAtLeast(const OdeState& x, double threshold) const;
+  // q2, u2 of x set from q1, u1 on the resting contact (MechanismModel::onContact).
+  void putOnContact(OdeState* x) const;
+  template <class Equations>
+  RestingContact restingContactAt(const Equations& equations, const State& held) const;
+  // The sliders at the gap, approaching: an impact, or the start of a resting contact.
+  template <class Equations>
+  void touch(const Equations& equations, OdeState* x);
+  template <class System, class Holds>
+  double lastInstantWhere(const System& system, OdeState x, double t, double span,
+                          const Holds& holds, OdeState* at);
 
   MechanismModel model_;
   GeneratedMechanism generated_;  // the same model as generated equations: the fast path
@@ -107,6 +126,8 @@ class Simulator {
   bool last_derivative_valid_ = false;
   std::unique_ptr<Integrator> integrator_;
   bool slider4_below_;  // x_C - x_B >= 0 at the current state (crossings count its changes)
+  bool resting_contact_ = false;
+  bool resting_contact_at_start_of_step_ = false;  // restored when a step is refused
   double parameter_energy_ = 0.0;
   std::uint64_t parameter_changes_ = 0;
 };

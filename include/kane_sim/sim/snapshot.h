@@ -3,6 +3,7 @@
 #ifndef KANE_SIM_SIM_SNAPSHOT_H
 #define KANE_SIM_SIM_SNAPSHOT_H
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
@@ -42,8 +43,37 @@ struct Snapshot {
   double slider_separation = 0.0;
   std::uint64_t slider_crossings = 0;  // sign changes of slider_separation since start or reset
   std::uint64_t contact_impacts = 0;   // slider impacts since start or reset (contact on)
+  bool resting_contact = false;        // the sliders rest on each other, held at contact.gap
+  double contact_force = 0.0;          // N [N] then on slider 4 along +i (0 when apart)
   MechanismGeometry geometry;          // positions of O, A, B, C, C1, C2; rod angles
   JointValues joints;                  // crank, coupler, slider3, slider4
+
+  // Every number finite: what the node and the tools check before anything is published or
+  // written (a snapshot that fails it is withheld and reported, never sent).
+  bool allFinite() const {
+    const double values[] = {time,
+                             torque,
+                             command.commanded,
+                             energy.kinetic,
+                             energy.gravitational,
+                             energy.spring,
+                             motor_work,
+                             motor_power,
+                             dissipated_energy,
+                             dissipated_power,
+                             parameter_energy,
+                             spring_elongation,
+                             slider_separation,
+                             contact_force};
+    for (double v : values)
+      if (!std::isfinite(v)) return false;
+    for (int i = 0; i < kNumJoints; ++i)
+      if (!std::isfinite(joints.position[i]) || !std::isfinite(joints.velocity[i]) ||
+          !std::isfinite(joints.effort[i]))
+        return false;
+    return state.isFinite() && u_dot.allFinite() && active_forces.allFinite() &&
+           inertia_forces.allFinite() && std::isfinite(energyBalance());
+  }
 
   // The energy ledger: E + D - W - parameter_energy, constant to the integrator's order [J].
   double energyBalance() const {
