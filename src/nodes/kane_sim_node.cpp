@@ -122,6 +122,7 @@ void KaneSimNode::reconnect() {
   tf_broadcaster_.reset();
   static_tf_broadcaster_.reset();
   connect();
+  if (runtime_parameters_) runtime_parameters_->advertise();
   publishRobotDescription();  // a new master has no parameters either
   ROS_WARN(
       "kane_sim: the ROS master restarted; topics and services registered again "

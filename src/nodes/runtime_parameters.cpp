@@ -1,6 +1,10 @@
 #include "runtime_parameters.h"
 
+#include <sstream>
 #include <utility>
+
+#include <dynamic_reconfigure/Config.h>
+#include <dynamic_reconfigure/ConfigDescription.h>
 
 #include "kane_sim/config/load_config.h"
 
@@ -31,17 +35,28 @@ const Binding kBindings[] = {
     {"slider4_damping", "damping", "slider4_joint", &KaneSimConfig::slider4_damping},
 };
 
+const Binding* bindingOf(const std::string& name) {
+  for (const Binding& b : kBindings)
+    if (name == b.name) return &b;
+  return nullptr;
+}
+
 }  // namespace
 
 RuntimeParameters::RuntimeParameters(const ros::NodeHandle& private_nh, const YAML::Node& tree,
                                      const Config& config, Apply apply)
-    : tree_(YAML::Clone(tree)), config_(config), apply_(std::move(apply)) {
-  server_ = std::make_unique<dynamic_reconfigure::Server<KaneSimConfig>>(mutex_, private_nh);
-  // The config file, not leftovers on the parameter server or the .cfg defaults, is what the
-  // node starts with.
-  KaneSimConfig start = valuesOf(config_);
-  server_->updateConfig(start);
-  server_->setCallback([this](KaneSimConfig& values, uint32_t level) { onChange(values, level); });
+    : private_nh_(private_nh), tree_(YAML::Clone(tree)), config_(config), apply_(std::move(apply)) {
+  advertise();
+}
+
+void RuntimeParameters::advertise() {
+  set_service_ =
+      private_nh_.advertiseService("set_parameters", &RuntimeParameters::onSetParameters, this);
+  descriptions_pub_ = private_nh_.advertise<dynamic_reconfigure::ConfigDescription>(
+      "parameter_descriptions", 1, true);
+  descriptions_pub_.publish(KaneSimConfig::__getDescriptionMessage__());
+  updates_pub_ = private_nh_.advertise<dynamic_reconfigure::Config>("parameter_updates", 1, true);
+  publishValues();
 }
 
 void RuntimeParameters::removeServerKeys(YAML::Node* tree) {
@@ -50,7 +65,7 @@ void RuntimeParameters::removeServerKeys(YAML::Node* tree) {
 }
 
 KaneSimConfig RuntimeParameters::valuesOf(const Config& c) {
-  KaneSimConfig v;
+  KaneSimConfig v = KaneSimConfig::__getDefault__();
   v.torque_limit = c.command.torque_limit;
   v.command_timeout = c.command.timeout;
   v.real_time_factor = c.simulation.real_time_factor;
@@ -67,25 +82,58 @@ KaneSimConfig RuntimeParameters::valuesOf(const Config& c) {
   return v;
 }
 
-void RuntimeParameters::onChange(KaneSimConfig& values, uint32_t /*level*/) {
+void RuntimeParameters::publishValues() {
+  dynamic_reconfigure::Config msg;
+  valuesOf(config_).__toMessage__(msg);
+  updates_pub_.publish(msg);
+}
+
+std::string RuntimeParameters::change(const std::vector<std::pair<std::string, double>>& changes) {
   const KaneSimConfig current = valuesOf(config_);
   YAML::Node tree = YAML::Clone(tree_);
-  bool changed = false;
-  for (const Binding& b : kBindings) {
-    if (values.*(b.value) == current.*(b.value)) continue;  // untouched keys stay as written
-    tree[b.section][b.key] = values.*(b.value);
-    changed = true;
+  std::vector<const Binding*> changed;
+  for (const auto& [name, value] : changes) {
+    const Binding* b = bindingOf(name);
+    if (!b) return "'" + name + "' is not a reconfigurable parameter of kane_sim_node";
+    if (value == current.*(b->value)) continue;  // untouched keys stay as written
+    tree[b->section][b->key] = value;
+    changed.push_back(b);
   }
-  if (!changed) return;
+  if (changed.empty()) return "";
   try {
     LoadedConfig loaded = loadConfig(tree);
     tree_ = tree;
     config_ = loaded.config;
-    apply_(config_);
   } catch (const ConfigError& e) {
-    ROS_ERROR("kane_sim: reconfiguration refused, %s; keeping the previous values", e.what());
-    values = current;  // the server publishes and answers with what is in force
+    return e.what();
   }
+  // The parameter server holds the config in force under the config's own names.
+  for (const Binding* b : changed)
+    private_nh_.setParam(std::string(b->section) + "/" + b->key,
+                         tree_[b->section][b->key].as<double>());
+  apply_(config_);
+  return "";
+}
+
+bool RuntimeParameters::onSetParameters(dynamic_reconfigure::Reconfigure::Request& req,
+                                        dynamic_reconfigure::Reconfigure::Response& res) {
+  std::vector<std::pair<std::string, double>> changes;
+  std::string refused;
+  for (const auto& d : req.config.doubles) changes.emplace_back(d.name, d.value);
+  const auto wrongType = [&refused](const std::string& name, const char* type) {
+    if (refused.empty())
+      refused = "'" + name + "' was sent as " + type + "; kane_sim_node's parameters are doubles";
+  };
+  for (const auto& p : req.config.bools) wrongType(p.name, "a bool");
+  for (const auto& p : req.config.ints) wrongType(p.name, "an int");
+  for (const auto& p : req.config.strs) wrongType(p.name, "a string");
+  if (refused.empty()) refused = change(changes);
+  if (!refused.empty())
+    ROS_ERROR("kane_sim: reconfiguration refused, %s; keeping the previous values",
+              refused.c_str());
+  valuesOf(config_).__toMessage__(res.config);  // what is in force, as the server answers
+  publishValues();
+  return true;
 }
 
 }  // namespace kane_sim

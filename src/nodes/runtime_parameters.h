@@ -1,17 +1,24 @@
-// Runtime reconfiguration of the node (dynamic_reconfigure, cfg/KaneSim.cfg). A change is
-// written into the YAML tree the node was started from and that tree goes through the one
-// config loader again: the same rules, messages and defaults as the config file (e.g. a
-// config without rod_inertia keeps I = m (2L)^2 / 12 when rod_mass changes). A refused change
-// is reverted in the server and logged naming the key and the value.
+// Runtime reconfiguration of the node: the dynamic_reconfigure protocol (dynparam, rqt_reconfigure)
+// over the one config loader. A change is written into the YAML tree the node was started from
+// and that tree goes through the loader again: the same rules, messages and defaults as the
+// config file (e.g. a config without rod_inertia keeps I = m (2L)^2 / 12 when rod_mass changes).
+//
+// The protocol is served here rather than by dynamic_reconfigure::Server, which (a) clamps every
+// value to the .cfg's min/max before anyone sees it (torque_limit -50 became 0, gravity inf
+// became 100) and (b) mirrors every value as a flat parameter beside the config's own names
+// (/kane_sim/spring_stiffness = 400 while /kane_sim/mechanism/spring_stiffness stayed 200). Here
+// the .cfg's ranges only bound a GUI's sliders; a value is refused (naming the config key and the
+// value) or accepted, and an accepted one is written back under its config name only, so
+// `rosparam get /kane_sim` is the config in force.
 #ifndef KANE_SIM_NODES_RUNTIME_PARAMETERS_H
 #define KANE_SIM_NODES_RUNTIME_PARAMETERS_H
 
 #include <functional>
-#include <memory>
+#include <string>
 
-#include <dynamic_reconfigure/server.h>
+#include <dynamic_reconfigure/Reconfigure.h>
+#include <ros/ros.h>
 #include <yaml-cpp/yaml.h>
-#include <boost/thread/recursive_mutex.hpp>
 
 #include "kane_sim/KaneSimConfig.h"
 #include "kane_sim/config/config.h"
@@ -26,19 +33,31 @@ class RuntimeParameters {
   RuntimeParameters(const ros::NodeHandle& private_nh, const YAML::Node& tree, const Config& config,
                     Apply apply);
 
-  // The flat parameters the server keeps in the node's namespace (torque_limit, ...): a config
-  // read from that namespace leaves them out (they mirror the config, they are not config).
+  // Offers the service and the latched topics (again, after a master restart).
+  void advertise();
+
+  // Applies `changes` (dynamic_reconfigure names -> values) as one change. Returns "" when
+  // accepted (or nothing changed), else why it was refused (nothing changed then).
+  std::string change(const std::vector<std::pair<std::string, double>>& changes);
+
+  // Names the node's parameter namespace may hold that are not config keys: what older
+  // kane_sim versions (and dynamic_reconfigure::Server) mirrored there. A config read from that
+  // namespace leaves them out.
   static void removeServerKeys(YAML::Node* tree);
 
  private:
-  void onChange(KaneSimConfig& values, uint32_t level);
+  bool onSetParameters(dynamic_reconfigure::Reconfigure::Request& req,
+                       dynamic_reconfigure::Reconfigure::Response& res);
+  void publishValues();
   static KaneSimConfig valuesOf(const Config& config);
 
+  ros::NodeHandle private_nh_;
   YAML::Node tree_;
   Config config_;
   Apply apply_;
-  boost::recursive_mutex mutex_;  // the server's; all its calls come from the node's one thread
-  std::unique_ptr<dynamic_reconfigure::Server<KaneSimConfig>> server_;
+  ros::ServiceServer set_service_;
+  ros::Publisher descriptions_pub_;
+  ros::Publisher updates_pub_;
 };
 
 }  // namespace kane_sim

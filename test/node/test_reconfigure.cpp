@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
+#include <rosgraph_msgs/Log.h>
 #include <std_srvs/Empty.h>
 
 #include "kane_sim/MechanismState.h"
@@ -36,6 +37,59 @@ TEST_F(Reconfigure, TorqueLimitClampsTheCommandInForce) {
   test::send(torque_, 0.0);
 }
 
+// One name per parameter: after a change the parameter server holds the value in force under
+// the config's own name (and no flat duplicate), so the README's recipe `rosparam get /kane_sim >
+// now.yaml; analyze --config now.yaml` analyses the mechanism in force, without a warning.
+TEST_F(Reconfigure, TheParameterServerHoldsTheConfigInForceUnderItsOwnNames) {
+  ASSERT_EQ(set("spring_stiffness", 400.0), 400.0);
+  double k = 0.0;
+  EXPECT_TRUE(ros::param::get("/kane_sim/mechanism/spring_stiffness", k));
+  EXPECT_EQ(k, 400.0);
+  EXPECT_FALSE(ros::param::has("/kane_sim/spring_stiffness")) << "a flat duplicate";
+  EXPECT_FALSE(ros::param::has("/kane_sim/torque_limit")) << "a flat duplicate";
+  const test::CommandResult recipe = test::runCommand(
+      "PATH=/usr/bin:$PATH; f=$(mktemp --suffix .yaml) && rosparam get /kane_sim > $f && "
+      "rosrun kane_sim analyze --config $f --json; rc=$?; rm -f $f; exit $rc");
+  ASSERT_EQ(recipe.exit_code, 0) << recipe.out << recipe.err;
+  EXPECT_EQ(recipe.err.find("unknown"), std::string::npos) << recipe.err;
+  // The slider mode at q1 = 0 is sqrt(k / M2) = sqrt(400 / 0.8) rad/s: the new mechanism's.
+  const double expected_hz = std::sqrt(400.0 / 0.8) / (2 * M_PI);
+  EXPECT_NE(recipe.out.find("\"natural_frequencies_hz\""), std::string::npos) << recipe.out;
+  const size_t at = recipe.out.find("natural_frequencies_hz");
+  const std::string list = recipe.out.substr(at, recipe.out.find(']', at) - at);
+  const double second = std::stod(list.substr(list.find(',') + 1));
+  EXPECT_NEAR(second, expected_hz, 1e-6) << list;
+  ASSERT_EQ(set("spring_stiffness", 200.0), 200.0);
+}
+
+// The .cfg's ranges no longer clamp before the loader sees a value: out-of-rule values are
+// refused by the loader's rules and messages (not turned into the range's end: torque_limit -50
+// became 0, the motor off; crank_damping -5 became 0; gravity inf became 100; rod_mass -1 was
+// refused as "got 0"); a value beyond a GUI bound that the loader accepts is taken as it is.
+TEST_F(Reconfigure, ValuesReachTheLoaderUnclamped) {
+  test::Recorder<rosgraph_msgs::Log> log(nh_, "/rosout");
+  test::sleepWall(0.5);
+  EXPECT_EQ(set("torque_limit", -50.0), 50.0);
+  EXPECT_EQ(set("crank_damping", -5.0), 0.0);
+  EXPECT_EQ(set("gravity", INFINITY), 9.81);
+  EXPECT_EQ(set("rod_mass", -1.0), 1.0);
+  EXPECT_EQ(set("gravity", 150.0), 150.0) << "beyond the slider's 100 but a valid config";
+  EXPECT_EQ(set("gravity", 9.81), 9.81);
+  const char* messages[] = {"config key 'command.torque_limit' must be >= 0, got -50",
+                            "config key 'damping.crank_joint' must be >= 0, got -5",
+                            "config key 'mechanism.gravity' must be finite, got '.inf'",
+                            "config key 'mechanism.rod_mass' must be > 0, got -1"};
+  for (const char* text : messages)
+    EXPECT_TRUE(test::waitFor(
+        [&] {
+          for (const auto& m : log.messages())
+            if (m.msg.find(text) != std::string::npos) return true;
+          return false;
+        },
+        5.0))
+        << "no log line with: " << text;
+}
+
 // Gravity 0 and a heavier slider 4 at rest: slider 4's u2' becomes the spring's force / M2
 // alone, and the jump of the total energy is booked in parameter_energy.
 TEST_F(Reconfigure, PhysicalParametersApplyFromTheNextStepWithTheirEnergyBooked) {
@@ -46,7 +100,9 @@ TEST_F(Reconfigure, PhysicalParametersApplyFromTheNextStepWithTheirEnergyBooked)
   EXPECT_EQ(set("gravity", 0.0), 0.0);
   EXPECT_EQ(set("slider4_mass", 1.6), 1.6);
   ASSERT_TRUE(ros::service::call("kane_sim/unpause", empty));
-  ASSERT_TRUE(waitForState([](const MechanismState& m) { return m.parameter_changes == 2; }, 5));
+  const std::uint32_t changes = before.parameter_changes + 2;  // counted since start
+  ASSERT_TRUE(
+      waitForState([&](const MechanismState& m) { return m.parameter_changes == changes; }, 5));
   ASSERT_TRUE(ros::service::call("kane_sim/pause", empty));
   test::sleepWall(0.1);
   const MechanismState m = state_.last();
