@@ -94,6 +94,11 @@ State staticEquilibrium(const MechanismModel& model, double torque) {
   if (!std::isfinite(torque))
     throw AnalysisError("torque " + format(torque) + " N m is not finite");
   const HoldingLimit limit = maxHoldingTorque(model);
+  if (torque != 0.0 && !(limit.torque > 1e-9 * std::abs(torque)))
+    throw AnalysisError("a crank torque of " + format(torque) +
+                        " N m has no equilibrium: with mechanism.gravity " +
+                        format(model.parameters().gravity) +
+                        " nothing holds the crank against a torque (it turns over)");
   if (std::abs(torque) > limit.torque)
     throw AnalysisError("a crank torque of " + format(torque) +
                         " N m is beyond what gravity can hold: at most " + format(limit.torque) +
@@ -146,43 +151,55 @@ ModalAnalysis modalAnalysis(const LinearModel& linear) {
   // -M_m q1), symmetric up to the differences' rounding.
   const Eigen::Matrix2d K = (linear.stiffness + linear.stiffness.transpose()) / 2;
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> undamped(K, linear.mass);
+  // A stiffness eigenvalue within the differences' noise (~1e-10 of the largest) is zero: a
+  // neutral direction (gravity 0 leaves the crank without a restoring moment), not a mode of
+  // some microhertz.
+  const double scale = undamped.eigenvalues().cwiseAbs().maxCoeff();
   for (int i = 0; i < 2; ++i) {
     const double w2 = undamped.eigenvalues()[i];
-    if (!(w2 > 0))
+    Mode mode;
+    if (std::abs(w2) <= kNeutralStiffness * scale || scale == 0.0) {
+      mode.neutral = true;
+    } else if (!(w2 > 0)) {
       throw AnalysisError("the operating point is not a stable equilibrium (stiffness eigenvalue " +
                           format(w2) + "): no natural frequency");
-    Mode mode;
-    mode.natural_frequency_hz = std::sqrt(w2) / (2 * M_PI);
+    } else {
+      mode.natural_frequency_hz = std::sqrt(w2) / (2 * M_PI);
+    }
     Eigen::Vector2d shape = undamped.eigenvectors().col(i);
     Eigen::Index largest = 0;
     shape.cwiseAbs().maxCoeff(&largest);
     mode.shape = shape / shape[largest];
     result.modes.push_back(mode);
   }
-  // Damped: A's eigenvalues, grouped into one pair per mode (complex conjugates, or two real ones
-  // when overdamped) and ordered by |lambda|; pair k goes with the k-th undamped mode.
+  // Damped: A's eigenvalues, each assigned to the undamped mode that dominates its eigenvector
+  // (the configuration part phi of (phi, lambda phi) in modal coordinates eta = Phi^T M phi),
+  // so that a mode's two eigenvalues, complex conjugates or two real ones when overdamped, are
+  // taken together whatever their sizes.
   const Eigen::EigenSolver<Eigen::Matrix4d> damped(linear.A);
-  for (int i = 0; i < 4; ++i) result.eigenvalues.push_back(damped.eigenvalues()[i]);
+  const Eigen::Matrix2cd to_modal =
+      (undamped.eigenvectors().transpose() * linear.mass).cast<std::complex<double>>();
+  std::vector<std::complex<double>> of_mode[2];
+  for (int i = 0; i < 4; ++i) {
+    const std::complex<double> lambda = damped.eigenvalues()[i];
+    result.eigenvalues.push_back(lambda);
+    const Eigen::Vector2cd eta = to_modal * damped.eigenvectors().col(i).head<2>();
+    of_mode[std::abs(eta[1]) > std::abs(eta[0]) ? 1 : 0].push_back(lambda);
+  }
   std::sort(result.eigenvalues.begin(), result.eigenvalues.end(), [](auto a, auto b) {
     return std::abs(a) != std::abs(b) ? std::abs(a) < std::abs(b) : a.imag() < b.imag();
   });
-  std::vector<std::pair<double, double>> pairs;  // (w_n, zeta)
-  std::vector<double> real;
-  for (const auto& lambda : result.eigenvalues) {
-    if (std::abs(lambda.imag()) > 1e-12 * std::abs(lambda)) {
-      if (lambda.imag() > 0) pairs.push_back({std::abs(lambda), -lambda.real() / std::abs(lambda)});
-    } else {
-      real.push_back(lambda.real());
-    }
+  for (int k = 0; k < 2; ++k) {
+    Mode& mode = result.modes[k];
+    if (mode.neutral || of_mode[k].size() != 2) continue;  // zeta undefined: NaN
+    const std::complex<double> a = of_mode[k][0], b = of_mode[k][1];
+    // lambda1 lambda2 = w^2 and -(lambda1 + lambda2) = 2 zeta w, for a conjugate pair and for two
+    // real roots (overdamped, zeta > 1) alike.
+    const double w = std::sqrt(std::abs(a * b));
+    const double zeta = -(a + b).real() / (2 * w);
+    // Without damping the real parts are rounding noise (~1e-15 of |lambda|): report 0 then.
+    mode.damping_ratio = std::abs(zeta) < 1e-12 ? 0.0 : zeta;
   }
-  for (size_t i = 0; i + 1 < real.size(); i += 2) {  // lambda1 lambda2 = w^2, -(l1 + l2) = 2 zeta w
-    const double w = std::sqrt(real[i] * real[i + 1]);
-    pairs.push_back({w, -(real[i] + real[i + 1]) / (2 * w)});
-  }
-  std::sort(pairs.begin(), pairs.end());
-  // Without damping the real parts are rounding noise (~1e-15 of |lambda|): report 0 then.
-  for (size_t i = 0; i < result.modes.size() && i < pairs.size(); ++i)
-    result.modes[i].damping_ratio = std::abs(pairs[i].second) < 1e-12 ? 0.0 : pairs[i].second;
   return result;
 }
 

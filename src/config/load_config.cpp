@@ -422,4 +422,13 @@ YAML::Node loadYamlFile(const std::string& path) {
 
 LoadedConfig loadConfigFile(const std::string& path) { return loadConfig(loadYamlFile(path)); }
 
+std::string defaultConfigFile() {
+  std::error_code error;
+  for (const char* path : {KANE_SIM_INSTALLED_CONFIG, KANE_SIM_SOURCE_CONFIG})
+    if (std::filesystem::is_regular_file(path, error)) return path;
+  throw ConfigError("file", std::string("the default config is in neither ") +
+                                KANE_SIM_INSTALLED_CONFIG + " nor " + KANE_SIM_SOURCE_CONFIG +
+                                "; name one with --config");
+}
+
 }  // namespace kane_sim

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <boost/program_options.hpp>
 
@@ -27,40 +28,74 @@ struct Analysis {
   kane_sim::ModalAnalysis modal;
 };
 
-std::string number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", value);
-  return buffer;
-}
+// JSON numbers: the shortest exact form; JSON has no NaN or infinity, so a non-finite value is
+// null and `notes` says which and why.
+class JsonNumbers {
+ public:
+  std::string operator()(double value, const std::string& what) {
+    if (!std::isfinite(value)) {
+      notes_.push_back(what + " is " + (std::isnan(value) ? "undefined" : "infinite") + " (null)");
+      return "null";
+    }
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.17g", value);
+    return buffer;
+  }
+  std::string row(const Eigen::VectorXd& v, const std::string& what) {
+    std::string out = "[";
+    for (Eigen::Index i = 0; i < v.size(); ++i)
+      out += (i ? ", " : "") + (*this)(v[i], what + "[" + std::to_string(i) + "]");
+    return out + "]";
+  }
+  void note(const std::string& text) { notes_.push_back(text); }
+  std::string notes() const {
+    std::string out = "[";
+    for (size_t i = 0; i < notes_.size(); ++i) out += (i ? ", \"" : "\"") + notes_[i] + "\"";
+    return out + "]";
+  }
 
-std::string jsonRow(const Eigen::VectorXd& v) {
-  std::string out = "[";
-  for (Eigen::Index i = 0; i < v.size(); ++i) out += (i ? ", " : "") + number(v[i]);
-  return out + "]";
-}
+ private:
+  std::vector<std::string> notes_;  // plain text: no quotes or backslashes are written into them
+};
 
 void printJson(const Analysis& a) {
   const kane_sim::LinearModel& l = a.linear;
+  JsonNumbers number;
+  const auto jsonRow = [&number](const Eigen::VectorXd& v, const std::string& what) {
+    return number.row(v, what);
+  };
   std::ostringstream out;
-  out << "{\n  \"torque\": " << number(l.torque) << ",\n";
-  out << "  \"equilibrium\": {\"q1\": " << number(l.operating_point.q1)
-      << ", \"q2\": " << number(l.operating_point.q2) << "},\n";
+  out << "{\n  \"torque\": " << number(l.torque, "torque") << ",\n";
+  out << "  \"equilibrium\": {\"q1\": " << number(l.operating_point.q1, "equilibrium q1")
+      << ", \"q2\": " << number(l.operating_point.q2, "equilibrium q2") << "},\n";
   out << "  \"state\": [\"q1\", \"q2\", \"u1\", \"u2\"],\n  \"A\": [";
-  for (int r = 0; r < 4; ++r) out << (r ? ",\n        " : "") << jsonRow(l.A.row(r).transpose());
-  out << "],\n  \"B\": " << jsonRow(l.B) << ",\n  \"eigenvalues\": [";
+  for (int r = 0; r < 4; ++r)
+    out << (r ? ",\n        " : "")
+        << jsonRow(l.A.row(r).transpose(), "A[" + std::to_string(r) + "]");
+  out << "],\n  \"B\": " << jsonRow(l.B, "B") << ",\n  \"eigenvalues\": [";
   for (size_t i = 0; i < a.modal.eigenvalues.size(); ++i)
-    out << (i ? ", " : "") << "[" << number(a.modal.eigenvalues[i].real()) << ", "
-        << number(a.modal.eigenvalues[i].imag()) << "]";
-  std::string frequencies, ratios, shapes;
+    out << (i ? ", " : "") << "[" << number(a.modal.eigenvalues[i].real(), "an eigenvalue") << ", "
+        << number(a.modal.eigenvalues[i].imag(), "an eigenvalue") << "]";
+  std::string frequencies, ratios, shapes, neutral;
   for (size_t i = 0; i < a.modal.modes.size(); ++i) {
     const kane_sim::Mode& m = a.modal.modes[i];
     const std::string sep = i ? ", " : "";
-    frequencies += sep + number(m.natural_frequency_hz);
-    ratios += sep + number(m.damping_ratio);
-    shapes += sep + jsonRow(m.shape);
+    const std::string name = "mode " + std::to_string(i + 1);
+    frequencies += sep + number(m.natural_frequency_hz, name + "'s frequency");
+    if (m.neutral) {
+      number.note(name +
+                  " is neutral: no restoring stiffness along its shape, frequency 0, no "
+                  "damping ratio");
+      ratios += sep + "null";
+    } else {
+      ratios += sep + number(m.damping_ratio, name + "'s damping ratio");
+    }
+    shapes += sep + jsonRow(m.shape, name + "'s shape");
+    neutral += sep + (m.neutral ? "true" : "false");
   }
   out << "],\n  \"natural_frequencies_hz\": [" << frequencies << "],\n  \"damping_ratios\": ["
-      << ratios << "],\n  \"mode_shapes\": [" << shapes << "]\n}\n";
+      << ratios << "],\n  \"neutral\": [" << neutral << "],\n  \"mode_shapes\": [" << shapes
+      << "],\n  \"notes\": " << number.notes() << "\n}\n";
   std::cout << out.str();
 }
 
@@ -79,9 +114,18 @@ void printText(const Analysis& a) {
   std::printf("\nModes (undamped natural frequency; damping ratio; shape (q1 rad, q2 m)):\n");
   for (size_t i = 0; i < a.modal.modes.size(); ++i) {
     const kane_sim::Mode& m = a.modal.modes[i];
-    std::printf("  %zu: %.9g Hz (%.9g rad/s), zeta %.6g, shape (% .6g, % .6g)\n", i + 1,
-                m.natural_frequency_hz, 2 * M_PI * m.natural_frequency_hz, m.damping_ratio,
-                m.shape[0], m.shape[1]);
+    if (m.neutral) {
+      std::printf(
+          "  %zu: neutral (no restoring stiffness along this shape: frequency 0, no damping "
+          "ratio), shape (% .6g, % .6g)\n",
+          i + 1, m.shape[0], m.shape[1]);
+      continue;
+    }
+    char zeta[64] = "undefined";
+    if (std::isfinite(m.damping_ratio)) std::snprintf(zeta, sizeof zeta, "%.6g", m.damping_ratio);
+    std::printf("  %zu: %.9g Hz (%.9g rad/s), zeta %s, shape (% .6g, % .6g)\n", i + 1,
+                m.natural_frequency_hz, 2 * M_PI * m.natural_frequency_hz, zeta, m.shape[0],
+                m.shape[1]);
   }
 }
 
@@ -89,14 +133,15 @@ void printText(const Analysis& a) {
 
 int main(int argc, char** argv) {
   po::options_description desc(
-      "Usage: analyze --config FILE [--torque NM] [--json]\n\n"
+      "Usage: analyze [--config FILE] [--torque NM] [--json]\n\n"
       "Linear analysis of the textbook example's mechanism: the stable static equilibrium under a\n"
       "constant crank torque M_m (|q1| < pi/2), the state-space model about it (x = (q1, q2, u1,\n"
       "u2), x' = A x + B M_m), its eigenvalues, undamped natural frequencies, damping ratios and\n"
       "mode shapes. Derivatives: 4th-order central differences of the simulator's own Kane\n"
       "equations (~1e-10 relative).\n\nOptions");
   desc.add_options()("help,h", "print this help and exit")(
-      "config", po::value<std::string>(), "mechanism YAML (config/mechanism.yaml)")(
+      "config", po::value<std::string>(),
+      "mechanism YAML (default: the package's config/mechanism.yaml)")(
       "torque", po::value<double>()->default_value(0.0), "constant crank torque M_m [N m]")(
       "json", "print one JSON object instead of text");
   po::variables_map vm;
@@ -111,9 +156,17 @@ int main(int argc, char** argv) {
     std::cout << desc << "\n";
     return 0;
   }
-  if (!vm.count("config")) {
-    std::cerr << "analyze: --config FILE is required\n" << desc << "\n";
-    return kExitUsage;
+  std::string config_path;
+  if (vm.count("config")) {
+    config_path = vm["config"].as<std::string>();
+  } else {
+    try {
+      config_path = kane_sim::defaultConfigFile();
+    } catch (const kane_sim::ConfigError& e) {
+      std::cerr << "analyze: no --config given and " << e.what() << "\n";
+      return kExitConfig;
+    }
+    std::cerr << "analyze: no --config given: using the package's default " << config_path << "\n";
   }
   const double torque = vm["torque"].as<double>();
   if (!std::isfinite(torque)) {
@@ -122,7 +175,7 @@ int main(int argc, char** argv) {
   }
   kane_sim::LoadedConfig loaded;
   try {
-    loaded = kane_sim::loadConfigFile(vm["config"].as<std::string>());
+    loaded = kane_sim::loadConfigFile(config_path);
   } catch (const kane_sim::ConfigError& e) {
     std::cerr << "analyze: bad config: " << e.what() << "\n";
     return kExitConfig;

@@ -71,6 +71,52 @@ def main(build_dir):
     check(r.returncode == 1 and "damping.crank_joint' must be >= 0, got -2" in r.stderr,
           "bad config exits 1 naming the key (%s)" % r.stderr.strip())
 
+    def variant(*replacements):
+        text = open(CONFIG).read()
+        for old, new in replacements:
+            assert old in text, old
+            text = text.replace(old, new)
+        f = tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False)
+        f.write(text)
+        f.close()
+        return f.name
+
+    # Overdamped modes: zeta per mode, against the decoupled closed forms (2.578, 3.953).
+    path = variant(("crank_joint: 0.0", "crank_joint: 10.0"), ("slider4_joint: 0.0", "slider4_joint: 100.0"))
+    r = run(exe, "--config", path, "--json")
+    os.unlink(path)
+    zeta = json.loads(r.stdout)["damping_ratios"]
+    want = [10.0 / (2 * math.sqrt(4 * g * L * (m + M1 + M2) * (2 * inertia + 2 * m * L * L))),
+            100.0 / (2 * math.sqrt(k * M2))]
+    check(all(abs(z - w) < 1e-7 * w for z, w in zip(zeta, want)),
+          "overdamped damping ratios %s = closed forms %s" % (zeta, want))
+
+    # Gravity 0: valid JSON whatever is undefined (null, with a note), exit 0, the crank neutral.
+    path = variant(("gravity: 9.81", "gravity: 0.0"))
+    r = run(exe, "--config", path, "--json")
+    try:
+        a = json.loads(r.stdout)
+        ok = True
+    except ValueError:
+        a, ok = {}, False
+    check(ok and r.returncode == 0, "gravity 0: --json is valid JSON, exit 0 (%d)" % r.returncode)
+    check(ok and "nan" not in r.stdout and "inf" not in r.stdout, "no nan/inf tokens in the JSON")
+    check(ok and a["neutral"] == [True, False] and a["damping_ratios"][0] is None
+          and a["natural_frequencies_hz"][0] == 0 and any("neutral" in n for n in a["notes"]),
+          "gravity 0: the crank's mode is neutral (frequency 0, ratio null, a note)")
+    r = run(exe, "--config", path)
+    check("neutral" in r.stdout and "Hz (" in r.stdout, "gravity 0: text names the neutral mode")
+    r = run(exe, "--config", path, "--torque", "1")
+    os.unlink(path)
+    check(r.returncode == 3 and "mechanism.gravity 0" in r.stderr,
+          "gravity 0 under a torque: no equilibrium, naming mechanism.gravity (%s)" % r.stderr.strip())
+
+    # No --config: the package's default, said in one line.
+    r = run(exe, "--json")
+    check(r.returncode == 0 and "using the package's default" in r.stderr
+          and json.loads(r.stdout)["natural_frequencies_hz"] == f,
+          "no --config: the default config, said on stderr (%s)" % r.stderr.strip())
+
     print("%d passed, %d failed" % (0 if failures else 1, 1 if failures else 0))
     return 1 if failures else 0
 

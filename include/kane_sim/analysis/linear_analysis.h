@@ -14,6 +14,7 @@
 
 #include <array>
 #include <complex>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -52,9 +53,17 @@ struct LinearModel {
 };
 LinearModel linearize(const MechanismModel& model, const State& x, double torque);
 
+// A stiffness eigenvalue within this fraction of the largest one is zero (the differences'
+// noise is ~1e-10 relative): the equilibrium is neutral along that mode.
+constexpr double kNeutralStiffness = 1e-8;
+
 struct Mode {
   double natural_frequency_hz = 0.0;  // undamped: sqrt of an eigenvalue of M^-1 K, / 2 pi
-  double damping_ratio = 0.0;         // from A's eigenvalues of the mode (0 without damping)
+  // From the two eigenvalues of A that belong to this mode: -(l1 + l2) / (2 sqrt(l1 l2)), for a
+  // conjugate pair (< 1) or two real ones (overdamped, > 1); 0 without damping. NaN where it is
+  // undefined: a neutral mode, or eigenvalues that could not be told apart between the modes.
+  double damping_ratio = std::numeric_limits<double>::quiet_NaN();
+  bool neutral = false;  // no restoring stiffness along this shape: frequency 0, zeta NaN
   Eigen::Vector2d shape = Eigen::Vector2d::Zero();  // (q1 [rad], q2 [m]), largest entry +-1
 };
 struct ModalAnalysis {
@@ -62,7 +71,7 @@ struct ModalAnalysis {
   std::vector<Mode> modes;                        // ascending natural frequency
 };
 // Throws AnalysisError when K has a negative eigenvalue (an unstable equilibrium has no natural
-// frequency).
+// frequency); a zero one (within kNeutralStiffness) is a neutral mode.
 ModalAnalysis modalAnalysis(const LinearModel& linear);
 
 }  // namespace kane_sim

@@ -36,6 +36,11 @@ YAML::Node loadYamlFile(const std::string& path);
 // loadConfig(loadYamlFile(path)).
 LoadedConfig loadConfigFile(const std::string& path);
 
+// The package's config/mechanism.yaml (installed share folder, else the source tree it was built
+// from): what the offline tools run when no --config is given. ConfigError (key "file") when
+// neither exists.
+std::string defaultConfigFile();
+
 // "rk4" -> kRk4, ...; throws ConfigError(key, ...) listing the valid names otherwise.
 IntegratorType parseIntegratorName(const std::string& name, const std::string& key);
 // "generated" -> kGenerated, "generic" -> kGeneric; throws ConfigError(key, ...) otherwise.
