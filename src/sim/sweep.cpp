@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 
 #include "kane_sim/config/load_config.h"
@@ -41,12 +44,28 @@ std::string trim(const std::string& s) {
   return begin == std::string::npos ? "" : s.substr(begin, end - begin + 1);
 }
 
+bool isName(const std::string& part) {
+  return !part.empty() && std::all_of(part.begin(), part.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
+}
+
 void requireKey(const std::string& key) {
   const std::vector<std::string> parts = split(key, '.');
-  if (parts.size() != 2 || parts[0].empty() || parts[1].empty())
-    throw std::invalid_argument("sweep key '" + key +
-                                "' must be section.key as in the config file, e.g. "
-                                "mechanism.spring_stiffness");
+  if (parts.size() != 2 || !isName(parts[0]) || !isName(parts[1]))
+    throw std::invalid_argument(
+        "sweep key '" + key +
+        "' must be section.key as in the config file, of letters, digits and '_' (e.g. "
+        "mechanism.spring_stiffness; a cell starting with =, +, - or @ would be a spreadsheet "
+        "formula)");
+}
+
+// The key, or its whole section, was not read by the loader.
+bool isUnknown(const LoadedConfig& loaded, const std::string& key) {
+  const std::string section = key.substr(0, key.find('.'));
+  for (const std::string& unknown : loaded.unknown_keys)
+    if (unknown == key || unknown == section) return true;
+  return false;
 }
 
 // At most this many cases: a grid typo (count 1e9) should be an error, not an out-of-memory.
@@ -72,8 +91,11 @@ SweepAxis parseSweepAxis(const std::string& spec) {
                                 std::to_string(static_cast<long>(kMaxCases)) + "], got '" +
                                 range[2] + "'");
   const long n = static_cast<long>(count);
-  for (long i = 0; i < n; ++i)
-    axis.values.push_back(n == 1 ? start : start + (stop - start) * i / (n - 1));
+  // start (1 - t) + stop t: no stop - start, which overflows for -1e308:1e308; t = 1 gives stop.
+  for (long i = 0; i < n; ++i) {
+    const double t = n == 1 ? 0.0 : static_cast<double>(i) / static_cast<double>(n - 1);
+    axis.values.push_back(start * (1.0 - t) + stop * t);
+  }
   return axis;
 }
 
@@ -109,6 +131,8 @@ SweepPlan sweepFromCsv(std::istream& in) {
   int number = 0;
   while (std::getline(in, line)) {
     ++number;
+    // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first key.
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line = line.substr(3);
     line = trim(line);
     if (line.empty() || line[0] == '#') continue;
     const std::vector<std::string> fields = split(line, ',');
@@ -149,10 +173,25 @@ Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t ind
   }
   const LoadedConfig loaded = loadConfig(root);
   for (const std::string& key : plan.keys)
-    if (std::find(loaded.unknown_keys.begin(), loaded.unknown_keys.end(), key) !=
-        loaded.unknown_keys.end())
+    if (isUnknown(loaded, key))
       throw ConfigError(key, "is not a config key the simulation reads (a typo?)");
   return loaded.config;
+}
+
+void checkSweepKeys(const YAML::Node& base, const SweepPlan& plan) {
+  for (size_t k = 0; k < plan.keys.size(); ++k) {
+    // One key at a time at its first value: a loader error for anything means the key is read
+    // (unknown keys are never errors, only reported); a load that passes reports it if unknown.
+    SweepPlan one{{plan.keys[k]}, {{plan.cases.front()[k]}}};
+    try {
+      sweepCaseConfig(base, one, 0);
+    } catch (const ConfigError& e) {
+      if (e.key() == plan.keys[k] &&
+          std::string(e.what()).find("is not a config key") != std::string::npos)
+        throw std::invalid_argument("sweep key '" + plan.keys[k] +
+                                    "' is not a config key the simulation reads (a typo?)");
+    }
+  }
 }
 
 SweepResult runSweepCase(const Config& config, const SweepSettings& settings) {
@@ -170,6 +209,10 @@ SweepResult runSweepCase(const Config& config, const SweepSettings& settings) {
   ProfileCommands commands(settings.torque, config.command.timeout);
   commands.update(driver);
   for (long i = 1; i <= steps; ++i) {
+    if (settings.stop && settings.stop->load(std::memory_order_relaxed)) {
+      r.status = "interrupted";
+      break;
+    }
     if (!driver.step()) {
       r.status = "step_refused";
       r.error = refusal;
@@ -197,28 +240,60 @@ SweepResult runSweepCase(const Config& config, const SweepSettings& settings) {
 }
 
 std::vector<SweepResult> runSweep(const YAML::Node& base, const SweepPlan& plan,
-                                  const SweepSettings& settings) {
-  std::vector<SweepResult> results(plan.cases.size());
+                                  const SweepSettings& settings, const SweepSink& sink) {
+  const size_t n = plan.cases.size();
+  std::vector<SweepResult> results(n);
+  std::vector<char> done(n, 0);
   std::atomic<size_t> next{0};
+  std::mutex mutex;    // guards done, written and the sink
+  size_t written = 0;  // cases 0 .. written - 1 are with the sink
+  const auto stopped = [&settings] {
+    return settings.stop && settings.stop->load(std::memory_order_relaxed);
+  };
   // yaml-cpp nodes share state between copies: each worker clones the base once, alone.
   auto worker = [&](const YAML::Node& own_base) {
-    for (size_t i = next++; i < plan.cases.size(); i = next++) {
+    for (size_t i = next++; i < n && !stopped(); i = next++) {
+      SweepResult result;
       try {
-        results[i] = runSweepCase(sweepCaseConfig(own_base, plan, i), settings);
+        result = runSweepCase(sweepCaseConfig(own_base, plan, i), settings);
       } catch (const std::exception& e) {
-        results[i].status = "config_refused";
-        results[i].error = e.what();
+        result.status = "config_refused";
+        result.error = e.what();
       }
+      if (result.status == "interrupted") continue;  // not finished: no row
+      std::lock_guard<std::mutex> lock(mutex);
+      results[i] = std::move(result);
+      done[i] = 1;
+      // Rows go out in case order as soon as every case before them is finished.
+      for (; written < n && done[written]; ++written)
+        if (sink) sink(written, results[written]);
     }
   };
   unsigned jobs = settings.jobs ? settings.jobs : std::max(1u, std::thread::hardware_concurrency());
-  jobs = static_cast<unsigned>(std::min<size_t>(jobs, plan.cases.size()));
+  jobs = static_cast<unsigned>(std::min<size_t>(jobs, n));
   std::vector<YAML::Node> bases;
   for (unsigned j = 0; j < jobs; ++j) bases.push_back(YAML::Clone(base));
   std::vector<std::thread> threads;
-  for (unsigned j = 1; j < jobs; ++j) threads.emplace_back(worker, bases[j]);
+  for (unsigned j = 1; j < jobs; ++j) {
+    try {
+      threads.emplace_back(worker, bases[j]);
+    } catch (const std::system_error& e) {
+      // The system would not give more threads (a process or memory limit): run on those there
+      // are, and say so.
+      if (settings.on_warning)
+        settings.on_warning("could start only " + std::to_string(j) + " of " +
+                            std::to_string(jobs) + " sweep threads (" + e.what() +
+                            "); running on those");
+      break;
+    }
+  }
   worker(bases[0]);
   for (std::thread& t : threads) t.join();
+  // Interrupted: the finished cases after an unfinished one go out too, still in case order.
+  for (size_t i = written; i < n; ++i)
+    if (done[i] && sink) sink(i, results[i]);
+  for (size_t i = 0; i < n; ++i)
+    if (!done[i]) results[i].status = "interrupted";
   return results;
 }
 

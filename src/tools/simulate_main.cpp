@@ -1,8 +1,10 @@
 // `simulate`: runs the mechanism offline (no ROS master) and writes a CSV and/or a bag.
 //
-// Exit codes: 0 ok, 1 bad config, 2 bad command line, 3 the simulation refused a step,
-// 4 the output could not be written, 5 an unexpected internal failure.
+// Exit codes: 0 ok, 1 bad config, 2 bad command line, 3 the simulation refused a step (a sweep:
+// a case was not ok), 4 the output could not be written, 5 an unexpected internal failure,
+// 130 / 143 interrupted by SIGINT / SIGTERM (what was simulated until then is written).
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -15,6 +17,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <boost/program_options.hpp>
@@ -37,9 +40,20 @@ constexpr int kExitUsage = 2;
 constexpr int kExitStepRefused = 3;
 constexpr int kExitOutput = 4;
 constexpr int kExitInternal = 5;      // a bug: please report the message
+constexpr int kExitSignalBase = 128;  // + the signal's number, as a shell reports it
 constexpr double kMaxDuration = 1e7;  // [s] ~4 months of sim time; beyond that is a typo
 // More physics steps than this between two rows is no output grid (and would overflow a long).
 constexpr double kMaxStepsPerRow = 1e12;
+
+// Set by SIGINT / SIGTERM: the run stops at the next row, writes what it has and exits
+// 128 + the signal. (A lock-free atomic store is async-signal-safe.)
+std::atomic<bool> g_stop{false};
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<bool>::is_always_lock_free, "stored from a signal handler");
+extern "C" void onStopSignal(int signal) {
+  g_signal.store(signal);
+  g_stop.store(true);
+}
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -60,12 +74,13 @@ struct Options {
   std::vector<std::string> sweep_axes;  // --sweep KEY=START:STOP:COUNT, repeatable (a grid)
   std::string sweep_file;               // --sweep-file CSV of parameter sets
   unsigned jobs = 0;                    // --jobs, 0 = one per core
+  bool default_config = false;          // no --config: the package's config/mechanism.yaml
   bool sweep() const { return !sweep_axes.empty() || !sweep_file.empty(); }
 };
 
 po::options_description describeOptions() {
   po::options_description desc(
-      "Usage: simulate --config FILE --duration SECONDS [options]\n\n"
+      "Usage: simulate [--config FILE] --duration SECONDS [options]\n\n"
       "Simulates the textbook example's mechanism (Kane equations - Example 1) offline (no ROS "
       "master). Writes a CSV with the\n"
       "header t,q1,q2,u1,u2,energy,... (rows every 1/output-rate s from t = 0 to the duration)\n"
@@ -85,10 +100,13 @@ po::options_description describeOptions() {
       "                              mechanism.spring_stiffness) from START to STOP; repeat for\n"
       "                              a grid (the last varies fastest)\n"
       "  --sweep-file FILE           a CSV: a header of keys, one row of values per case\n"
-      "  --jobs N                    threads (default: one per core)\n\n"
+      "  --jobs N                    threads, 1 to 4 per core (default: one per core)\n\n"
+      "Files are written under FILE.partial and renamed when complete; SIGINT or SIGTERM stops\n"
+      "the run and keeps what was simulated (every finished sweep case), exit 128 + signal.\n\n"
       "Options");
   desc.add_options()("help,h", "print this help and exit")(
-      "config", po::value<std::string>()->required(), "mechanism YAML (config/mechanism.yaml)")(
+      "config", po::value<std::string>(),
+      "mechanism YAML (default: the package's config/mechanism.yaml)")(
       "duration", po::value<double>()->required(), "simulated time [s], >= 0")(
       "torque", po::value<double>(), "constant driver moment M_m [N m]")(
       "torque-step", po::value<std::string>(), "T,BEFORE,AFTER")(
@@ -101,7 +119,7 @@ po::options_description describeOptions() {
       "bag", po::value<std::string>(), "also write a bag of the node's topics to this file")(
       "sweep", po::value<std::vector<std::string>>()->composing(), "KEY=START:STOP:COUNT")(
       "sweep-file", po::value<std::string>(), "CSV of parameter sets")(
-      "jobs", po::value<unsigned>(), "sweep threads (default: one per core)");
+      "jobs", po::value<long long>(), "sweep threads, 1 to 4 per core (default: one per core)");
   return desc;
 }
 
@@ -180,7 +198,12 @@ bool parseOptions(int argc, char** argv, Options* options) {
   } catch (const po::error& e) {
     throw UsageError(e.what());
   }
-  options->config_path = vm["config"].as<std::string>();
+  if (vm.count("config")) {
+    options->config_path = vm["config"].as<std::string>();
+  } else {
+    options->config_path = kane_sim::defaultConfigFile();
+    options->default_config = true;
+  }
   options->duration = requireFinite("duration", vm["duration"].as<double>());
   options->output_rate = requireFinite("output-rate", vm["output-rate"].as<double>());
   options->profile = parseProfile(vm);
@@ -192,7 +215,14 @@ bool parseOptions(int argc, char** argv, Options* options) {
   }
   if (vm.count("sweep")) options->sweep_axes = vm["sweep"].as<std::vector<std::string>>();
   if (vm.count("sweep-file")) options->sweep_file = vm["sweep-file"].as<std::string>();
-  if (vm.count("jobs")) options->jobs = vm["jobs"].as<unsigned>();
+  if (vm.count("jobs")) {
+    const long long jobs = vm["jobs"].as<long long>();
+    const long long most = 4LL * std::max(1u, std::thread::hardware_concurrency());
+    if (jobs < 1 || jobs > most)
+      throw UsageError("--jobs must be in [1, " + std::to_string(most) + "] (4 per core), got " +
+                       std::to_string(jobs));
+    options->jobs = static_cast<unsigned>(jobs);
+  }
   if (!options->sweep_axes.empty() && !options->sweep_file.empty())
     throw UsageError("give --sweep or --sweep-file, not both");
   if (options->sweep() && vm.count("bag"))
@@ -236,13 +266,48 @@ long stepsPerRow(double physics_rate, double output_rate) {
   return static_cast<long>(whole);
 }
 
+// An output written under FILE.partial and renamed to FILE when complete (also when the run is
+// interrupted or refused a step: what was simulated is kept): an existing FILE is replaced only
+// by a finished one, and an interrupted run never leaves a truncated FILE behind. A FILE that
+// exists and is not a regular file (/dev/stdout, a pipe) is written directly.
+class StagedPath {
+ public:
+  explicit StagedPath(std::string path) : path_(std::move(path)), staging_(path_ + ".partial") {
+    std::error_code error;
+    if (std::filesystem::exists(path_, error) && !std::filesystem::is_regular_file(path_, error)) {
+      staging_ = path_;
+      published_ = true;
+    }
+  }
+  StagedPath(const StagedPath&) = delete;
+  StagedPath& operator=(const StagedPath&) = delete;
+  ~StagedPath() {
+    std::error_code error;
+    if (!published_) std::filesystem::remove(staging_, error);  // an output error: no debris
+  }
+  const std::string& staging() const { return staging_; }
+  void publish() {
+    if (staging_ == path_) return;
+    std::error_code error;
+    std::filesystem::rename(staging_, path_, error);
+    if (error)
+      throw OutputError("cannot rename '" + staging_ + "' to '" + path_ + "': " + error.message());
+    published_ = true;
+  }
+
+ private:
+  std::string path_, staging_;
+  bool published_ = false;
+};
+
 // Where the rows go: a CSV stream and/or a bag, both fed from the same snapshots.
 class Outputs {
  public:
   Outputs(const Options& options, const kane_sim::Config& config)
       : robot_(kane_sim::describeRobot(config)) {
     if (!options.csv_path.empty()) {
-      file_.open(options.csv_path);
+      csv_file_ = std::make_unique<StagedPath>(options.csv_path);
+      file_.open(csv_file_->staging());
       if (!file_) throw OutputError("cannot write --csv '" + options.csv_path + "'");
       csv_ = &file_;
     } else if (options.bag_path.empty()) {
@@ -250,8 +315,9 @@ class Outputs {
     }
     if (!options.bag_path.empty()) {
       bag_path_ = options.bag_path;
+      bag_file_ = std::make_unique<StagedPath>(options.bag_path);
       try {
-        bag_ = std::make_unique<kane_sim::BagWriter>(options.bag_path);
+        bag_ = std::make_unique<kane_sim::BagWriter>(bag_file_->staging());
       } catch (const std::exception& e) {
         throw OutputError("cannot write --bag '" + options.bag_path + "': " + e.what());
       }
@@ -276,6 +342,7 @@ class Outputs {
     }
   }
 
+  // Completes the outputs (the bag's index, the CSV's last bytes) and puts them in place.
   void finish() {
     if (bag_) {
       try {
@@ -283,15 +350,21 @@ class Outputs {
       } catch (const std::exception& e) {
         throw OutputError("closing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
       }
+      bag_file_->publish();
     }
     if (csv_) {
       csv_->flush();
       if (!*csv_) throw OutputError("writing the CSV failed (disk full?)");
     }
+    if (csv_file_) {
+      file_.close();
+      csv_file_->publish();
+    }
   }
 
  private:
   kane_sim::RobotDescription robot_;  // the node's tf tree, the same in the bag
+  std::unique_ptr<StagedPath> csv_file_, bag_file_;
   std::string bag_path_;
   std::ofstream file_;
   std::ostream* csv_ = nullptr;
@@ -328,39 +401,60 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
   } catch (const std::invalid_argument& e) {
     throw UsageError((options.sweep_file.empty() ? "" : "--sweep-file: ") + std::string(e.what()));
   }
-  // The first case is built here, so a typo or a refused value stops the run before it starts.
-  static_cast<void>(kane_sim::sweepCaseConfig(base, plan, 0));
+  // Every key is checked before anything runs: a typo (or an unknown section) would otherwise
+  // sweep the base config. A value the loader refuses is that case's row (config_refused).
+  try {
+    kane_sim::checkSweepKeys(base, plan);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
   kane_sim::SweepSettings settings;
   settings.duration = options.duration;
   settings.torque = *options.profile;
   settings.jobs = options.jobs;
+  settings.stop = &g_stop;
+  settings.on_warning = [](const std::string& text) { std::cerr << "warning: " << text << "\n"; };
   std::ofstream file;
   std::ostream* out = &std::cout;
+  std::unique_ptr<StagedPath> staged;
   if (!options.csv_path.empty()) {
-    file.open(options.csv_path);
+    staged = std::make_unique<StagedPath>(options.csv_path);
+    file.open(staged->staging());
     if (!file) throw OutputError("cannot write --csv '" + options.csv_path + "'");
     out = &file;
   }
-  const auto wall_start = std::chrono::steady_clock::now();
-  const std::vector<kane_sim::SweepResult> results = kane_sim::runSweep(base, plan, settings);
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   kane_sim::writeSweepCsvHeader(*out, plan);
   std::uint64_t steps = 0;
-  size_t failed = 0;
-  for (size_t i = 0; i < results.size(); ++i) {
-    kane_sim::writeSweepCsvRow(*out, plan, i, results[i]);
-    steps += results[i].steps;
-    if (results[i].status != "ok" && failed++ < 5)
-      std::cerr << "warning: case " << i << ": " << results[i].error << "\n";
+  size_t failed = 0, written = 0;
+  bool write_failed = false;
+  // Each row as its case finishes (in case order), flushed: a crash keeps them in FILE.partial.
+  const auto sink = [&](size_t i, const kane_sim::SweepResult& r) {
+    kane_sim::writeSweepCsvRow(*out, plan, i, r);
+    out->flush();
+    write_failed = write_failed || !*out;
+    ++written;
+    steps += r.steps;
+    if (r.status != "ok" && failed++ < 5)
+      std::cerr << "warning: case " << i << ": " << r.error << "\n";
+  };
+  const auto wall_start = std::chrono::steady_clock::now();
+  kane_sim::runSweep(base, plan, settings, sink);
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  if (write_failed) throw OutputError("writing the CSV failed (disk full?)");
+  if (staged) {
+    file.close();
+    staged->publish();
   }
-  out->flush();
-  if (!*out) throw OutputError("writing the CSV failed (disk full?)");
-  std::cerr << "swept " << results.size() << " cases (" << failed << " not ok) of "
-            << options.duration << " s each, torque " << options.profile->describe() << ": "
-            << steps << " physics steps, wall time " << wall << " s, "
-            << (wall > 0 ? results.size() / wall : 0.0) << " cases/s, "
+  std::cerr << "swept " << written << " of " << plan.cases.size() << " cases (" << failed
+            << " not ok) of " << options.duration << " s each, torque "
+            << options.profile->describe() << ": " << steps << " physics steps, wall time " << wall
+            << " s, " << (wall > 0 ? written / wall : 0.0) << " cases/s, "
             << (wall > 0 ? steps / wall : 0.0) << " steps/s\n";
+  if (g_stop) {
+    std::cerr << "interrupted: kept the " << written << " finished cases\n";
+    return kExitSignalBase + g_signal.load();
+  }
   return failed ? kExitStepRefused : 0;
 }
 
@@ -373,6 +467,8 @@ int run(const Options& options) {
       root["simulation"] = YAML::Node(YAML::NodeType::Map);
     if (root["simulation"].IsMap()) root["simulation"]["integrator"] = options.integrator;
   }
+  if (options.default_config)
+    std::cerr << "no --config given: using the package's default " << options.config_path << "\n";
   kane_sim::LoadedConfig loaded = kane_sim::loadConfig(root);
   for (const std::string& warning : loaded.warnings) std::cerr << "warning: " << warning << "\n";
   if (options.sweep()) return runSweepMode(options, root);
@@ -397,6 +493,12 @@ int run(const Options& options) {
   commands.update(driver);
   out.write(driver.snapshot());
   for (long row = 1; row <= rows; ++row) {
+    if (g_stop) {
+      out.finish();
+      std::cerr << "interrupted at t = " << driver.time() << " s: kept the " << row
+                << " outputs simulated until then\n";
+      return kExitSignalBase + g_signal.load();
+    }
     for (long i = 0; i < steps_per_row; ++i) {
       if (!driver.step()) {
         out.finish();  // what was simulated up to the refusal stays readable
@@ -425,6 +527,8 @@ int main(int argc, char** argv) {
   ros::Time::init();  // ros::Time without a master, for the bag writer
   // Past a file-size limit (ulimit -f) a write should fail (exit 4), not kill the process.
   std::signal(SIGXFSZ, SIG_IGN);
+  std::signal(SIGINT, onStopSignal);
+  std::signal(SIGTERM, onStopSignal);
   Options options;
   try {
     if (!parseOptions(argc, argv, &options)) return 0;

@@ -1,5 +1,7 @@
 // The `simulate` executable, run as a user would: CSV layout, time grid, exit codes.
+#include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -68,10 +70,10 @@ TEST(SimulateCli, DefaultOutputRateIs100HzAndCsvFileWorks) {
 
 TEST(SimulateCli, BadFlagsExitWithUsage) {
   for (const std::string& args :
-       {std::string("--duration 1"), kConfig, kConfig + " --duration -1",
-        kConfig + " --duration abc", kConfig + " --duration 1 --output-rate 0",
-        kConfig + " --duration 1 --output-rate 300", kConfig + " --duration 1 --integrator euler",
-        kConfig + " --duration 1 --bogus", kConfig + " --duration nan"}) {
+       {kConfig, kConfig + " --duration -1", kConfig + " --duration abc",
+        kConfig + " --duration 1 --output-rate 0", kConfig + " --duration 1 --output-rate 300",
+        kConfig + " --duration 1 --integrator euler", kConfig + " --duration 1 --bogus",
+        kConfig + " --duration nan"}) {
     const RunResult r = runSimulate(args);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
     EXPECT_NE(r.err.find("Usage: simulate"), std::string::npos) << args << "\n" << r.err;
@@ -178,7 +180,7 @@ TEST(SimulateCli, SweepRowsMatchSingleRuns) {
                                   " --sweep mechanism.slider4_mass=0.4:1.2:3 --sweep "
                                   "damping.crank_joint=0:0.5:2");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("swept 6 cases (0 not ok)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("swept 6 of 6 cases (0 not ok)"), std::string::npos) << r.err;
   std::ifstream in(csv);
   std::stringstream text;
   text << in.rdbuf();
@@ -219,7 +221,7 @@ TEST(SimulateCli, SweepRowsMatchSingleRuns) {
 
 TEST(SimulateCli, SweepRefusesTyposAndBagsNamingThem) {
   RunResult r = runSimulate(kConfig + " --duration 1 --sweep mechanism.spring=1:2:2");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("'mechanism.spring' is not a config key"), std::string::npos) << r.err;
   r = runSimulate(kConfig + " --duration 1 --sweep mechanism.gravity=1:2 ");
   EXPECT_EQ(r.exit_code, 2);
@@ -228,6 +230,115 @@ TEST(SimulateCli, SweepRefusesTyposAndBagsNamingThem) {
   EXPECT_EQ(r.exit_code, 2);
   r = runSimulate(kConfig + " --duration 1 --jobs 2");
   EXPECT_EQ(r.exit_code, 2);
+}
+
+// Round three of hostile sweeps: a typo'd or capitalised section ran the base config three
+// times with exit 0; a BOM broke the header; a formula-like header cell was accepted; a refused
+// value in the first case exited 1 without rows while the same range reversed gave rows; a range
+// to +-1e308 overflowed to NaN; --jobs -1 became 4294967295 threads.
+TEST(SimulateCli, SweepHostileInput) {
+  const std::string dir = ::testing::TempDir();
+  for (const std::string key : {"mechanizm.spring_stiffness", "Mechanism.spring_stiffness"}) {
+    const RunResult r = runSimulate(kConfig + " --duration 0.1 --sweep " + key + "=100:400:3");
+    EXPECT_EQ(r.exit_code, 2) << key << r.err;
+    EXPECT_NE(r.err.find("'" + key + "' is not a config key"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out.find("ok"), std::string::npos) << "nothing ran: " << r.out;
+  }
+  std::ofstream(dir + "/bom.csv") << "\xEF\xBB\xBFmechanism.spring_stiffness\n100\n200\n";
+  RunResult r = runSimulate(kConfig + " --duration 0.1 --sweep-file " + dir + "/bom.csv");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("case,mechanism.spring_stiffness,status", 0), 0u) << r.out;
+  for (const std::string cell : {"=cmd.x", "+a.b", "-a.b", "@a.b", "=HYPERLINK(a.b)"}) {
+    std::ofstream(dir + "/formula.csv") << cell << "\n1\n";
+    r = runSimulate(kConfig + " --duration 0.1 --sweep-file " + dir + "/formula.csv");
+    EXPECT_EQ(r.exit_code, 2) << cell;
+    EXPECT_NE(r.err.find("spreadsheet formula"), std::string::npos) << cell << r.err;
+  }
+  for (const std::string range : {"-1:1:3", "1:-1:3"}) {
+    r = runSimulate(kConfig + " --duration 0.1 --sweep mechanism.rod_mass=" + range);
+    EXPECT_EQ(r.exit_code, 3) << range << r.err;
+    std::string header;
+    std::istringstream lines(r.out);
+    std::string line;
+    int refused = 0, ok = 0, rows = 0;
+    std::getline(lines, header);
+    while (std::getline(lines, line)) {
+      ++rows;
+      refused += line.find(",config_refused,") != std::string::npos;
+      ok += line.find(",ok,") != std::string::npos;
+    }
+    EXPECT_EQ(rows, 3) << range << r.out;
+    EXPECT_EQ(refused, 2) << range;
+    EXPECT_EQ(ok, 1) << range;
+  }
+  r = runSimulate(kConfig + " --duration 0.1 --sweep mechanism.gravity=-1e308:1e308:3");
+  EXPECT_NE(r.out.find("\n0,-1e+308,config_refused"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\n1,0,ok"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\n2,1e+308,config_refused"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+  for (const std::string jobs : {"-1", "0", "100000", "abc"}) {
+    r = runSimulate(kConfig + " --duration 0.1 --sweep mechanism.gravity=1:2:2 --jobs " + jobs);
+    EXPECT_EQ(r.exit_code, 2) << jobs << r.err;
+    EXPECT_NE(r.err.find("jobs"), std::string::npos) << jobs << r.err;
+  }
+}
+
+// Runs `args` in the background, sends SIGINT after `seconds`, returns what it printed and its
+// exit code; `before` is the --csv file's content read while it runs, before the signal.
+RunResult interruptAfter(const std::string& args, double seconds, const std::string& csv,
+                         std::string* before) {
+  const std::string command = "( " + std::string(KANE_SIM_SIMULATE_EXE) + " " + args +
+                              " & pid=$!; sleep " + std::to_string(seconds) + "; cat " + csv +
+                              " > " + csv + ".before; kill -INT $pid; wait $pid )";
+  const RunResult r = kane_sim::test::runCommand(command);
+  std::ifstream in(csv + ".before");
+  before->assign(std::istreambuf_iterator<char>(in), {});
+  return r;
+}
+
+// An interrupted run keeps what it computed: SIGINT after a second of a long sweep keeps every
+// finished case (rows in case order, complete lines), exit 130; the CSV it replaces is not
+// destroyed while the run goes on. The same for a single run's --csv.
+TEST(SimulateCli, InterruptedRunsKeepWhatTheyComputed) {
+  const std::string dir = ::testing::TempDir();
+  const std::string csv = dir + "/interrupted.csv";
+  std::ofstream(csv) << "the previous results\n";
+  std::string before;
+  RunResult r = interruptAfter(kConfig +
+                                   " --duration 20 --jobs 1 --sweep "
+                                   "mechanism.spring_stiffness=100:400:2000 --csv " +
+                                   csv,
+                               1.5, csv, &before);
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_EQ(before, "the previous results\n") << "replaced before the run ended";
+  EXPECT_NE(r.err.find("interrupted: kept the"), std::string::npos) << r.err;
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line.rfind("case,mechanism.spring_stiffness,status", 0), 0u) << line;
+  size_t rows = 0;
+  while (std::getline(in, line)) {
+    EXPECT_EQ(line.rfind(std::to_string(rows) + ",", 0), 0u) << "case order: " << line;
+    EXPECT_NE(line.find(",ok,"), std::string::npos) << line;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 16) << "a whole row: " << line;
+    ++rows;
+  }
+  EXPECT_GT(rows, 5u) << "a case takes ~10 ms";
+  EXPECT_LT(rows, 2000u);
+
+  std::ofstream(csv) << "the previous results\n";
+  r = interruptAfter(kConfig + " --duration 100000 --output-rate 10 --csv " + csv, 1.0, csv,
+                     &before);
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_EQ(before, "the previous results\n");
+  EXPECT_NE(r.err.find("interrupted at t = "), std::string::npos) << r.err;
+  std::ifstream single(csv);
+  const std::string text((std::istreambuf_iterator<char>(single)), {});
+  std::string header;
+  const auto parsed = parseRows(text, &header);
+  ASSERT_GT(parsed.size(), 100u);
+  for (size_t i = 0; i < parsed.size(); ++i) EXPECT_NEAR(parsed[i][0], i / 10.0, 1e-9);
+  EXPECT_FALSE(std::ifstream(csv + ".partial").good()) << "renamed into place";
 }
 
 }  // namespace

@@ -6,7 +6,9 @@
 #ifndef KANE_SIM_SIM_SWEEP_H
 #define KANE_SIM_SIM_SWEEP_H
 
+#include <atomic>
 #include <cstdint>
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -46,6 +48,10 @@ SweepPlan sweepFromCsv(std::istream& in);
 // typo would otherwise sweep nothing). Throws ConfigError.
 Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t index);
 
+// Every key of `plan` is one the loader reads (a typo, or an unknown section, would sweep
+// nothing): throws std::invalid_argument naming the first that is not.
+void checkSweepKeys(const YAML::Node& base, const SweepPlan& plan);
+
 struct SweepSettings {
   double duration = 10.0;  // [s] simulated per case
   TorqueProfile torque = TorqueProfile::constant(0.0);
@@ -53,10 +59,14 @@ struct SweepSettings {
   // max |q| and the final state use every step.
   double ledger_rate = 10.0;
   unsigned jobs = 0;  // threads; 0 = one per core
+  // Set (from a signal handler, say) to stop: running cases end unfinished, no new one starts.
+  const std::atomic<bool>* stop = nullptr;
+  std::function<void(const std::string&)> on_warning;  // e.g. fewer threads than asked for
 };
 
 struct SweepResult {
-  // "ok"; "step_refused" (the rest is up to that step); "config_refused" (nothing ran)
+  // "ok"; "step_refused" (the rest is up to that step); "config_refused" (nothing ran);
+  // "interrupted" (stopped before it finished: no row is written for it)
   std::string status = "config_refused";
   std::string error;  // why, when not ok
   State final_state;
@@ -75,9 +85,14 @@ struct SweepResult {
 // Runs one case (also what a single `simulate` run of that config would do, step for step).
 SweepResult runSweepCase(const Config& config, const SweepSettings& settings);
 
-// Runs every case of `plan` over `base`, in parallel; results in case order.
+// Receives each finished case, in case order, as soon as every case before it has finished
+// (after a stop, the remaining finished ones, still in order). Called under a lock.
+using SweepSink = std::function<void(size_t index, const SweepResult& result)>;
+
+// Runs every case of `plan` over `base`, in parallel; results in case order. If the system gives
+// fewer threads than asked for, runs on those (settings.on_warning says so).
 std::vector<SweepResult> runSweep(const YAML::Node& base, const SweepPlan& plan,
-                                  const SweepSettings& settings);
+                                  const SweepSettings& settings, const SweepSink& sink = {});
 
 // One CSV row per case: case, the swept keys, then the result columns.
 void writeSweepCsvHeader(std::ostream& out, const SweepPlan& plan);
