@@ -58,7 +58,9 @@ TEST(RobotDescription, FramesFollowTheModelGeometryAtRandomStates) {
 
 TEST(RobotDescription, WorldJointPutsGravityAlongWorldMinusZ) {
   const Config config = test::defaultConfig();
-  const std::vector<JointPose> fixed = fixedJointPoses(describeRobot(config));
+  // JointPose points into the description: keep it alive (a temporary freed it at once).
+  const RobotDescription robot = describeRobot(config);
+  const std::vector<JointPose> fixed = fixedJointPoses(robot);
   ASSERT_EQ(fixed.size(), 1u);
   EXPECT_EQ(fixed[0].joint->parent, "world");
   EXPECT_EQ(fixed[0].joint->child, "mechanism");
