@@ -3,11 +3,23 @@
 
 #include <ros/ros.h>
 
+#include "kane_sim/ros/node_main.h"
+
 #include "kane_sim/ros/shutdown_signals.h"
 #include "pd_controller_node.h"
 
+namespace {
+constexpr const char* kUsage =
+    "Usage: rosrun kane_sim pd_controller [_kp:=500] [_kd:=40] [_setpoint:=1.0] "
+    "[_torque_limit:=50]\n\n"
+    "Example crank position controller for kane_sim_node: answers every joint_states reading\n"
+    "with torque_command = kp (setpoint - q1) - kd u1, clamped; the setpoint also on the\n"
+    "`setpoint` topic (std_msgs/Float64). Gains in config/controller.yaml.\n";
+}  // namespace
+
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "pd_controller", ros::init_options::NoSigintHandler);
+  kane_sim::exitOnHelp(argc, argv, kUsage);
+  kane_sim::initNode(argc, argv, "pd_controller", ros::init_options::NoSigintHandler);
   kane_sim::installShutdownSignalHandlers();
   // Held outside the try: destroying the last NodeHandle shuts ROS (and its logging) down, and
   // the fatal message below must still reach the console.

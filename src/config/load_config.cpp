@@ -340,7 +340,9 @@ void checkIntegrable(const Config& c) {
 }  // namespace
 
 ConfigError::ConfigError(const std::string& key, const std::string& problem)
-    : std::runtime_error("config key '" + key + "' " + problem), key_(key) {}
+    : std::runtime_error(key == "file" ? "config file: " + problem
+                                       : "config key '" + key + "' " + problem),
+      key_(key) {}
 
 IntegratorType parseIntegratorName(const std::string& name, const std::string& key) {
   for (IntegratorType type : {IntegratorType::kRk4, IntegratorType::kDopri5})

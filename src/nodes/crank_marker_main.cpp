@@ -4,11 +4,22 @@
 
 #include <ros/ros.h>
 
+#include "kane_sim/ros/node_main.h"
+
 #include "crank_marker_node.h"
 #include "kane_sim/ros/shutdown_signals.h"
 
+namespace {
+constexpr const char* kUsage =
+    "Usage: rosrun kane_sim crank_marker [_frame_prefix:=P] [_scale:=0.6] [_sim_node:=kane_sim]\n"
+    "                                    [_controller_node:=pd_controller]\n\n"
+    "An rviz interactive marker on the crank: dragging its ring publishes the angle as\n"
+    "`setpoint` for pd_controller (update topic crank_marker/update).\n";
+}  // namespace
+
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "crank_marker", ros::init_options::NoSigintHandler);
+  kane_sim::exitOnHelp(argc, argv, kUsage);
+  kane_sim::initNode(argc, argv, "crank_marker", ros::init_options::NoSigintHandler);
   kane_sim::installShutdownSignalHandlers();
   // Held outside the try: the fatal message below must still reach the console.
   const ros::NodeHandle nh;

@@ -46,9 +46,9 @@ YAML::Node KaneSimNode::readParameterTree(const ros::NodeHandle& private_nh) {
   XmlRpc::XmlRpcValue params;
   if (!ros::param::get(private_nh.getNamespace(), params) ||
       params.getType() != XmlRpc::XmlRpcValue::TypeStruct)
-    throw ConfigError(private_nh.getNamespace(),
-                      "has no parameters: load config/mechanism.yaml into the node's private "
-                      "namespace (launch/sim.launch does)");
+    throw std::invalid_argument("no parameters in " + private_nh.getNamespace() +
+                                ": load config/mechanism.yaml into the node's private namespace "
+                                "(launch/sim.launch does)");
   YAML::Node tree = yamlFromXmlRpc(params);
   RuntimeParameters::removeServerKeys(&tree);
   return tree;
@@ -247,7 +247,7 @@ void KaneSimNode::onEvent(const SimEvent& event) {
     case SimEvent::Kind::kCommandTimedOut:
     case SimEvent::Kind::kFirstSliderCrossing:
     case SimEvent::Kind::kStepTooCoarse:
-      ROS_WARN("kane_sim: %s", text);
+      ROS_WARN("kane_sim: %s (t = %.3f s)", text, event.time);
       break;
   }
 }

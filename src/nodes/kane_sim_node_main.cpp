@@ -1,15 +1,31 @@
 // kane_sim_node: the virtual robot. Parameters: see config/mechanism.yaml and the README.
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 
 #include <ros/ros.h>
+
+#include "kane_sim/ros/node_main.h"
 
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/ros/shutdown_signals.h"
 #include "kane_sim_node.h"
 
+namespace {
+constexpr const char* kUsage =
+    "Usage: rosrun kane_sim kane_sim_node [ROS remappings, e.g. __ns:=robot_a]\n"
+    "       roslaunch kane_sim sim.launch [config:=FILE] [ns:=NAME] ... (the usual way)\n\n"
+    "The virtual robot of the textbook example (Kane equations - Example 1): integrates the\n"
+    "mechanism at simulation/physics_rate, subscribes to torque_command (std_msgs/Float64) and\n"
+    "publishes joint_states, tf, mechanism_state and visualization_markers. Its parameters are\n"
+    "config/mechanism.yaml loaded into its private namespace (sim.launch does that); services\n"
+    "~reset, ~pause, ~unpause, ~step, ~set_state; dynamic_reconfigure on ~set_parameters.\n"
+    "See the README, section \"The node\".\n";
+}  // namespace
+
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "kane_sim", ros::init_options::NoSigintHandler);
+  kane_sim::exitOnHelp(argc, argv, kUsage);
+  kane_sim::initNode(argc, argv, "kane_sim", ros::init_options::NoSigintHandler);
   kane_sim::installShutdownSignalHandlers();
   // Held outside the try: destroying the last NodeHandle shuts ROS (and its logging) down, and
   // the fatal message below must still reach the console.
@@ -25,6 +41,9 @@ int main(int argc, char** argv) {
         "kane_sim: bad parameter %s/%s: %s. Fix it in the config file (or on the parameter "
         "server) and start again.",
         ros::this_node::getName().c_str(), param.c_str(), e.what());
+    return 1;
+  } catch (const std::invalid_argument& e) {
+    ROS_FATAL("kane_sim: %s", e.what());
     return 1;
   }
   return 0;

@@ -9,6 +9,7 @@
 
 #include <std_msgs/Float64.h>
 
+#include "kane_sim/format_number.h"
 #include "kane_sim/ros/node_params.h"
 
 namespace kane_sim {
@@ -31,9 +32,10 @@ TeleopKeyParams readTeleopKeyParams(const ros::NodeHandle& pnh) {
   settings.mode = mode == "torque" ? TeleopMode::kTorque : TeleopMode::kSetpoint;
   try {
     validate(settings);
-    if (!std::isfinite(params.repeat_rate) || params.repeat_rate <= 0)
-      throw std::invalid_argument("repeat_rate must be finite and > 0, got " +
-                                  std::to_string(params.repeat_rate));
+    // More than a kHz of repeats is a flood (1e9 sent 648 000 messages in 6 s), not a keyboard.
+    if (!(params.repeat_rate > 0 && params.repeat_rate <= kMaxRepeatRate))
+      throw std::invalid_argument("repeat_rate must be in (0, 1000] Hz, got " +
+                                  formatNumber(params.repeat_rate));
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument("parameter " + pnh.getNamespace() + "/" + e.what());
   }

@@ -21,6 +21,7 @@ struct TeleopKeyParams {
   TeleopSettings teleop;
   double repeat_rate = 20.0;  // [Hz] torque repeats; well above 1 / command.timeout (0.5 s)
 };
+constexpr double kMaxRepeatRate = 1000.0;  // [Hz]
 
 // Reads ~mode (torque|setpoint), ~torque_step, ~torque_limit, ~setpoint_step, ~repeat_rate; a
 // bad one throws std::invalid_argument naming the parameter and its value.

@@ -55,17 +55,16 @@ bool SimDriver::step() {
   }
   if (crossings_before == 0 && sim_.sliderCrossings() > 0)
     report(SimEvent::Kind::kFirstSliderCrossing,
-           format("slider 4 passed through slider 3 at t = %.3f s: the textbook example models "
-                  "no contact between the sliders (counted in slider_crossings; reported once "
-                  "per start or reset)",
-                  sim_.time()));
+           format("slider 4 passed through slider 3: the textbook example models no contact "
+                  "between the sliders (counted in slider_crossings; reported once per start or "
+                  "reset; contact.enabled stops it)"));
   if (!coarse_before && sim_.stepTooCoarse())
     report(SimEvent::Kind::kStepTooCoarse,
-           format("the crank turns %.3f rad per physics step at t = %.3f s (u1 = %.1f rad/s): rk4 "
-                  "at %g Hz no longer resolves the motion and energy is not conserved; use "
+           format("the crank turns %.3f rad per physics step (u1 = %.1f rad/s): rk4 at %g Hz no "
+                  "longer resolves the motion and energy is not conserved; use "
                   "simulation.integrator dopri5 or a higher simulation.physics_rate (reported "
                   "once per start or reset)",
-                  std::abs(sim_.state().u1) * sim_.stepSize(), sim_.time(), sim_.state().u1,
+                  std::abs(sim_.state().u1) * sim_.stepSize(), sim_.state().u1,
                   config_.simulation.physics_rate));
   // The torque in force changes between commands only when the timeout lapses.
   if (command_.lapsesAt(sim_.time())) applyCommand();

@@ -7,6 +7,7 @@
 #include <boost/numeric/odeint.hpp>
 
 #include "kane_sim/analysis/stability.h"
+#include "kane_sim/format_number.h"
 
 namespace kane_sim {
 namespace odeint = boost::numeric::odeint;
@@ -128,7 +129,7 @@ Simulator::~Simulator() = default;
 Status Simulator::setTorque(double torque) {
   if (!std::isfinite(torque)) {
     std::ostringstream msg;
-    msg << "torque " << torque << " N m is not finite; keeping " << torque_ << " N m";
+    msg << "torque " << formatNumber(torque) << " N m is not finite; keeping " << torque_ << " N m";
     return {false, msg.str()};
   }
   if (torque != torque_) last_derivative_valid_ = false;
@@ -329,8 +330,9 @@ Status Simulator::setState(const State& x) {
 Status Simulator::checkState(const State& x) const {
   const auto refuse = [&x](const std::string& why) {
     std::ostringstream msg;
-    msg << "q1 = " << x.q1 << ", q2 = " << x.q2 << ", u1 = " << x.u1 << ", u2 = " << x.u2 << " "
-        << why << "; state kept";
+    msg << "q1 = " << formatNumber(x.q1) << ", q2 = " << formatNumber(x.q2)
+        << ", u1 = " << formatNumber(x.u1) << ", u2 = " << formatNumber(x.u2) << " " << why
+        << "; state kept";
     return Status{false, msg.str()};
   };
   const double values[] = {x.q1, x.q2, x.u1, x.u2};
@@ -338,14 +340,14 @@ Status Simulator::checkState(const State& x) const {
   for (int i = 0; i < 4; ++i) {
     if (!std::isfinite(values[i])) {
       std::ostringstream msg;
-      msg << names[i] << " = " << values[i] << " is not finite; state kept";
+      msg << names[i] << " = " << formatNumber(values[i]) << " is not finite; state kept";
       return {false, msg.str()};
     }
   }
   // q1 beyond a million turns: its cosine has lost every digit of the angle's fraction.
   if (std::abs(x.q1) > kMaxCrankAngle) {
     std::ostringstream msg;
-    msg << "q1 = " << x.q1 << " rad is beyond +-" << kMaxCrankAngle
+    msg << "q1 = " << formatNumber(x.q1) << " rad is beyond +-" << kMaxCrankAngle
         << " rad, where a double no longer resolves the crank's angle; state kept";
     return {false, msg.str()};
   }

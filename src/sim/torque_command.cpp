@@ -1,4 +1,5 @@
 #include "kane_sim/sim/torque_command.h"
+#include "kane_sim/format_number.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,10 +11,11 @@ TorqueCommand::Verdict TorqueCommand::receive(double torque, double now, std::st
   // Messages are formatted only for refused or clamped commands: accepted ones, the normal
   // case at up to kHz rates, cost no string work.
   if (!std::isfinite(torque)) {
-    std::ostringstream msg;
-    msg << "torque_command " << torque << " N m is not finite: ignored, still applying " << clamped_
-        << " N m";
-    *message = msg.str();
+    // What is applied now: the last command, or 0 once its timeout has lapsed.
+    const double applying = timed_out_ || lapsesAt(now) ? 0.0 : clamped_;
+    *message = "torque_command " + formatNumber(torque) + " N m is not finite: ignored, applying " +
+               formatNumber(applying) + " N m" +
+               (applying != clamped_ ? " (the last command timed out)" : "");
     return Verdict::kRejected;
   }
   commanded_ = torque;
@@ -22,10 +24,9 @@ TorqueCommand::Verdict TorqueCommand::receive(double torque, double now, std::st
   have_command_ = true;
   timed_out_ = false;
   if (clamped_ != torque) {
-    std::ostringstream msg;
-    msg << "torque_command " << torque << " N m exceeds command.torque_limit "
-        << settings_.torque_limit << " N m: clamped to " << clamped_ << " N m";
-    *message = msg.str();
+    *message = "torque_command " + formatNumber(torque) + " N m exceeds command.torque_limit " +
+               formatNumber(settings_.torque_limit) + " N m: clamped to " + formatNumber(clamped_) +
+               " N m";
     return Verdict::kClamped;
   }
   message->clear();

@@ -1,4 +1,5 @@
 #include "kane_sim/teleop/key_teleop.h"
+#include "kane_sim/format_number.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +12,7 @@ namespace {
 void requirePositive(const char* field, double value) {
   if (!std::isfinite(value) || value <= 0)
     throw std::invalid_argument(std::string(field) + " must be finite and > 0, got " +
-                                std::to_string(value));
+                                formatNumber(value));
 }
 
 // A step can be halved down to 1/64 of its start and doubled up to 64 times it (and, for the

@@ -61,7 +61,8 @@ TEST_F(SimDriverTest, NonFiniteCommandsAreRejectedAndClampingReportedEveryTime) 
   EXPECT_EQ(driver.snapshot().torque, -50.0);
   EXPECT_EQ(count(Kind::kCommandRejected), 2);
   EXPECT_EQ(count(Kind::kCommandClamped), 2);
-  EXPECT_NE(first(Kind::kCommandRejected)->message.find("still applying 5 N m"), std::string::npos)
+  EXPECT_NE(first(Kind::kCommandRejected)->message.find("ignored, applying 5 N m"),
+            std::string::npos)
       << first(Kind::kCommandRejected)->message;
   EXPECT_NE(first(Kind::kCommandClamped)->message.find("command.torque_limit 50"),
             std::string::npos);

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "kane_sim/format_number.h"
 #include "kane_sim/teleop/crank_angle.h"
 #include "kane_sim/teleop/key_decoder.h"
 #include "kane_sim/teleop/key_teleop.h"
@@ -161,6 +162,26 @@ TEST(CrankAngle, UnwrapKeepsCountingTurns) {
   EXPECT_NEAR(unwrapNear(3.0, -3.0), 3.0 - 2 * M_PI, 1e-12);
   EXPECT_NEAR(unwrapNear(0.5, 4 * M_PI), 4 * M_PI + 0.5, 1e-12);
   EXPECT_NEAR(unwrapNear(0.5, 0.2), 0.5, 1e-15);
+}
+
+// A valid orientation with any scale: (1e200, 0, 0, 1e200) is a quarter turn; the plain norm
+// overflowed to inf and the angle was ignored. Tiny scales likewise.
+TEST(CrankAngle, ScaledQuaternionsKeepTheirAngle) {
+  for (double scale : {1e-300, 1e-150, 1.0, 1e150, 1e300}) {
+    const auto angle = twistAboutZ(scale * std::cos(0.25), 0.0, 0.0, scale * std::sin(0.25));
+    ASSERT_TRUE(angle.has_value()) << scale;
+    EXPECT_NEAR(*angle, 0.5, 1e-12) << scale;
+  }
+}
+
+// Messages print numbers in their shortest exact form, NaN as "nan" whatever its sign bit.
+TEST(FormatNumber, ShortestFormAndOneNan) {
+  EXPECT_EQ(formatNumber(0.1), "0.1");
+  EXPECT_EQ(formatNumber(-50.0), "-50");
+  EXPECT_EQ(formatNumber(1e200), "1e+200");
+  EXPECT_EQ(formatNumber(-std::nan("")), "nan");
+  EXPECT_EQ(formatNumber(std::nan("")), "nan");
+  EXPECT_EQ(formatNumber(-INFINITY), "-inf");
 }
 
 }  // namespace

@@ -31,11 +31,31 @@ TEST(TorqueCommand, NonFiniteIsRejectedAndLastGoodKept) {
                      -std::numeric_limits<double>::infinity()}) {
     EXPECT_EQ(c.receive(bad, 0.1, &msg), TorqueCommand::Verdict::kRejected);
     EXPECT_NE(msg.find("not finite"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("still applying 5 N m"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("ignored, applying 5 N m"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find("-nan"), std::string::npos) << msg;
     bool timed_out;
     EXPECT_EQ(c.applied(0.2, &timed_out), 5.0);
     EXPECT_EQ(c.commanded(), 5.0);
   }
+}
+
+// After the timeout 0 N m is applied: a NaN then says so (it said "still applying 3 N m").
+TEST(TorqueCommand, NonFiniteAfterTheTimeoutSaysZeroIsApplied) {
+  TorqueCommand c(settings(50, 0.5));
+  std::string msg;
+  ASSERT_EQ(c.receive(3.0, 0.0, &msg), TorqueCommand::Verdict::kAccepted);
+  bool timed_out = false;
+  EXPECT_EQ(c.applied(1.0, &timed_out), 0.0);
+  EXPECT_EQ(c.receive(-std::nan(""), 1.0, &msg), TorqueCommand::Verdict::kRejected);
+  EXPECT_NE(msg.find("torque_command nan N m is not finite: ignored, applying 0 N m (the last "
+                     "command timed out)"),
+            std::string::npos)
+      << msg;
+  // Lapsed but not yet noticed by applied(): the same answer.
+  TorqueCommand d(settings(50, 0.5));
+  ASSERT_EQ(d.receive(3.0, 0.0, &msg), TorqueCommand::Verdict::kAccepted);
+  d.receive(std::nan(""), 0.7, &msg);
+  EXPECT_NE(msg.find("applying 0 N m"), std::string::npos) << msg;
 }
 
 TEST(TorqueCommand, OutOfRangeIsClampedBothWays) {

@@ -72,7 +72,7 @@ TEST(BadParam, AbsurdRatesAndStiffnessStopTheNodeNamingTheLimit) {
       {"huge_ratio", "simulation.publish_rate' must be in [10, 1000000] Hz, got 0.001"},
       {"slow_clock", "simulation.physics_rate' must be in [1, 1000000] Hz"},
       {"tiny_factor", "simulation.real_time_factor' must be in [0.001, 1000000]"},
-      {"stiff_spring", "use simulation.integrator dopri5 or a physics_rate of at least 17205 Hz"},
+      {"stiff_spring", "use simulation.integrator dopri5 or a physics_rate of at least 18362 Hz"},
   });
 }
 
@@ -97,6 +97,14 @@ TEST(BadParam, SmallNodesRefuseBadNumbersNamingThem) {
        "parameter /marker_bad/scale must be finite and > 0"},
       {"teleop_key __name:=teleop_bad _repeat_rate:=fast",
        "parameter /teleop_bad/repeat_rate must be a number"},
+      // A kHz bound on the repeats (1e9 flooded 648 000 messages in 6 s); numbers in their
+      // shortest form (1e200 printed 200 digits, NaN printed -nan).
+      {"teleop_key __name:=teleop_flood _repeat_rate:=1e9",
+       "parameter /teleop_flood/repeat_rate must be in (0, 1000] Hz, got 1e+09"},
+      {"pd_controller __name:=pd_huge _kp:=-1e200",
+       "parameter /pd_huge/kp must be finite and >= 0, got -1e+200"},
+      {"crank_marker __name:=marker_neg _scale:=-1e300",
+       "parameter /marker_neg/scale must be finite and > 0, got -1e+300"},
   };
   for (const Case& c : cases) {
     const kane_sim::test::CommandResult r = kane_sim::test::runCommand(

@@ -12,6 +12,8 @@
 
 #include <ros/node_handle.h>
 
+#include "kane_sim/format_number.h"
+
 namespace kane_sim {
 
 enum class ParamBound { kAnyFinite, kNonNegative, kPositive };
@@ -36,7 +38,7 @@ inline double boundedParam(const ros::NodeHandle& pnh, const std::string& name, 
                                 (bound == ParamBound::kNonNegative ? " and >= 0"
                                  : bound == ParamBound::kPositive  ? " and > 0"
                                                                    : "") +
-                                ", got " + std::to_string(value));
+                                ", got " + formatNumber(value));
   return value;
 }
 

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Every executable as a user first meets it: `--help` prints its usage and exits 0 without
+# contacting a master (ros::init under a taken name would kill the running node); a namespace
+# or node name ROS refuses ("robot-a") exits 1 naming it instead of aborting; teleop_key with a
+# closed stdin says so and exits 1 instead of reading its master socket as the keyboard forever.
+# Usage: node_cli_test.sh BUILD_DIR
+set -uo pipefail
+build_dir=$(cd "$1" && pwd)
+set +u
+# shellcheck disable=SC1091
+source "$build_dir/devel/setup.bash"
+set -u
+export ROS_HOSTNAME=localhost
+# No master listens here: anything that tried to reach one would hang until the timeout.
+export ROS_MASTER_URI="http://localhost:$((20000 + RANDOM % 20000))"
+bin="$build_dir/devel/lib/kane_sim"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+passed=0
+failed=0
+check() {  # check NAME COMMAND...
+  local name=$1; shift
+  if "$@"; then echo "ok   $name"; passed=$((passed + 1)); else echo "FAIL $name"; failed=$((failed + 1)); fi
+}
+
+helps() {  # helps EXE: --help and -h print a usage and exit 0 at once, without a master
+  local flag
+  for flag in --help -h; do
+    timeout 5 "$bin/$1" "$flag" >"$work/out" 2>"$work/err" </dev/null
+    local code=$?
+    [ "$code" -eq 0 ] || { echo "     $1 $flag: exit $code"; cat "$work/err"; return 1; }
+    grep -qi "usage" "$work/out" || { echo "     $1 $flag: no usage"; cat "$work/out"; return 1; }
+  done
+}
+for exe in kane_sim_node pd_controller crank_marker teleop_key simulate analyze config_info; do
+  check "$exe --help" helps "$exe"
+done
+
+refuses_name() {  # refuses_name EXE ARG TEXT: exit 1 with TEXT on stderr, no abort
+  timeout 5 "$bin/$1" "$2" >"$work/out" 2>"$work/err" </dev/null
+  local code=$?
+  [ "$code" -eq 1 ] && grep -q "$3" "$work/err" || { echo "     $1 $2: exit $code"; cat "$work/err"; return 1; }
+}
+for exe in kane_sim_node pd_controller crank_marker teleop_key; do
+  check "$exe __ns:=robot-a exits 1 naming it" refuses_name "$exe" "__ns:=robot-a" "robot-a"
+  check "$exe __name:=k-s exits 1 naming it" refuses_name "$exe" "__name:=k-s" "k-s"
+done
+env_namespace() {
+  ROS_NAMESPACE=robot-a timeout 5 "$bin/kane_sim_node" >"$work/out" 2>"$work/err" </dev/null
+  local code=$?
+  [ "$code" -eq 1 ] && grep -q "robot-a" "$work/err" || { echo "     exit $code"; cat "$work/err"; return 1; }
+}
+check "ROS_NAMESPACE=robot-a exits 1 naming it" env_namespace
+
+closed_stdin() {
+  timeout 5 "$bin/teleop_key" <&- >"$work/out" 2>"$work/err"
+  local code=$?
+  [ "$code" -eq 1 ] && grep -q "stdin is closed" "$work/err" || { echo "     exit $code"; cat "$work/err"; return 1; }
+}
+check "teleop_key <&- exits 1: stdin is closed" closed_stdin
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
