@@ -12,6 +12,7 @@
 #include <ros/master.h>
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/JointState.h>
+#include <tf2_msgs/TFMessage.h>
 
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/config/load_config.h"
@@ -23,9 +24,10 @@ namespace kane_sim {
 namespace {
 
 // Behind schedule by more than this, the loop stops bursting to catch up and re-anchors.
-constexpr double kMaxCatchUp = 0.1;         // [s]
-constexpr double kDiagnosticsPeriod = 1.0;  // [s] wall
-constexpr double kPausedPoll = 0.002;       // [s] wall, callback wait while paused
+constexpr double kMaxCatchUp = 0.1;          // [s]
+constexpr double kDiagnosticsPeriod = 1.0;   // [s] wall
+constexpr double kPausedPoll = 0.002;        // [s] wall, callback wait while paused
+constexpr double kPausedRepeatPeriod = 1.0;  // [s] wall, the last state again in /clock mode
 // Waiting for a tick serves callbacks in slices of at most this, then sleeps the last
 // kPreciseWait exactly: a slow tick (a low real_time_factor) never makes the node deaf.
 constexpr double kWaitSlice = 0.05;     // [s] wall
@@ -99,7 +101,9 @@ void KaneSimNode::connect() {
                private_nh_.advertiseService("step", &KaneSimNode::onStep, this),
                private_nh_.advertiseService("set_state", &KaneSimNode::onSetState, this)};
   if (config_.frames.publish_tf) {
-    tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+    // What tf2_ros::TransformBroadcaster does, with the publisher at hand: its subscriber count
+    // tells when a listener joined while paused in /clock mode (see republishWhilePaused).
+    tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", 100);
     static_tf_broadcaster_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
   }
 }
@@ -119,7 +123,7 @@ void KaneSimNode::reconnect() {
        {&joint_state_pub_, &mechanism_state_pub_, &marker_pub_, &diagnostics_pub_, &clock_pub_})
     pub->shutdown();
   for (ros::ServiceServer& service : services_) service.shutdown();
-  tf_broadcaster_.reset();
+  tf_pub_.shutdown();
   static_tf_broadcaster_.reset();
   connect();
   if (runtime_parameters_) runtime_parameters_->advertise();
@@ -219,11 +223,34 @@ void KaneSimNode::runOneTick() {
 
 void KaneSimNode::waitWhilePaused() {
   ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(kPausedPoll));
-  // Wall-stamped topics keep flowing while paused, so viewers keep a live tf tree; in /clock
-  // mode time stands still and nothing new is published.
-  if (!config_.simulation.publish_clock && publishDueByWallClock()) publishState();
+  // Wall-stamped topics keep flowing while paused, so viewers keep a live tf tree. In /clock
+  // mode time stands still: the last state and /clock are repeated with their stamp, slowly, so
+  // that a late subscriber (rviz, rostopic echo /clock) sees the robot and the time.
+  if (!config_.simulation.publish_clock) {
+    if (publishDueByWallClock()) publishState();
+  } else if (wallSeconds(SteadyClock::now() - last_publish_wall_) >= kPausedRepeatPeriod) {
+    republishWhilePaused();
+  }
   scheduler_.anchor(SteadyClock::now());  // resume on a fresh schedule
   maybeReportLoopHealth();
+}
+
+void KaneSimNode::republishWhilePaused() {
+  last_publish_wall_ = SteadyClock::now();
+  const ros::Time now = stamp();  // sim time: unchanged while paused
+  rosgraph_msgs::Clock clock;
+  clock.clock = now;
+  clock_pub_.publish(clock);
+  const Snapshot snapshot = driver_.snapshot();
+  if (!snapshot.allFinite()) return;
+  const PublishedMessages msgs = buildMessages(snapshot, robot_, 0.0, now);
+  joint_state_pub_.publish(msgs.joint_state);
+  mechanism_state_pub_.publish(msgs.mechanism_state);
+  marker_pub_.publish(msgs.markers);
+  // The same transforms again only for a listener that joined since they were sent: the others
+  // already hold them (a repeat would make them warn TF_REPEATED_DATA).
+  if (tf_pub_ && tf_pub_.getNumSubscribers() > tf_subscribers_) tf_pub_.publish(msgs.tf);
+  if (tf_pub_) tf_subscribers_ = tf_pub_.getNumSubscribers();
 }
 
 void KaneSimNode::onEvent(const SimEvent& event) {
@@ -320,9 +347,10 @@ void KaneSimNode::publishState() {
   joint_state_pub_.publish(msgs.joint_state);
   mechanism_state_pub_.publish(msgs.mechanism_state);
   marker_pub_.publish(msgs.markers);
-  if (tf_broadcaster_ && now > last_tf_stamp_) {
-    tf_broadcaster_->sendTransform(msgs.tf.transforms);
+  if (tf_pub_ && now > last_tf_stamp_) {
+    tf_pub_.publish(msgs.tf);
     last_tf_stamp_ = now;
+    tf_subscribers_ = tf_pub_.getNumSubscribers();
   }
 }
 

@@ -17,7 +17,6 @@
 #include <std_srvs/Empty.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/static_transform_broadcaster.h>
-#include <tf2_ros/transform_broadcaster.h>
 
 #include "kane_sim/SetState.h"
 #include "kane_sim/config/config.h"
@@ -58,6 +57,7 @@ class KaneSimNode {
   void watchMaster();                   // background thread: notices a restarted master
   void runOneTick();                    // paced physics tick (+ publishing on the publish grid)
   void waitWhilePaused();               // serve callbacks, keep wall-clock topics alive
+  void republishWhilePaused();          // /clock mode: the last state and /clock again
   void onEvent(const SimEvent& event);  // the driver's events -> rosconsole (and diagnostics)
   void waitForTick();                   // until the next tick is due; serves callbacks meanwhile
   bool publishDueByWallClock() const;   // a publish period of wall time since the last one
@@ -86,7 +86,8 @@ class KaneSimNode {
   ros::Publisher clock_pub_;
   ros::Publisher diagnostics_pub_;
   std::vector<ros::ServiceServer> services_;
-  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
+  ros::Publisher tf_pub_;        // /tf (empty with frames.publish_tf false)
+  uint32_t tf_subscribers_ = 0;  // /tf's subscribers when the transforms were last sent
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_broadcaster_;
   std::unique_ptr<RuntimeParameters> runtime_parameters_;
   std::atomic<bool> master_restarted_{false};  // set by watchMaster(), handled by the loop

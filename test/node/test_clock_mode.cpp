@@ -5,9 +5,11 @@
 
 #include <gtest/gtest.h>
 #include <rosgraph_msgs/Clock.h>
+#include <sensor_msgs/JointState.h>
 #include <std_msgs/Float64.h>
 #include <std_srvs/Empty.h>
 #include <std_srvs/Trigger.h>
+#include <tf2_msgs/TFMessage.h>
 
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/ros/messages.h"
@@ -92,6 +94,31 @@ TEST(ClockMode, FreeRunsFasterThanRealTimeAndMatchesOfflineSimulate) {
     ++compared;
   }
   EXPECT_GT(compared, 100u);
+}
+
+// Paused in /clock mode (the test above leaves it paused): the last state and /clock are repeated
+// about once a second with their unchanged stamp, so `rostopic echo /clock` and a late rviz see
+// the time and the robot; a /tf listener that joins now gets the transforms once (the ones that
+// had them get no repeat, which they would warn about as TF_REPEATED_DATA).
+TEST(ClockMode, WhilePausedTheLastStateAndClockAreRepeated) {
+  ros::NodeHandle nh;
+  std_srvs::Empty empty;
+  ASSERT_TRUE(ros::service::call("kane_sim/pause", empty));
+  Recorder<rosgraph_msgs::Clock> clock(nh, "/clock");
+  Recorder<sensor_msgs::JointState> joints(nh, "joint_states");
+  test::sleepWall(2.6);
+  const auto ticks = clock.messages();
+  const auto states = joints.messages();
+  ASSERT_GE(ticks.size(), 2u) << "no /clock while paused";
+  ASSERT_GE(states.size(), 2u) << "no joint_states while paused";
+  EXPECT_LE(ticks.size(), 5u) << "about once a second";
+  for (const auto& t : ticks) EXPECT_EQ(t.clock, ticks.front().clock) << "time stands still";
+  for (const auto& j : states) EXPECT_EQ(j.header.stamp, ticks.front().clock);
+  Recorder<tf2_msgs::TFMessage> late_tf(nh, "/tf");
+  ASSERT_TRUE(late_tf.waitForCount(1, 3.0)) << "a late /tf listener sees the robot";
+  EXPECT_EQ(late_tf.last().transforms.front().header.stamp, ticks.front().clock);
+  test::sleepWall(2.2);
+  EXPECT_EQ(late_tf.count(), 1u) << "sent once for the newcomer, not repeated";
 }
 
 }  // namespace
