@@ -285,6 +285,19 @@ void readFrames(Section& s, FrameSettings* f) {
                                                 "loop); name the fixed world frame, e.g. 'world'");
 }
 
+void readDiagnostics(Section& s, DiagnosticsSettings* d) {
+  double late_windows = d->late_windows;
+  s.number("overrun_fraction", &d->overrun_fraction);
+  s.number("late_windows", &late_windows);
+  requireRange(s.keyPath("overrun_fraction"), d->overrun_fraction, 0.0, 1.0,
+               "(a fraction of the ticks of a 1 s window)");
+  requireRange(s.keyPath("late_windows"), late_windows, 1.0, 3600.0, "windows of 1 s");
+  if (late_windows != std::floor(late_windows))
+    throw ConfigError(s.keyPath("late_windows"),
+                      "must be a whole number of windows, got " + formatValue(late_windows));
+  d->late_windows = static_cast<int>(late_windows);
+}
+
 // The initial state must have a finite geometry and energy (1e308 is a finite number whose
 // potential energy is not).
 void checkInitialState(const Config& c) {
@@ -378,15 +391,18 @@ LoadedConfig loadConfig(const YAML::Node& root) {
   readDamping(damping, &config.mechanism.damping);
   Section contact(root, "contact", false, unknown);
   readContact(contact, &config.mechanism.contact);
+  Section diagnostics(root, "diagnostics", false, unknown);
+  readDiagnostics(diagnostics, &config.diagnostics);
 
-  const std::set<std::string> sections = {"mechanism", "initial_state", "simulation", "command",
-                                          "frames",    "damping",       "contact"};
+  const std::set<std::string> sections = {"mechanism", "initial_state", "simulation",
+                                          "command",   "frames",        "damping",
+                                          "contact",   "diagnostics"};
   for (const auto& entry : root) {
     const std::string key = entry.first.Scalar();
     if (!sections.count(key)) unknown->push_back(key);
   }
-  for (const Section* s :
-       {&mechanism, &initial_state, &simulation, &command, &frames, &damping, &contact})
+  for (const Section* s : {&mechanism, &initial_state, &simulation, &command, &frames, &damping,
+                           &contact, &diagnostics})
     s->collectUnknownKeys();
   for (const std::string& key : loaded.unknown_keys)
     loaded.warnings.push_back("unknown config key '" + key + "' is ignored");

@@ -71,6 +71,7 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
       robot_(describeRobot(config_)),
       driver_(config_, [this](const SimEvent& event) { onEvent(event); }),
       scheduler_(tickPeriod(config_.simulation), kMaxCatchUp),
+      loop_health_(config_.diagnostics.overrun_fraction, config_.diagnostics.late_windows),
       ticks_per_publish_(static_cast<std::uint64_t>(
           std::lround(config_.simulation.physics_rate / config_.simulation.publish_rate))),
       paused_(config_.simulation.start_paused) {
@@ -369,7 +370,8 @@ void KaneSimNode::publishDiagnostics(const LoopStats::Summary& s, double wall_wi
   diagnostic_msgs::DiagnosticStatus status;
   status.name = "kane_sim: physics loop (" + ros::this_node::getName() + ")";
   status.hardware_id = "kane_sim" + ros::this_node::getNamespace();
-  const bool on_time = s.overruns <= s.ticks / 1000 && s.skipped == 0.0;
+  const bool behind = loop_health_.update(s);
+  const bool on_time = !behind;
   status.level = (paused_ || on_time) ? diagnostic_msgs::DiagnosticStatus::OK
                                       : diagnostic_msgs::DiagnosticStatus::WARN;
   std::ostringstream msg;
@@ -383,9 +385,10 @@ void KaneSimNode::publishDiagnostics(const LoopStats::Summary& s, double wall_wi
   else if (paused_)
     msg << "paused";
   else if (on_time)
-    msg << "on schedule";
+    msg << "on schedule" << (loop_health_.consecutiveLateWindows() > 0 ? " (some ticks late)" : "");
   else
-    msg << s.overruns << " of " << s.ticks << " ticks overran, " << s.skipped << " s lag dropped";
+    msg << "behind schedule for " << loop_health_.consecutiveLateWindows() << " s: " << s.overruns
+        << " of " << s.ticks << " ticks overran, " << s.skipped << " s lag dropped";
   status.message = msg.str();
   auto add = [&status](const std::string& key, double value) {
     diagnostic_msgs::KeyValue kv;

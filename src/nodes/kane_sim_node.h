@@ -76,6 +76,7 @@ class KaneSimNode {
   SimDriver driver_;
   TickScheduler scheduler_;
   LoopStats stats_;
+  LoopHealth loop_health_;
   std::uint64_t ticks_per_publish_;
   bool paused_;
 

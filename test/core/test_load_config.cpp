@@ -255,6 +255,23 @@ TEST(LoadConfig, OptionalSectionWithEveryKeyCommentedOutIsEmpty) {
   expectError(root, "mechanism", "must be a map, got null");  // required: not optional
 }
 
+TEST(LoadConfig, DiagnosticsThresholdsAreCheckedByName) {
+  YAML::Node root = defaultYaml();
+  root["diagnostics"]["overrun_fraction"] = 1.5;
+  expectError(root, "diagnostics.overrun_fraction", "must be in [0, 1]");
+  root = defaultYaml();
+  root["diagnostics"]["late_windows"] = 2.5;
+  expectError(root, "diagnostics.late_windows", "must be a whole number of windows, got 2.5");
+  root = defaultYaml();
+  root["diagnostics"]["late_windows"] = 0;
+  expectError(root, "diagnostics.late_windows", "must be in [1, 3600]");
+  root = defaultYaml();
+  root.remove("diagnostics");
+  const Config c = loadConfig(root).config;
+  EXPECT_EQ(c.diagnostics.overrun_fraction, 0.05);
+  EXPECT_EQ(c.diagnostics.late_windows, 3);
+}
+
 TEST(LoadConfig, UnknownIntegratorListsTheValidOnes) {
   YAML::Node root = defaultYaml();
   root["simulation"]["integrator"] = "euler";

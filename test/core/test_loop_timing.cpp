@@ -64,5 +64,27 @@ TEST(LoopStats, PercentilesRatesAndWindowReset) {
   EXPECT_EQ(stats.takeSummary(1.0, 1.0).ticks, 0u);
 }
 
+// WARN on sustained lateness only: a few overrun ticks in every window (5 of 1000 on a shared
+// machine) never warn; more than the fraction for `late_windows` windows in a row does, and one
+// good window clears it. Dropped lag makes a window late whatever the fraction.
+TEST(LoopHealth, WarnsOnSustainedLatenessOnly) {
+  LoopHealth health(0.05, 3);
+  LoopStats::Summary few;
+  few.ticks = 1000;
+  few.overruns = 5;
+  for (int i = 0; i < 20; ++i) EXPECT_FALSE(health.update(few));
+  LoopStats::Summary many = few;
+  many.overruns = 51;
+  EXPECT_FALSE(health.update(many));
+  EXPECT_FALSE(health.update(many));
+  EXPECT_TRUE(health.update(many));
+  EXPECT_EQ(health.consecutiveLateWindows(), 3);
+  EXPECT_FALSE(health.update(few)) << "one window on time clears it";
+  LoopStats::Summary lag = few;
+  lag.skipped = 0.2;
+  LoopHealth strict(0.05, 1);
+  EXPECT_TRUE(strict.update(lag));
+}
+
 }  // namespace
 }  // namespace kane_sim

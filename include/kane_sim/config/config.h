@@ -54,12 +54,19 @@ struct FrameSettings {
   bool publish_tf = true;
 };
 
+// When /diagnostics says the physics loop is behind (WARN): see LoopHealth.
+struct DiagnosticsSettings {
+  double overrun_fraction = 0.05;  // a 1 s window is late past this fraction of overrun ticks
+  int late_windows = 3;            // WARN after this many consecutive late windows
+};
+
 struct Config {
   MechanismParameters mechanism;
   State initial_state;  // q10, q20, u10, u20; the spring is unstretched at (q10, q20)
   SimulationSettings simulation;
   CommandSettings command;
   FrameSettings frames;
+  DiagnosticsSettings diagnostics;
 };
 
 // The model a config describes: its parameters, the spring unstretched at the initial state.
