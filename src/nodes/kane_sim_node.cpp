@@ -435,7 +435,9 @@ bool KaneSimNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
 }
 
 bool KaneSimNode::onSetState(SetState::Request& req, SetState::Response& res) {
-  const Status result = driver_.setState(State{req.q1, req.q2, req.u1, req.u2});
+  State target{req.q1, req.q2, req.u1, req.u2};
+  if (req.spring_at_rest) target = driver_.simulator().model().withSpringAtRest(target);
+  const Status result = driver_.setState(target);
   res.success = result.ok;
   if (!result.ok) {
     res.message = "set_state refused: " + result.error;
@@ -443,8 +445,8 @@ bool KaneSimNode::onSetState(SetState::Request& req, SetState::Response& res) {
     return true;
   }
   std::ostringstream msg;
-  msg << "state set to q1 = " << req.q1 << " rad, q2 = " << req.q2 << " m, u1 = " << req.u1
-      << " rad/s, u2 = " << req.u2 << " m/s at t = " << driver_.time() << " s";
+  msg << "state set to q1 = " << target.q1 << " rad, q2 = " << target.q2 << " m, u1 = " << target.u1
+      << " rad/s, u2 = " << target.u2 << " m/s at t = " << driver_.time() << " s";
   res.message = msg.str();
   ROS_INFO("kane_sim: %s", res.message.c_str());
   publishState();

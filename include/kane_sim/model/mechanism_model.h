@@ -170,6 +170,12 @@ class MechanismModel {
   }
 
   double springRestLength() const { return spring_rest_length_; }
+  // x with slider 4 where the spring is unstretched for its q1: q2 = x_B + the rest length.
+  State withSpringAtRest(const State& x) const {
+    State relaxed = x;
+    relaxed.q2 = geometry(x.q1, 0.0).pin_b.x() + spring_rest_length_;
+    return relaxed;
+  }
   const MechanismParameters& parameters() const { return parameters_; }
 
   EnergyTerms energy(const MechanismKinematics& k, const State& x) const;
