@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -34,31 +35,35 @@ inline void sleepWall(double seconds) {
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
 }
 
-// Keeps every message of a topic (callbacks run on the test's AsyncSpinner).
+// Keeps every message of a topic (callbacks run on the test's AsyncSpinner). The messages live
+// in storage the callback shares: a callback still running on a spinner thread when the
+// Recorder goes out of scope (unsubscribing does not wait for it) writes into live memory.
 template <class M>
 class Recorder {
  public:
-  Recorder(ros::NodeHandle& nh, const std::string& topic, uint32_t queue = 10000) {
-    sub_ = nh.subscribe<M>(topic, queue, [this](const typename M::ConstPtr& msg) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      messages_.push_back(*msg);
+  Recorder(ros::NodeHandle& nh, const std::string& topic, uint32_t queue = 10000)
+      : store_(std::make_shared<Store>()) {
+    std::shared_ptr<Store> store = store_;
+    sub_ = nh.subscribe<M>(topic, queue, [store](const typename M::ConstPtr& msg) {
+      std::lock_guard<std::mutex> lock(store->mutex);
+      store->messages.push_back(*msg);
     });
   }
   std::vector<M> messages() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return messages_;
+    std::lock_guard<std::mutex> lock(store_->mutex);
+    return store_->messages;
   }
   size_t count() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return messages_.size();
+    std::lock_guard<std::mutex> lock(store_->mutex);
+    return store_->messages.size();
   }
   M last() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return messages_.back();
+    std::lock_guard<std::mutex> lock(store_->mutex);
+    return store_->messages.back();
   }
   void clear() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    messages_.clear();
+    std::lock_guard<std::mutex> lock(store_->mutex);
+    store_->messages.clear();
   }
   bool waitForCount(size_t n, double timeout_s) const {
     return waitFor([&] { return count() >= n; }, timeout_s);
@@ -66,9 +71,12 @@ class Recorder {
   bool connected() const { return sub_.getNumPublishers() > 0; }
 
  private:
+  struct Store {
+    std::mutex mutex;
+    std::vector<M> messages;
+  };
+  std::shared_ptr<Store> store_;
   ros::Subscriber sub_;
-  mutable std::mutex mutex_;
-  std::vector<M> messages_;
 };
 
 // Publishes and waits until the sim is listening, so the first message is not lost.
