@@ -3,7 +3,7 @@
 // each, dopri5 per simulated second, and - in the same binary - the floor: a hand-written
 // closed-form rk4 step of the same equations. The table at the end gives every time as a ratio
 // to that floor.
-//   $KANE_SIM_BUILD_DIR/devel/lib/kane_sim/bench_core --benchmark_min_time=0.5
+//   $KANE_SIM_BUILD_DIR/bench_bin/bench_core --benchmark_min_time=0.5
 #include <cmath>
 
 #include <benchmark/benchmark.h>

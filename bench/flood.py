@@ -20,7 +20,7 @@ def main():
     parser.add_argument("--publishers", type=int, default=3)
     args = parser.parse_args()
     lib = os.path.join(args.build_dir, "devel/lib/kane_sim")
-    flood = [[os.path.join(lib, "torque_flood"), str(args.rate), str(args.seconds + 5), str(v)]
+    flood = [[os.path.join(args.build_dir, "bench_bin", "torque_flood"), str(args.rate), str(args.seconds + 5), str(v)]
              for v in (1.0, -2.0, 3.0)[: args.publishers]]
     with Master("kane_sim_flood") as master:
         r = run_case(os.path.join(lib, "kane_sim_node"), master.env, "flood",

@@ -6,7 +6,7 @@
 # Usage: bench/run_all.sh [NODE_SECONDS_PER_CASE (default 60)]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install_deps.sh
+bash scripts/install_deps.sh
 missing=()
 for p in python3-scipy libmujoco-dev libsimbody-dev; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -15,7 +15,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
-scripts/build.sh
+bash scripts/build.sh
 # shellcheck source=scripts/build_dir.sh
 source scripts/build_dir.sh
 build=$KANE_SIM_BUILD_DIR
@@ -25,13 +25,13 @@ set +u
 source "$build/devel/setup.bash"
 set -u
 echo "## Core throughput (Google Benchmark)"
-"$build/devel/lib/kane_sim/bench_core" --benchmark_min_time=1 --benchmark_repetitions=3 \
+"$build/bench_bin/bench_core" --benchmark_min_time=1 --benchmark_repetitions=3 \
   --benchmark_report_aggregates_only=true 2>/dev/null
 echo; echo "## Against MuJoCo (RK4, dt = 1 ms) and Simbody, same mechanism and parameters"
-"$build/devel/lib/kane_sim/bench_peers" --benchmark_min_time=1 --benchmark_repetitions=3 \
+"$build/bench_bin/bench_peers" --benchmark_min_time=1 --benchmark_repetitions=3 \
   --benchmark_report_aggregates_only=true 2>/dev/null
 echo; echo "## simulate: 600 s and 3600 s simulated at 1 kHz, a 1000-case sweep"
-bench/simulate_perf.sh "$build"
+bash bench/simulate_perf.sh "$build"
 echo; echo "## Against SymPy + SciPy; accuracy"
 /usr/bin/python3 bench/compare_sympy.py "$build"
 echo; echo "## Live node"

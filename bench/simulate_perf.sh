@@ -4,7 +4,7 @@
 #  - 3600 s at 1 kHz with CSV at 1 Hz against the floor: the closed-form rk4 step of bench_core
 #    (measured in the same run) times the step count;
 #  - a sweep of 1000 cases x 10 s at 1 kHz on every core, in one process.
-# Usage: bench/simulate_perf.sh BUILD_DIR
+# Usage: bash bench/simulate_perf.sh BUILD_DIR
 set -euo pipefail
 build_dir=$(cd "${1:-$KANE_SIM_BUILD_DIR}" && pwd)
 config="$(dirname "$0")/../config/mechanism.yaml"
@@ -26,7 +26,7 @@ for spec in "csv 1" "bag 100"; do
 done
 
 echo
-floor_ns=$("$build_dir/devel/lib/kane_sim/bench_core" --benchmark_filter=Floor \
+floor_ns=$("$build_dir/bench_bin/bench_core" --benchmark_filter=Floor \
   --benchmark_min_time=1 --benchmark_format=json 2>/dev/null |
   /usr/bin/python3 -c 'import json,sys; print(json.load(sys.stdin)["benchmarks"][0]["real_time"])')
 best=""

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # The README's "main job": installs what is missing, builds, runs the live demo headless
 # (sim + PD controller holding the crank at 1 rad + rosbag record from the initial state, 10 s),
-# prints where the bag is and a short summary.  Usage: scripts/demo.sh [DURATION_S]
+# prints where the bag is and a short summary.  Usage: bash scripts/demo.sh [DURATION_S]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install_deps.sh
-scripts/build.sh
+bash scripts/install_deps.sh
+bash scripts/build.sh
 # shellcheck source=scripts/build_dir.sh
 source scripts/build_dir.sh
 duration=${1:-10}

@@ -4,11 +4,11 @@
 # ROS-free unit tests, the `simulate` tests and the config fuzzer against that build. Any
 # sanitizer report fails it. Not part of scripts/test.sh: a second full build roughly doubles
 # the test command's time, and the fuzzer already runs on the normal build there.
-# Usage: scripts/sanitize.sh [BUILD_DIR]   (default /tmp/kane_sim_sanitize)
+# Usage: bash scripts/sanitize.sh [BUILD_DIR]   (default /tmp/kane_sim_sanitize)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-/tmp/kane_sim_sanitize}
-scripts/install_deps.sh
+bash scripts/install_deps.sh
 flags="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer -g -O1"
 mkdir -p "$build"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS="$flags" \

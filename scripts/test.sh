@@ -3,8 +3,8 @@
 # node tests under rostest, tool and launch tests) and exits non-zero when any test fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install_deps.sh
-scripts/build.sh --target all tests
+bash scripts/install_deps.sh
+bash scripts/build.sh --target all tests
 # shellcheck source=scripts/build_dir.sh
 source scripts/build_dir.sh
 # Nodes must resolve their own host name; rostest starts its own master on a free port.

@@ -7,6 +7,9 @@
 # executable (built first, its path in KANE_SIM_SIMULATE_EXE).
 function(kane_sim_unit_test name)
   cmake_parse_arguments(ARG "ROS;RUNS_SIMULATE" "" "" ${ARGN})
+  # Not among the package's executables (devel/lib/kane_sim): `rosrun kane_sim <TAB>` lists the
+  # user's tools only. catkin reads this (function-scoped) variable for the binary and the test.
+  set(CMAKE_RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/test_bin)
   catkin_add_gtest(${name} ${ARG_UNPARSED_ARGUMENTS})
   if(NOT TARGET ${name})
     return()
@@ -62,15 +65,15 @@ kane_sim_unit_test(test_simulate_bag test/tools/test_simulate_bag.cpp ROS RUNS_S
 set(tools_dir ${PROJECT_SOURCE_DIR}/test/tools)
 add_test(NAME sympy_crosscheck
   COMMAND /usr/bin/python3 ${tools_dir}/sympy_crosscheck_test.py ${CMAKE_BINARY_DIR})
-add_test(NAME codegen COMMAND ${tools_dir}/codegen_test.sh)
+add_test(NAME codegen COMMAND bash ${tools_dir}/codegen_test.sh)
 add_test(NAME analyze_cli COMMAND /usr/bin/python3 ${tools_dir}/analyze_cli_test.py ${CMAKE_BINARY_DIR})
 add_test(NAME config_fuzz COMMAND /usr/bin/python3 ${tools_dir}/config_fuzz_test.py ${CMAKE_BINARY_DIR} 300)
-add_test(NAME plot_bag COMMAND ${tools_dir}/plot_bag_test.sh ${CMAKE_BINARY_DIR})
-add_test(NAME rviz_smoke COMMAND ${tools_dir}/rviz_smoke_test.sh ${CMAKE_BINARY_DIR})
+add_test(NAME plot_bag COMMAND bash ${tools_dir}/plot_bag_test.sh ${CMAKE_BINARY_DIR})
+add_test(NAME rviz_smoke COMMAND bash ${tools_dir}/rviz_smoke_test.sh ${CMAKE_BINARY_DIR})
 set_tests_properties(rviz_smoke PROPERTIES TIMEOUT 120)
-add_test(NAME launches COMMAND ${tools_dir}/launch_test.sh ${CMAKE_BINARY_DIR})
+add_test(NAME launches COMMAND bash ${tools_dir}/launch_test.sh ${CMAKE_BINARY_DIR})
 set_tests_properties(launches PROPERTIES TIMEOUT 180)
-add_test(NAME faults COMMAND ${tools_dir}/faults_test.sh ${CMAKE_BINARY_DIR})
-add_test(NAME node_cli COMMAND ${tools_dir}/node_cli_test.sh ${CMAKE_BINARY_DIR})
+add_test(NAME faults COMMAND bash ${tools_dir}/faults_test.sh ${CMAKE_BINARY_DIR})
+add_test(NAME node_cli COMMAND bash ${tools_dir}/node_cli_test.sh ${CMAKE_BINARY_DIR})
 set_tests_properties(node_cli PROPERTIES TIMEOUT 120)
 set_tests_properties(faults PROPERTIES TIMEOUT 180)

@@ -59,5 +59,21 @@ closed_stdin() {
 }
 check "teleop_key <&- exits 1: stdin is closed" closed_stdin
 
+# What `rosrun kane_sim <TAB>` offers, found the way rosbash's completion finds it: every
+# executable file under the package folder and its catkin libexec folder (hidden folders
+# skipped). Only the user's tools, each once; node_tests stays because rostest starts it by type
+# from the package. (It listed 61: test and benchmark binaries, install_deps.sh, sanitize.sh,
+# the .cfg, and source copies of the Python tools beside their devel relays.)
+tab_completion() {
+  local pkg libexec
+  pkg=$(rospack find kane_sim) || return 1
+  libexec=$(catkin_find --first-only --without-underlays --libexec kane_sim 2>/dev/null)
+  find -L "$pkg" $libexec -type f -perm /111 ! -regex ".*/[.][^./].*" -printf '%f\n' | sort >"$work/tab"
+  printf '%s\n' analyze bag_summary config_info crank_marker demo_supervisor kane_sim_node \
+    loop_bag node_tests pd_controller plot_bag simulate teleop_key | sort >"$work/want"
+  diff "$work/want" "$work/tab" >"$work/diff" || { echo "     expected < > offered:"; sed 's/^/     /' "$work/diff"; return 1; }
+}
+check "rosrun kane_sim <TAB> offers the user's tools, each once" tab_completion
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

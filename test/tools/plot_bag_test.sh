@@ -16,12 +16,12 @@ simulate="$build_dir/devel/lib/kane_sim/simulate"
 
 failures=0
 for input in run.bag run.csv; do
-  "$here/../../scripts/plot_bag" "$work/$input" -o "$work/$input.png"
+  /usr/bin/python3 "$here/../../scripts/plot_bag" "$work/$input" -o "$work/$input.png"
   size=$(/usr/bin/python3 -c "import matplotlib.image as m, sys; i = m.imread(sys.argv[1]); print('%dx%d' % (i.shape[1], i.shape[0]))" "$work/$input.png")
   if [ "$size" = "1200x900" ]; then echo "ok   $input -> $size PNG"; else echo "FAIL $input -> $size"; failures=$((failures + 1)); fi
 done
 echo "t,q1" > "$work/empty.csv"
-if "$here/../../scripts/plot_bag" "$work/empty.csv" -o "$work/empty.png" 2>"$work/err"; then
+if /usr/bin/python3 "$here/../../scripts/plot_bag" "$work/empty.csv" -o "$work/empty.png" 2>"$work/err"; then
   echo "FAIL a CSV without the columns was accepted"; failures=$((failures + 1))
 elif grep -q "cannot read" "$work/err"; then echo "ok   bad CSV refused: $(cat "$work/err")"
 else echo "FAIL unclear error: $(cat "$work/err")"; failures=$((failures + 1)); fi
