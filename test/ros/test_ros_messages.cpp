@@ -1,5 +1,6 @@
 // The message-filling path, without a master: rosparam -> config, joint_states, tf, state.
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -193,11 +194,58 @@ TEST_F(MessagesTest, TorqueArrowIsDeletedAtZeroTorque) {
   const auto on = torqueArrow(mechanismMarkers(s, robot_.frames, ros::Time(1)));
   EXPECT_EQ(on.action, visualization_msgs::Marker::ADD);
   EXPECT_EQ(on.color.a, 1.0f);
-  EXPECT_NEAR(on.points[0].x, s.geometry.pin_a.x(), 1e-12);
+  EXPECT_EQ(on.header.frame_id, robot_.frames.bodies[kRod1]);
+  EXPECT_NEAR(on.points[0].x, s.geometry.rod_length, 1e-12);  // A, in rod 1's frame
   s.torque = 0.0;
   const auto off = torqueArrow(mechanismMarkers(s, robot_.frames, ros::Time(2)));
   EXPECT_EQ(off.action, visualization_msgs::Marker::DELETE);
   EXPECT_EQ(off.id, on.id);
+}
+
+// Every marker is drawn in the frame of the link it belongs to, frame-locked, so that rviz
+// places it with the transform it draws that link with. Carried through the tf of the snapshot,
+// each lands where the geometry says: the pins on O, A, B, the spring from B to C, the arrow at A
+// perpendicular to rod 1.
+TEST_F(MessagesTest, MarkersSitInTheirLinksFrames) {
+  sim_.setTorque(5.0);
+  for (int i = 0; i < 321; ++i) ASSERT_TRUE(sim_.step().ok);
+  Snapshot s = sim_.snapshot();
+  s.command.torque_limit = 50.0;
+  const PublishedMessages msgs = buildMessages(s, robot_, 1.0, ros::Time(3));
+  // Each frame's pose in `mechanism` from the published tf (one level below it).
+  std::map<std::string, Eigen::Isometry3d> pose;
+  pose[robot_.frames.mechanism] = Eigen::Isometry3d::Identity();
+  for (const auto& t : msgs.tf.transforms) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() << t.transform.translation.x, t.transform.translation.y,
+        t.transform.translation.z;
+    T.linear() = Eigen::Quaterniond(t.transform.rotation.w, t.transform.rotation.x,
+                                    t.transform.rotation.y, t.transform.rotation.z)
+                     .toRotationMatrix();
+    ASSERT_TRUE(pose.count(t.header.frame_id)) << t.header.frame_id;
+    pose[t.child_frame_id] = pose[t.header.frame_id] * T;
+  }
+  const auto at = [&](const visualization_msgs::Marker& m, const geometry_msgs::Point& p) {
+    EXPECT_TRUE(m.frame_locked) << m.ns;
+    return Eigen::Vector3d(pose.at(m.header.frame_id) * Eigen::Vector3d(p.x, p.y, p.z));
+  };
+  const MechanismGeometry& g = s.geometry;
+  for (const auto& m : msgs.markers.markers) {
+    if (m.ns == "pins") {
+      const Eigen::Vector3d expected[] = {g.pivot_o, g.pin_a, g.pin_b};
+      EXPECT_LT((at(m, m.pose.position) - expected[m.id] - Eigen::Vector3d(0, 0, 0.02)).norm(),
+                1e-12)
+          << "pin " << m.id;
+    } else if (m.ns == "spring") {
+      EXPECT_NEAR(at(m, m.points.front()).x(), g.pin_b.x(), 1e-12);
+      EXPECT_NEAR(at(m, m.points.back()).x(), g.point_c.x(), 1e-12);
+    } else if (m.ns == "torque") {
+      const Eigen::Vector3d base = at(m, m.points[0]), tip = at(m, m.points[1]);
+      EXPECT_LT((base - g.pin_a - Eigen::Vector3d(0, 0, 0.03)).norm(), 1e-12);
+      EXPECT_NEAR((tip - base).dot(g.pin_a - g.pivot_o), 0.0, 1e-12) << "perpendicular to rod 1";
+      EXPECT_GT((g.pin_a - g.pivot_o).cross(tip - base).z(), 0.0) << "turning +k for M_m > 0";
+    }
+  }
 }
 
 TEST(SimStamp, FixedEpochPlusSimTime) {

@@ -6,7 +6,10 @@ The 3D view is found as the bounding box of rviz's background colour (config/kan
 cover enough pixels inside it. With --setpoint, also the crank_marker's ring and arrow (yellow,
 MarkerColors::kSetpoint; the ring half transparent on the background). Exit 0 when all are
 there, 1 otherwise, with the counts.
-Usage: check_screenshot.py SHOT.png [--setpoint]
+With --attached, also the torque arrow (red, in rod 1's frame at A; the largest red blob, not the
+TF axes): drawn, and touching a rod (its nearest rod pixel within 12 px), as it is when markers and links are placed with the same
+transform; in a fast replay the arrow drawn from the message's positions hung 0.4 m off.
+Usage: check_screenshot.py SHOT.png [--setpoint] [--attached]
 """
 import sys
 
@@ -27,7 +30,53 @@ SETPOINT = ("crank setpoint ring (yellow)",
             (lambda r, g, b: (r > 0.45) & (g > 0.38) & (b < 0.3) & (np.abs(r - g) < 0.2), 2500))
 
 
-def main(path, setpoint=False):
+TORQUE = lambda r, g, b: (r > 0.6) & (g < 0.25) & (b < 0.25)
+ROD = COLOURS["rods (blue)"][0]
+
+
+def largest_component(pixels):
+    """The largest 8-connected set among (row, col) pixels: the arrow, not the TF display's thin
+    red x axes."""
+    left = set(map(tuple, pixels))
+    best = []
+    while left:
+        seed = left.pop()
+        component, frontier = [seed], [seed]
+        while frontier:
+            y, x = frontier.pop()
+            for dy in (-1, 0, 1):
+                for dx in (-1, 0, 1):
+                    n = (y + dy, x + dx)
+                    if n in left:
+                        left.remove(n)
+                        component.append(n)
+                        frontier.append(n)
+        if len(component) > len(best):
+            best = component
+    return np.array(best)
+
+
+def arrow_touches_a_rod(r, g, b, inside, view):
+    arrow = largest_component(np.argwhere(TORQUE(r, g, b) & inside))
+    top, bottom, left, right = view
+    if len(arrow) and (arrow[:, 0].min() <= top + 2 or arrow[:, 0].max() >= bottom - 2
+                       or arrow[:, 1].min() <= left + 2 or arrow[:, 1].max() >= right - 2):
+        print("ok   torque arrow (red): cut by the view's edge, not judged")
+        return True
+    rods = np.argwhere(ROD(r, g, b) & inside)
+    if len(arrow) < 100 or len(rods) == 0:
+        print("FAIL torque arrow (red): %d px, rods %d px" % (len(arrow), len(rods)))
+        return False
+    step_a, step_r = max(1, len(arrow) // 600), max(1, len(rods) // 1500)
+    a, rod = arrow[::step_a].astype(float), rods[::step_r].astype(float)
+    gap = np.sqrt(((a[:, None, :] - rod[None, :, :]) ** 2).sum(axis=2)).min()
+    ok = gap <= 12
+    print("%s torque arrow (red): %d px, %.1f px from the nearest rod pixel (need <= 12)"
+          % ("ok  " if ok else "FAIL", len(arrow), gap))
+    return ok
+
+
+def main(path, setpoint=False, attached=False):
     image = matplotlib.image.imread(path)[:, :, :3].astype(float)
     if image.max() > 1.0:
         image /= 255.0
@@ -54,8 +103,11 @@ def main(path, setpoint=False):
         failures += not ok
         print("%s %s: %d px inside the 3D view (need %d), %d outside"
               % ("ok  " if ok else "FAIL", name, count_in, minimum, count_out))
+    if attached and not arrow_touches_a_rod(r, g, b, inside, (top, bottom, left, right)):
+        failures += 1
     return 1 if failures else 0
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1], setpoint="--setpoint" in sys.argv[2:]))
+    sys.exit(main(sys.argv[1], setpoint="--setpoint" in sys.argv[2:],
+                  attached="--attached" in sys.argv[2:]))
