@@ -111,6 +111,21 @@ inline double reconfigure(const std::string& name, double value,
   return std::nan("");
 }
 
+// Every number of a mechanism_state is finite (what the node promises on every topic).
+inline bool allFinite(const MechanismState& m) {
+  const double scalars[] = {m.sim_time,          m.commanded_torque,     m.applied_torque,
+                            m.kinetic_energy,    m.gravitational_energy, m.spring_energy,
+                            m.total_energy,      m.motor_work,           m.dissipated_energy,
+                            m.parameter_energy,  m.energy_balance,       m.spring_elongation,
+                            m.slider_separation, m.contact_force,        m.real_time_factor};
+  for (double v : scalars)
+    if (!std::isfinite(v)) return false;
+  for (const auto* a : {&m.q, &m.u, &m.u_dot, &m.active_forces, &m.inertia_forces})
+    for (double v : *a)
+      if (!std::isfinite(v)) return false;
+  return true;
+}
+
 // The fixture most node tests share: the node under test (started by test/node/sim_node.launch)
 // is publishing mechanism_state, and a torque_command publisher is connected to it.
 class SimNodeTest : public ::testing::Test {

@@ -21,19 +21,6 @@ namespace {
 
 class Fuzz : public test::SimNodeTest {};
 
-bool finite(const MechanismState& m) {
-  const double scalars[] = {m.sim_time,          m.commanded_torque,  m.applied_torque,
-                            m.total_energy,      m.kinetic_energy,    m.motor_work,
-                            m.dissipated_energy, m.parameter_energy,  m.energy_balance,
-                            m.spring_elongation, m.slider_separation, m.contact_force};
-  for (double v : scalars)
-    if (!std::isfinite(v)) return false;
-  for (const auto* a : {&m.q, &m.u, &m.u_dot, &m.active_forces, &m.inertia_forces})
-    for (double v : *a)
-      if (!std::isfinite(v)) return false;
-  return true;
-}
-
 TEST_F(Fuzz, ReconfigureSetStateAndCommandsNeverMakeItLie) {
   test::Recorder<sensor_msgs::JointState> joints(nh_, "joint_states");
   std::mt19937 rng(20);
@@ -80,7 +67,7 @@ TEST_F(Fuzz, ReconfigureSetStateAndCommandsNeverMakeItLie) {
   const auto states = state_.messages();
   ASSERT_GT(states.size(), 200u);
   for (const MechanismState& m : states) {
-    ASSERT_TRUE(finite(m)) << "non-finite mechanism_state at t = " << m.sim_time;
+    ASSERT_TRUE(test::allFinite(m)) << "non-finite mechanism_state at t = " << m.sim_time;
     EXPECT_GE(m.slider_separation, 0.07 - 1e-9) << "inside the gap at t = " << m.sim_time;
   }
   for (const auto& j : joints.messages())

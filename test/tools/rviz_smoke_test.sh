@@ -26,20 +26,26 @@ export ROS_MASTER_URI="http://localhost:$port"
 rosrun kane_sim simulate --config "$here/../../config/mechanism.yaml" --duration 4 \
   --torque-sine 12,0.5 --bag "$work/run.bag" 2>/dev/null
 
+# replay_shots BAG NAME LOG GAP: replays BAG through view_bag.launch into rviz under Xvfb and takes
+# three screenshots GAP s apart from the second pass on, as $work/NAME_{1,2,3}.png. Right after a
+# loop rewinds /clock, rviz clears its tf buffer and may draw nothing for a moment, and a single
+# shot can land there (seen on loaded machines): the checks below want at least one good shot.
+replay_shots() {
+  rm -f "$work/$2"_*.png
+  xvfb-run -a -s "-screen 0 1280x800x24" bash -c "
+    roslaunch -p $port kane_sim view_bag.launch bag:=$1 > '$3' 2>&1 &
+    launch=\$!
+    sleep 12
+    for i in 1 2 3; do import -window root '$work/$2'_\$i.png; sleep $4; done
+    kill -INT \$launch
+    wait \$launch || true
+  "
+}
+
 shot="$artifacts/rviz_smoke.png"
 log="$artifacts/rviz_smoke.log"
-rm -f "$shot" "$work"/shot_*.png
-# Three screenshots 2 s apart, from the second pass on: right after a loop rewinds /clock, rviz
-# clears its tf buffer and may draw nothing for a moment, and a single shot can land there
-# (seen on loaded machines). The mechanism must be drawn in at least one of them.
-xvfb-run -a -s "-screen 0 1280x800x24" bash -c "
-  roslaunch -p $port kane_sim view_bag.launch bag:=$work/run.bag > '$log' 2>&1 &
-  launch=\$!
-  sleep 12
-  for i in 1 2 3; do import -window root '$work'/shot_\$i.png; sleep 2; done
-  kill -INT \$launch
-  wait \$launch || true
-"
+rm -f "$shot"
+replay_shots "$work/run.bag" shot "$log" 2
 
 failures=0
 shown=0
@@ -71,15 +77,7 @@ echo "screenshot: $shot, log: $log"
 rosrun kane_sim simulate --config "$here/../../config/mechanism.yaml" --duration 4 \
   --torque-sine 40,1.5 --bag "$work/fast.bag" 2>/dev/null
 fast_shot="$artifacts/rviz_fast.png"
-rm -f "$work"/fast_*.png
-xvfb-run -a -s "-screen 0 1280x800x24" bash -c "
-  roslaunch -p $port kane_sim view_bag.launch bag:=$work/fast.bag > '$artifacts/rviz_fast.log' 2>&1 &
-  launch=\$!
-  sleep 12
-  for i in 1 2 3; do import -window root '$work'/fast_\$i.png; sleep 1.3; done
-  kill -INT \$launch
-  wait \$launch || true
-"
+replay_shots "$work/fast.bag" fast "$artifacts/rviz_fast.log" 1.3
 attached=0
 for candidate in "$work"/fast_*.png; do
   [ -s "$candidate" ] || continue
