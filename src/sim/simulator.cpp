@@ -202,6 +202,8 @@ Status Simulator::stepWith(const Equations& equations) {
     return restingContactAt(equations, fromOdeState(at)).force >= 0.0;
   };
   const auto apart = [&](const OdeState& at) { return separationAtLeast(at, contact.gap); };
+  static_assert(kMaxContactEventsPerStep == 16 && kMaxCrankTurnPerStep == 1.0,
+                "the messages below name the limits");
   for (int events = 0;; ++events) {
     if (events > kMaxContactEventsPerStep) {
       error = "the sliders' contact changed more than 16 times within one physics step";

@@ -82,7 +82,8 @@ def check(build_dir, text, case):
                 return "exit 0 with a non-finite value: " + row
         return None
     if run.returncode == 1:
-        return None if "config key '" in err else "exit 1 without naming a key: " + err[-300:]
+        named = "config key '" in err or "config file: " in err  # a key, or the file itself
+        return None if named else "exit 1 without naming a key or the file: " + err[-300:]
     if run.returncode == 3:
         return None if "step refused" in err else "exit 3 without a refusal: " + err[-300:]
     return "exit %d: %s" % (run.returncode, err[-300:])
