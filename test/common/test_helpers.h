@@ -41,6 +41,15 @@ inline std::vector<std::vector<double>> parseCsv(const std::string& text, std::s
   return rows;
 }
 
+// The link frame each marker lives in (unprefixed): pin O and the rail in `mechanism`, pin A
+// and the torque arrow on rod 1, pin B and the spring on slider 3 (src/ros/markers.cpp).
+inline std::string markerFrame(const std::string& ns, int id) {
+  if (ns == "pins") return id == 0 ? "mechanism" : id == 1 ? "rod1" : "slider3";
+  if (ns == "torque") return "rod1";
+  if (ns == "spring") return "slider3";
+  return "mechanism";
+}
+
 struct CommandResult {
   int exit_code = -1;  // -1 when killed by a signal
   std::string out;     // stdout

@@ -10,6 +10,7 @@
 
 #include "kane_sim/MechanismState.h"
 #include "node_test_utils.h"
+#include "test_helpers.h"
 
 namespace kane_sim {
 namespace {
@@ -91,7 +92,7 @@ TEST(Topics, TfFramesAgreeWithJointStates) {
   EXPECT_GT(world_s3.transform.translation.z, 2.0 - 4 * L - 1e-9);
 }
 
-TEST(Topics, MarkersArriveInTheMechanismFrameWithStableIds) {
+TEST(Topics, MarkersArriveInTheirLinksFramesWithStableIds) {
   ros::NodeHandle nh;
   Recorder<visualization_msgs::MarkerArray> markers(nh, "visualization_markers");
   ASSERT_TRUE(markers.waitForCount(20, 15.0));
@@ -99,7 +100,8 @@ TEST(Topics, MarkersArriveInTheMechanismFrameWithStableIds) {
   for (const auto& array : msgs) {
     ASSERT_EQ(array.markers.size(), msgs.front().markers.size());
     for (size_t i = 0; i < array.markers.size(); ++i) {
-      EXPECT_EQ(array.markers[i].header.frame_id, "mechanism");
+      EXPECT_EQ(array.markers[i].header.frame_id,
+                test::markerFrame(array.markers[i].ns, array.markers[i].id));
       EXPECT_EQ(array.markers[i].ns, msgs.front().markers[i].ns);
       EXPECT_EQ(array.markers[i].id, msgs.front().markers[i].id);
     }

@@ -110,7 +110,7 @@ TEST_F(SimulateBag, ValuesEqualTheCsvOfTheSameRun) {
   EXPECT_EQ(rows[50][8], 6.0);
 }
 
-TEST_F(SimulateBag, MarkersHaveStableIdsAndTheMechanismFrame) {
+TEST_F(SimulateBag, MarkersHaveStableIdsAndTheirLinksFrames) {
   rosbag::Bag bag(bag_path());
   rosbag::View view(bag, rosbag::TopicQuery("/visualization_markers"));
   std::vector<std::pair<std::string, int>> first_ids;
@@ -119,7 +119,8 @@ TEST_F(SimulateBag, MarkersHaveStableIdsAndTheMechanismFrame) {
     ASSERT_TRUE(array);
     std::vector<std::pair<std::string, int>> ids;
     for (const auto& marker : array->markers) {
-      EXPECT_EQ(marker.header.frame_id, "mechanism");
+      EXPECT_EQ(marker.header.frame_id, test::markerFrame(marker.ns, marker.id));
+      EXPECT_TRUE(marker.frame_locked);
       ids.emplace_back(marker.ns, marker.id);
     }
     if (first_ids.empty()) first_ids = ids;

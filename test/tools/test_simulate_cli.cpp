@@ -1,5 +1,8 @@
 // The `simulate` executable, run as a user would: CSV layout, time grid, exit codes.
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -339,6 +342,35 @@ TEST(SimulateCli, InterruptedRunsKeepWhatTheyComputed) {
   ASSERT_GT(parsed.size(), 100u);
   for (size_t i = 0; i < parsed.size(); ++i) EXPECT_NEAR(parsed[i][0], i / 10.0, 1e-9);
   EXPECT_FALSE(std::ifstream(csv + ".partial").good()) << "renamed into place";
+}
+
+// No --config: the package's config/mechanism.yaml, said in one line (it exited 2 before).
+TEST(SimulateCli, WithoutConfigRunsThePackagesDefault) {
+  const RunResult r = runSimulate("--duration 0.1");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("no --config given: using the package's default"), std::string::npos)
+      << r.err;
+  std::string header;
+  EXPECT_EQ(parseRows(r.out, &header).size(), 11u);
+}
+
+// When the system refuses threads (a process limit), a sweep runs on those it got and says so,
+// instead of aborting (it ended with SIGABRT, exit 134). Needs root to run as an unprivileged user
+// whose process limit applies (root's does not).
+TEST(SimulateCli, SweepSurvivesRefusedThreads) {
+  if (geteuid() != 0 || std::system("command -v runuser >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "needs root and runuser";
+  const std::string config = ::testing::TempDir() + "/threads.yaml";
+  std::ifstream in(kane_sim::test::configPath("mechanism.yaml"));
+  std::ofstream(config) << in.rdbuf();
+  kane_sim::test::runCommand("chmod 644 " + config);
+  // One process allowed for `nobody`: simulate itself; every thread it asks for is refused.
+  const RunResult r = kane_sim::test::runCommand(
+      "runuser -u nobody -- bash -c 'ulimit -u 1; exec " + std::string(KANE_SIM_SIMULATE_EXE) +
+      " --config " + config + " --duration 0.1 --jobs 4 --sweep mechanism.gravity=1:9:4'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("sweep threads"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("swept 4 of 4 cases (0 not ok)"), std::string::npos) << r.err;
 }
 
 }  // namespace
