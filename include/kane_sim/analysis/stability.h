@@ -27,7 +27,7 @@ struct StiffestConfiguration {
   double u1 = 0.0;    // [rad/s] at what crank speed
 };
 // The fastest rate over the states the motion can reach from `start` without a torque: a turn of
-// the crank (72 samples of q1, slider 4 where the spring is unstretched), each at rest and with
+// the crank (36 samples of q1, slider 4 where the spring is unstretched), each at rest and with
 // the crank as fast as the start's energy lets it be there. A torque adds energy, so a driven
 // motion can go beyond this; the simulator refuses a step rk4 cannot resolve.
 StiffestConfiguration stiffestConfiguration(const MechanismModel& model, const State& start);
