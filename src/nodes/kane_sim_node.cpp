@@ -103,7 +103,7 @@ void KaneSimNode::connect() {
                private_nh_.advertiseService("set_state", &KaneSimNode::onSetState, this)};
   if (config_.frames.publish_tf) {
     // What tf2_ros::TransformBroadcaster does, with the publisher at hand: its subscriber count
-    // tells when a listener joined while paused in /clock mode (see republishWhilePaused).
+    // tells when a listener joined while the stamp stands still (see publishState).
     tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", 100);
     static_tf_broadcaster_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
   }
@@ -230,28 +230,10 @@ void KaneSimNode::waitWhilePaused() {
   if (!config_.simulation.publish_clock) {
     if (publishDueByWallClock()) publishState();
   } else if (wallSeconds(SteadyClock::now() - last_publish_wall_) >= kPausedRepeatPeriod) {
-    republishWhilePaused();
+    publishState();  // the same stamp: /tf goes only to listeners that joined since
   }
   scheduler_.anchor(SteadyClock::now());  // resume on a fresh schedule
   maybeReportLoopHealth();
-}
-
-void KaneSimNode::republishWhilePaused() {
-  last_publish_wall_ = SteadyClock::now();
-  const ros::Time now = stamp();  // sim time: unchanged while paused
-  rosgraph_msgs::Clock clock;
-  clock.clock = now;
-  clock_pub_.publish(clock);
-  const Snapshot snapshot = driver_.snapshot();
-  if (!snapshot.allFinite()) return;
-  const PublishedMessages msgs = buildMessages(snapshot, robot_, 0.0, now);
-  joint_state_pub_.publish(msgs.joint_state);
-  mechanism_state_pub_.publish(msgs.mechanism_state);
-  marker_pub_.publish(msgs.markers);
-  // The same transforms again only for a listener that joined since they were sent: the others
-  // already hold them (a repeat would make them warn TF_REPEATED_DATA).
-  if (tf_pub_ && tf_pub_.getNumSubscribers() > tf_subscribers_) tf_pub_.publish(msgs.tf);
-  if (tf_pub_) tf_subscribers_ = tf_pub_.getNumSubscribers();
 }
 
 void KaneSimNode::onEvent(const SimEvent& event) {
@@ -348,10 +330,14 @@ void KaneSimNode::publishState() {
   joint_state_pub_.publish(msgs.joint_state);
   mechanism_state_pub_.publish(msgs.mechanism_state);
   marker_pub_.publish(msgs.markers);
-  if (tf_pub_ && now > last_tf_stamp_) {
-    tf_pub_.publish(msgs.tf);
-    last_tf_stamp_ = now;
-    tf_subscribers_ = tf_pub_.getNumSubscribers();
+  // Never two transforms of one frame with one stamp for a listener that has them (it would
+  // warn TF_REPEATED_DATA); a listener that joined since (paused in /clock mode, a late rviz)
+  // gets them again.
+  if (tf_pub_) {
+    const uint32_t subscribers = tf_pub_.getNumSubscribers();
+    if (now > last_tf_stamp_ || subscribers > tf_subscribers_) tf_pub_.publish(msgs.tf);
+    last_tf_stamp_ = std::max(last_tf_stamp_, now);
+    tf_subscribers_ = subscribers;
   }
 }
 

@@ -57,7 +57,6 @@ class KaneSimNode {
   void watchMaster();                   // background thread: notices a restarted master
   void runOneTick();                    // paced physics tick (+ publishing on the publish grid)
   void waitWhilePaused();               // serve callbacks, keep wall-clock topics alive
-  void republishWhilePaused();          // /clock mode: the last state and /clock again
   void onEvent(const SimEvent& event);  // the driver's events -> rosconsole (and diagnostics)
   void waitForTick();                   // until the next tick is due; serves callbacks meanwhile
   bool publishDueByWallClock() const;   // a publish period of wall time since the last one
