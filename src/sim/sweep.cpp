@@ -161,7 +161,10 @@ SweepPlan sweepFromCsv(std::istream& in) {
   return plan;
 }
 
-Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t index) {
+namespace {
+
+// `base` with the case's values set; ConfigError when a key's section is not a map.
+YAML::Node caseTree(const YAML::Node& base, const SweepPlan& plan, size_t index) {
   YAML::Node root = YAML::Clone(base);
   for (size_t k = 0; k < plan.keys.size(); ++k) {
     const std::vector<std::string> parts = split(plan.keys[k], '.');
@@ -171,7 +174,13 @@ Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t ind
       throw ConfigError(plan.keys[k], "cannot be set: '" + parts[0] + "' is not a section");
     root[parts[0]][parts[1]] = plan.cases[index][k];
   }
-  const LoadedConfig loaded = loadConfig(root);
+  return root;
+}
+
+}  // namespace
+
+Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t index) {
+  const LoadedConfig loaded = loadConfig(caseTree(base, plan, index));
   for (const std::string& key : plan.keys)
     if (isUnknown(loaded, key))
       throw ConfigError(key, "is not a config key the simulation reads (a typo?)");
@@ -180,17 +189,18 @@ Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t ind
 
 void checkSweepKeys(const YAML::Node& base, const SweepPlan& plan) {
   for (size_t k = 0; k < plan.keys.size(); ++k) {
-    // One key at a time at its first value: a loader error for anything means the key is read
-    // (unknown keys are never errors, only reported); a load that passes reports it if unknown.
-    SweepPlan one{{plan.keys[k]}, {{plan.cases.front()[k]}}};
+    // One key at a time at its first value. A ConfigError means the loader read the key (it
+    // refused its value, or the tree): unknown keys are never errors, only reported, so a load
+    // that passes tells whether the key is one it reads.
+    const SweepPlan one{{plan.keys[k]}, {{plan.cases.front()[k]}}};
+    bool unknown = false;
     try {
-      sweepCaseConfig(base, one, 0);
-    } catch (const ConfigError& e) {
-      if (e.key() == plan.keys[k] &&
-          std::string(e.what()).find("is not a config key") != std::string::npos)
-        throw std::invalid_argument("sweep key '" + plan.keys[k] +
-                                    "' is not a config key the simulation reads (a typo?)");
+      unknown = isUnknown(loadConfig(caseTree(base, one, 0)), plan.keys[k]);
+    } catch (const ConfigError&) {
     }
+    if (unknown)
+      throw std::invalid_argument("sweep key '" + plan.keys[k] +
+                                  "' is not a config key the simulation reads (a typo?)");
   }
 }
 

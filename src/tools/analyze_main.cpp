@@ -14,6 +14,7 @@
 
 #include "kane_sim/analysis/linear_analysis.h"
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/format_number.h"
 
 namespace po = boost::program_options;
 
@@ -37,9 +38,7 @@ class JsonNumbers {
       notes_.push_back(what + " is " + (std::isnan(value) ? "undefined" : "infinite") + " (null)");
       return "null";
     }
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.17g", value);
-    return buffer;
+    return kane_sim::formatNumber(value);
   }
   std::string row(const Eigen::VectorXd& v, const std::string& what) {
     std::string out = "[";
