@@ -356,8 +356,7 @@ void KaneSimNode::publishDiagnostics(const LoopStats::Summary& s, double wall_wi
   diagnostic_msgs::DiagnosticStatus status;
   status.name = "kane_sim: physics loop (" + ros::this_node::getName() + ")";
   status.hardware_id = "kane_sim" + ros::this_node::getNamespace();
-  const bool behind = loop_health_.update(s);
-  const bool on_time = !behind;
+  const bool on_time = !loop_health_.update(s);
   status.level = (paused_ || on_time) ? diagnostic_msgs::DiagnosticStatus::OK
                                       : diagnostic_msgs::DiagnosticStatus::WARN;
   std::ostringstream msg;

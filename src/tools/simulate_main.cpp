@@ -300,19 +300,42 @@ class StagedPath {
   bool published_ = false;
 };
 
+// The CSV: --csv FILE (staged, see StagedPath) or stdout.
+class CsvOutput {
+ public:
+  explicit CsvOutput(const std::string& path) {
+    if (path.empty()) return;
+    staged_ = std::make_unique<StagedPath>(path);
+    file_.open(staged_->staging());
+    if (!file_) throw OutputError("cannot write --csv '" + path + "'");
+  }
+  std::ostream& stream() { return staged_ ? static_cast<std::ostream&>(file_) : std::cout; }
+  // Flushed: what was written survives a crash (in FILE.partial).
+  void flush() {
+    stream().flush();
+    if (!stream()) throw OutputError("writing the CSV failed (disk full?)");
+  }
+  // The last bytes out and the file in place.
+  void finish() {
+    flush();
+    if (!staged_) return;
+    file_.close();
+    staged_->publish();
+  }
+
+ private:
+  std::unique_ptr<StagedPath> staged_;
+  std::ofstream file_;
+};
+
 // Where the rows go: a CSV stream and/or a bag, both fed from the same snapshots.
 class Outputs {
  public:
   Outputs(const Options& options, const kane_sim::Config& config)
       : robot_(kane_sim::describeRobot(config)) {
-    if (!options.csv_path.empty()) {
-      csv_file_ = std::make_unique<StagedPath>(options.csv_path);
-      file_.open(csv_file_->staging());
-      if (!file_) throw OutputError("cannot write --csv '" + options.csv_path + "'");
-      csv_ = &file_;
-    } else if (options.bag_path.empty()) {
-      csv_ = &std::cout;
-    }
+    // With a bag and no --csv, no CSV.
+    if (!options.csv_path.empty() || options.bag_path.empty())
+      csv_ = std::make_unique<CsvOutput>(options.csv_path);
     if (!options.bag_path.empty()) {
       bag_path_ = options.bag_path;
       bag_file_ = std::make_unique<StagedPath>(options.bag_path);
@@ -323,13 +346,13 @@ class Outputs {
       }
       bag_->writeStatic(kane_sim::staticTransforms(robot_, kane_sim::simStamp(0)));
     }
-    if (csv_) kane_sim::writeCsvHeader(*csv_);
+    if (csv_) kane_sim::writeCsvHeader(csv_->stream());
   }
 
   void write(const kane_sim::Snapshot& snapshot) {
     if (csv_) {
-      kane_sim::writeCsvRow(*csv_, snapshot);
-      if (!*csv_) throw OutputError("writing the CSV failed (disk full?)");
+      kane_sim::writeCsvRow(csv_->stream(), snapshot);
+      if (!csv_->stream()) throw OutputError("writing the CSV failed (disk full?)");
     }
     if (bag_) {
       const ros::Time stamp = kane_sim::simStamp(snapshot.time);
@@ -352,22 +375,14 @@ class Outputs {
       }
       bag_file_->publish();
     }
-    if (csv_) {
-      csv_->flush();
-      if (!*csv_) throw OutputError("writing the CSV failed (disk full?)");
-    }
-    if (csv_file_) {
-      file_.close();
-      csv_file_->publish();
-    }
+    if (csv_) csv_->finish();
   }
 
  private:
   kane_sim::RobotDescription robot_;  // the node's tf tree, the same in the bag
-  std::unique_ptr<StagedPath> csv_file_, bag_file_;
+  std::unique_ptr<StagedPath> bag_file_;
   std::string bag_path_;
-  std::ofstream file_;
-  std::ostream* csv_ = nullptr;
+  std::unique_ptr<CsvOutput> csv_;
   std::unique_ptr<kane_sim::BagWriter> bag_;
 };
 
@@ -414,15 +429,8 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
   settings.jobs = options.jobs;
   settings.stop = &g_stop;
   settings.on_warning = [](const std::string& text) { std::cerr << "warning: " << text << "\n"; };
-  std::ofstream file;
-  std::ostream* out = &std::cout;
-  std::unique_ptr<StagedPath> staged;
-  if (!options.csv_path.empty()) {
-    staged = std::make_unique<StagedPath>(options.csv_path);
-    file.open(staged->staging());
-    if (!file) throw OutputError("cannot write --csv '" + options.csv_path + "'");
-    out = &file;
-  }
+  CsvOutput csv(options.csv_path);
+  std::ostream* out = &csv.stream();
   kane_sim::writeSweepCsvHeader(*out, plan);
   std::uint64_t steps = 0;
   size_t failed = 0, written = 0;
@@ -430,7 +438,7 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
   // Each row as its case finishes (in case order), flushed: a crash keeps them in FILE.partial.
   const auto sink = [&](size_t i, const kane_sim::SweepResult& r) {
     kane_sim::writeSweepCsvRow(*out, plan, i, r);
-    out->flush();
+    out->flush();  // a crash keeps the finished rows
     write_failed = write_failed || !*out;
     ++written;
     steps += r.steps;
@@ -442,10 +450,7 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   if (write_failed) throw OutputError("writing the CSV failed (disk full?)");
-  if (staged) {
-    file.close();
-    staged->publish();
-  }
+  csv.finish();
   std::cerr << "swept " << written << " of " << plan.cases.size() << " cases (" << failed
             << " not ok) of " << options.duration << " s each, torque "
             << options.profile->describe() << ": " << steps << " physics steps, wall time " << wall
