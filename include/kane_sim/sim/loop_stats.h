@@ -42,9 +42,9 @@ class LoopHealth {
       : overrun_fraction_(overrun_fraction), late_windows_(late_windows) {}
   // The window just closed; returns whether the loop is behind now.
   bool update(const LoopStats::Summary& window) {
-    const bool late = window.skipped > 0.0 ||
-                      static_cast<double>(window.overruns) >
-                          overrun_fraction_ * static_cast<double>(window.ticks);
+    const bool late =
+        window.skipped > 0.0 || static_cast<double>(window.overruns) >
+                                    overrun_fraction_ * static_cast<double>(window.ticks);
     consecutive_ = late ? consecutive_ + 1 : 0;
     return behind();
   }
