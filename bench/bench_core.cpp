@@ -81,7 +81,7 @@ BENCHMARK(BM_Dopri5PerSimSecond)->Arg(6)->Arg(9)->Arg(12)->Unit(benchmark::kMill
 
 // ---- the floor: the same equations written out by hand -------------------------------------
 struct ClosedForm {
-  double m, L, M1, M2, k, g, I, separation0;  // separation0 = 4 L cos q10 - q20
+  double m, L, M1, M2, k, g, I, separation0;  // separation0 = x_B0 - x_C0, the spring at rest
 
   // u1' = (F1 + F*1|u'=0) / M11,  u2' = F2 / M2 (M is diagonal for this mechanism).
   void operator()(const double x[4], double torque, double dx[4]) const {
@@ -100,14 +100,10 @@ struct ClosedForm {
 void BM_ClosedFormRk4StepFloor(benchmark::State& st) {
   const kane_sim::Config c = defaultConfig();
   const auto& p = c.mechanism;
-  const ClosedForm f{p.rod_mass,
-                     p.rod_half_length,
-                     p.slider3_mass,
-                     p.slider4_mass,
-                     p.spring_stiffness,
-                     p.gravity,
-                     p.rod_inertia,
-                     4 * p.rod_half_length * std::cos(c.initial_state.q1) - c.initial_state.q2};
+  const ClosedForm f{p.rod_mass, p.rod_half_length, p.slider3_mass, p.slider4_mass,
+                     p.spring_stiffness, p.gravity, p.rod_inertia,
+                     // The model's rest length (x_C0 - x_B0), not a second formula for it.
+                     -kane_sim::mechanismModel(c).springRestLength()};
   const double h = 1e-3;
   double x[4] = {c.initial_state.q1, c.initial_state.q2, 0, 0};
   long n = 0;

@@ -21,6 +21,7 @@
 #include <mujoco/mujoco.h>
 
 #include "kane_sim/config/config.h"
+#include "kane_sim/description/joint_values.h"
 
 namespace kane_sim {
 namespace bench {
@@ -28,7 +29,7 @@ namespace bench {
 // The config's initial state as the four joints (the peers' joint coordinates are these).
 inline JointValues initialJoints(const Config& c) {
   const MechanismModel model = mechanismModel(c);
-  return MechanismModel::jointValues(model.kinematics(c.initial_state), c.initial_state, 0.0);
+  return jointValues(model.kinematics(c.initial_state), c.initial_state, 0.0);
 }
 
 // How hard the loop closure is enforced: MuJoCo's defaults, or as stiff as its integrator

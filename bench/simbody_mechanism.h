@@ -14,6 +14,7 @@
 #include <Simbody.h>
 
 #include "kane_sim/config/config.h"
+#include "kane_sim/description/joint_values.h"
 
 namespace kane_sim {
 namespace bench {
@@ -54,8 +55,7 @@ class SimbodyMechanism {
 
     // The mobilizers' coordinates are joint_states' four joints.
     SimTK::State state = system_.getDefaultState();
-    const JointValues j =
-        MechanismModel::jointValues(model.kinematics(c.initial_state), c.initial_state, 0.0);
+    const JointValues j = jointValues(model.kinematics(c.initial_state), c.initial_state, 0.0);
     const SimTK::MobilizedBody* mobilizers[kNumJoints] = {&rod1_, &rod2_, &slider3_, &slider4_};
     for (int i = 0; i < kNumJoints; ++i) {
       mobilizers[i]->setOneQ(state, 0, j.position[i]);

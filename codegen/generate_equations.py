@@ -7,7 +7,9 @@ Every parameter stays a symbol, so one generated header serves every config: the
 k, g, the spring's rest separation, the four joint dampers and the applied driver moment M_m
 (the motor line, a piecewise function of u1, limits M_m before it enters; contact acts by
 impulses between steps). The generic Kane assembly (src/model/mechanism_model.cpp) remains the
-readable reference and the tests' oracle.
+readable reference and the tests' oracle. This derivation is the generator, not a test: the
+SymPy oracle of the tests (test/tools/sympy_model.py) is a second derivation written apart on
+purpose, so that a mistake here cannot pass its own check.
 
 Usage (regenerate after changing the derivation; test/tools/codegen_test.sh fails otherwise):
     codegen/generate_equations.py [OUTPUT]       (default: the header above)

@@ -1,6 +1,9 @@
 #include "kane_sim/config/load_config.h"
 
-#include "kane_sim/analysis/stability.h"
+#include <algorithm>
+
+#include "kane_sim/config/frame_names.h"
+#include "kane_sim/config/parameter_schema.h"
 
 #include <cctype>
 #include <cmath>
@@ -13,13 +16,9 @@ namespace kane_sim {
 namespace {
 
 // The documented ranges; every check is written so that NaN fails it.
-constexpr double kMinPhysicsRate = 1.0;  // [Hz]; a slower "physics step" is not a simulation
-constexpr double kMaxPhysicsRate = 1e6;  // [Hz]; beyond this a step is below double's useful dt
 // At most this many physics steps per publish: a `step` service call (one publish period) then
 // stays well under a second of work.
 constexpr double kMaxStepsPerPublish = 1e5;
-constexpr double kMinRealTimeFactor = 1e-3;  // besides 0 (free-running)
-constexpr double kMaxRealTimeFactor = 1e6;
 
 // The keys of a map, each a plain name and each once (yaml-cpp would keep one of two
 // duplicates silently).
@@ -84,9 +83,11 @@ class Section {
     if (!value) throw ConfigError(keyPath(key), "is missing");
     return toNumber(key, value);
   }
-  void number(const std::string& key, double* out) {  // optional: keeps *out when absent
+  // Optional: keeps *out when absent; true when present.
+  bool number(const std::string& key, double* out) {
     const YAML::Node value = fetch(key);
     if (value) *out = toNumber(key, value);
+    return static_cast<bool>(value);
   }
   void boolean(const std::string& key, bool* out) {
     const YAML::Node value = fetch(key);
@@ -96,16 +97,17 @@ class Section {
       throw ConfigError(keyPath(key), "must be true or false, got " + describe(value));
     *out = parsed;
   }
-  void text(const std::string& key, std::string* out) {
+  bool text(const std::string& key, std::string* out) {  // as number()
     const YAML::Node value = fetch(key);
-    if (!value) return;
+    if (!value) return false;
     if (value.IsNull()) {
       *out = "";
-      return;
+      return true;
     }
     if (!value.IsScalar())
       throw ConfigError(keyPath(key), "must be a string, got " + describe(value));
     *out = value.Scalar();
+    return true;
   }
 
   void collectUnknownKeys() const {
@@ -117,6 +119,7 @@ class Section {
   }
 
   std::string keyPath(const std::string& key) const { return path_ + "." + key; }
+  const std::string& name() const { return path_; }
 
  private:
   YAML::Node fetch(const std::string& key) {
@@ -169,21 +172,71 @@ void requireFrameName(const std::string& key, const std::string& name, bool allo
                       "must not start with '/' (tf2 frame ids are relative), got '" + name + "'");
 }
 
-void readMechanism(Section& s, MechanismParameters* p) {
-  p->rod_mass = s.number("rod_mass");
-  p->rod_half_length = s.number("rod_half_length");
-  p->slider3_mass = s.number("slider3_mass");
-  p->slider4_mass = s.number("slider4_mass");
-  p->spring_stiffness = s.number("spring_stiffness");
-  p->gravity = s.number("gravity");
-  requirePositive(s.keyPath("rod_mass"), p->rod_mass);
-  requirePositive(s.keyPath("rod_half_length"), p->rod_half_length);
-  requirePositive(s.keyPath("slider3_mass"), p->slider3_mass);
-  requirePositive(s.keyPath("slider4_mass"), p->slider4_mass);
-  requireNonNegative(s.keyPath("spring_stiffness"), p->spring_stiffness);
+// The index of `name` among a choice's names; ConfigError listing them otherwise.
+int choiceIndex(const ParameterSpec& p, const std::string& name, const std::string& key) {
+  for (std::size_t i = 0; i < p.choices.size(); ++i)
+    if (name == p.choices[i]) return static_cast<int>(i);
+  std::string valid;
+  for (const std::string& c : p.choices) valid += (valid.empty() ? "" : ", ") + c;
+  throw ConfigError(
+      key, "names " + std::string(p.choice_noun) + " '" + name + "' (valid: " + valid + ")");
+}
 
-  p->rod_inertia = MechanismParameters::kUnset;  // stays NaN without a rod_inertia key
-  s.number("rod_inertia", &p->rod_inertia);
+// One parameter of the schema: read when present (or required), then its own rule. Defaults are
+// the Config's initializers and are not checked here (a test holds them to the rules).
+void readParameter(Section& s, const ParameterSpec& p, Config* config) {
+  const std::string key = s.keyPath(p.key);
+  const ValueRule& rule = p.rule;
+  const ConfigField& f = p.field;
+  if (f.flag) {
+    s.boolean(p.key, &f.flag(*config));
+    return;
+  }
+  if (f.text || f.get_choice) {
+    std::string text = f.text ? f.text(*config) : p.choices.at(f.get_choice(*config));
+    if (!s.text(p.key, &text)) return;
+    if (f.text) {
+      requireFrameName(key, text, rule.kind == ValueRule::kAnyName);
+      f.text(*config) = text;
+      return;
+    }
+    f.set_choice(*config, choiceIndex(p, text, key));
+    return;
+  }
+  double value = f.whole ? f.whole(*config) : f.number(*config);
+  if (p.required)
+    value = s.number(p.key);
+  else if (!s.number(p.key, &value))
+    return;
+  switch (rule.kind) {
+    case ValueRule::kPositive:
+      requirePositive(key, value);
+      break;
+    case ValueRule::kNonNegative:
+      requireNonNegative(key, value);
+      break;
+    case ValueRule::kRange:
+    case ValueRule::kWholeRange:
+      requireRange(key, value, rule.lo, rule.hi, rule.range_note);
+      break;
+    case ValueRule::kZeroOrRange:
+      if (value != 0.0) requireRange(key, value, rule.lo, rule.hi, rule.range_note);
+      break;
+    default:  // kFinite: Section::number checked it
+      break;
+  }
+  if (f.whole) {
+    if (value != std::floor(value))
+      throw ConfigError(
+          key, "must be a whole number of " + std::string(p.unit) + ", got " + formatValue(value));
+    f.whole(*config) = static_cast<int>(value);
+  } else {
+    f.number(*config) = value;
+  }
+}
+
+// The rules that tie parameters of a section together, after its own rules.
+void checkMechanism(const Section& s, MechanismParameters* p) {
   if (std::isnan(p->rod_inertia)) {
     // The default follows from m and L: name them when it cannot be represented.
     p->rod_inertia = MechanismParameters::slenderRodInertia(p->rod_mass, p->rod_half_length);
@@ -196,158 +249,27 @@ void readMechanism(Section& s, MechanismParameters* p) {
                             formatValue(p->rod_mass) + ", rod_half_length " +
                             formatValue(p->rod_half_length) + ")");
   }
-  requirePositive(s.keyPath("rod_inertia"), p->rod_inertia);
 }
 
-void readInitialState(Section& s, State* x) {
-  x->q1 = s.number("q1");
-  x->q2 = s.number("q2");
-  x->u1 = s.number("u1");
-  x->u2 = s.number("u2");
-}
-
-void readSimulation(Section& s, SimulationSettings* sim) {
-  s.number("physics_rate", &sim->physics_rate);
-  std::string integrator = integratorName(sim->integrator);
-  s.text("integrator", &integrator);
-  sim->integrator = parseIntegratorName(integrator, s.keyPath("integrator"));
-  std::string equations = equationsName(sim->equations);
-  s.text("equations", &equations);
-  sim->equations = parseEquationsName(equations, s.keyPath("equations"));
-  s.number("absolute_tolerance", &sim->absolute_tolerance);
-  s.number("relative_tolerance", &sim->relative_tolerance);
-  s.number("publish_rate", &sim->publish_rate);
-  s.number("real_time_factor", &sim->real_time_factor);
-  s.boolean("publish_clock", &sim->publish_clock);
-  s.boolean("start_paused", &sim->start_paused);
-
-  requireRange(s.keyPath("physics_rate"), sim->physics_rate, kMinPhysicsRate, kMaxPhysicsRate,
-               "Hz");
-  requirePositive(s.keyPath("absolute_tolerance"), sim->absolute_tolerance);
-  requirePositive(s.keyPath("relative_tolerance"), sim->relative_tolerance);
-  requireRange(s.keyPath("publish_rate"), sim->publish_rate,
-               sim->physics_rate / kMaxStepsPerPublish, sim->physics_rate, "Hz");
-  const double ticks_per_publish = sim->physics_rate / sim->publish_rate;
-  if (std::abs(ticks_per_publish - std::round(ticks_per_publish)) > 1e-9 * ticks_per_publish)
+void checkSimulation(const Section& s, const SimulationSettings& sim) {
+  requireRange(s.keyPath("publish_rate"), sim.publish_rate, sim.physics_rate / kMaxStepsPerPublish,
+               sim.physics_rate, "Hz");
+  if (wholeStepsPerPeriod(sim.physics_rate, sim.publish_rate) == 0.0)
     throw ConfigError(s.keyPath("publish_rate"),
-                      "must divide simulation.physics_rate (" + formatValue(sim->physics_rate) +
+                      "must divide simulation.physics_rate (" + formatValue(sim.physics_rate) +
                           " Hz) into a whole number of physics steps, got " +
-                          formatValue(sim->publish_rate));
-  if (sim->real_time_factor != 0.0)
-    requireRange(s.keyPath("real_time_factor"), sim->real_time_factor, kMinRealTimeFactor,
-                 kMaxRealTimeFactor, "(or 0 = as fast as possible)");
+                          formatValue(sim.publish_rate));
 }
 
-void readCommand(Section& s, CommandSettings* c, MotorLine* motor) {
-  s.number("torque_limit", &c->torque_limit);
-  s.number("timeout", &c->timeout);
-  s.number("motor_no_load_speed", &motor->no_load_speed);
-  requireNonNegative(s.keyPath("torque_limit"), c->torque_limit);
-  requireNonNegative(s.keyPath("timeout"), c->timeout);
-  requireNonNegative(s.keyPath("motor_no_load_speed"), motor->no_load_speed);
-  motor->torque_limit = c->torque_limit;  // the line starts at the stall torque
-}
-
-// Keys as joint_states names the joints.
-void readDamping(Section& s, JointDamping* d) {
-  const std::pair<const char*, double*> keys[] = {{"crank_joint", &d->crank},
-                                                  {"coupler_joint", &d->coupler},
-                                                  {"slider3_joint", &d->slider3},
-                                                  {"slider4_joint", &d->slider4}};
-  for (const auto& [key, value] : keys) {
-    s.number(key, value);
-    requireNonNegative(s.keyPath(key), *value);
-  }
-}
-
-void readContact(Section& s, SliderContact* c) {
-  s.boolean("enabled", &c->enabled);
-  s.number("gap", &c->gap);
-  s.number("restitution", &c->restitution);
-  requireNonNegative(s.keyPath("gap"), c->gap);
-  requireRange(s.keyPath("restitution"), c->restitution, 0.0, 1.0, "(0 plastic, 1 elastic)");
-}
-
-void readFrames(Section& s, FrameSettings* f) {
-  s.text("prefix", &f->prefix);
-  s.text("world", &f->world);
-  s.number("pivot_height", &f->pivot_height);
-  s.boolean("publish_tf", &f->publish_tf);
-  requireFrameName(s.keyPath("prefix"), f->prefix, true);
-  requireFrameName(s.keyPath("world"), f->world, false);
+void checkFrames(const Section& s, const FrameSettings& f) {
   // world is the parent of the mechanism's frames: naming it like one of them makes a loop.
-  std::string prefix = f->prefix;
-  if (!prefix.empty() && prefix.back() != '/') prefix += '/';
-  for (const char* own : {"mechanism", "rod1", "rod2", "slider3", "slider4"})
-    if (f->world == prefix + own)
-      throw ConfigError(s.keyPath("world"), "'" + f->world +
-                                                "' is one of the mechanism's own frames (a tf "
-                                                "loop); name the fixed world frame, e.g. 'world'");
-}
-
-void readDiagnostics(Section& s, DiagnosticsSettings* d) {
-  double late_windows = d->late_windows;
-  s.number("overrun_fraction", &d->overrun_fraction);
-  s.number("late_windows", &late_windows);
-  requireRange(s.keyPath("overrun_fraction"), d->overrun_fraction, 0.0, 1.0,
-               "(a fraction of the ticks of a 1 s window)");
-  requireRange(s.keyPath("late_windows"), late_windows, 1.0, 3600.0, "windows of 1 s");
-  if (late_windows != std::floor(late_windows))
-    throw ConfigError(s.keyPath("late_windows"),
-                      "must be a whole number of windows, got " + formatValue(late_windows));
-  d->late_windows = static_cast<int>(late_windows);
-}
-
-// The initial state must have a finite geometry and energy (1e308 is a finite number whose
-// potential energy is not).
-void checkInitialState(const Config& c) {
-  const State& x = c.initial_state;
-  const EnergyTerms e = mechanismModel(c).energy(x);
-  if (!std::isfinite(e.total()))
-    throw ConfigError("initial_state", "gives a non-finite energy (q1 " + formatValue(x.q1) +
-                                           ", q2 " + formatValue(x.q2) + ", u1 " +
-                                           formatValue(x.u1) + ", u2 " + formatValue(x.u2) +
-                                           "): use values of the mechanism's size");
-  const SliderContact& contact = c.mechanism.contact;
-  const double separation =
-      mechanismGeometry(c.mechanism.rod_half_length, x.q1, x.q2).sliderSeparation();
-  if (contact.enabled && !(separation >= contact.gap))
-    throw ConfigError("initial_state",
-                      "puts slider 4 " + formatValue(separation) +
-                          " m below slider 3 (x_C - x_B), closer than contact.gap " +
-                          formatValue(contact.gap) +
-                          " m: with contact enabled the sliders must start apart");
-}
-
-void checkIntegrable(const Config& c) {
-  if (c.simulation.integrator != IntegratorType::kRk4) return;  // dopri5 adapts its step
-  const double h = 1.0 / c.simulation.physics_rate;
-  const MechanismModel model = mechanismModel(c);
-  StiffestConfiguration stiffest = stiffestConfiguration(model, c.initial_state);
-  // The initial speeds add their own (centripetal) rates.
-  const double initial = fastestRate(model, c.initial_state, 0.0);
-  if (!(initial <= stiffest.rate)) stiffest = {initial, c.initial_state.q1, c.initial_state.u1};
-  if (!std::isfinite(stiffest.rate))
-    throw ConfigError(
-        "mechanism",
-        "gives equations of motion that are not finite at q1 = " + formatValue(stiffest.q1) +
-            " rad: the masses, lengths, stiffness and damping are too far apart "
-            "for double precision (rod_mass " +
-            formatValue(c.mechanism.rod_mass) + ", slider3_mass " +
-            formatValue(c.mechanism.slider3_mass) + ", slider4_mass " +
-            formatValue(c.mechanism.slider4_mass) + ", spring_stiffness " +
-            formatValue(c.mechanism.spring_stiffness) + ")");
-  if (!(stiffest.rate * h <= kRk4StabilityLimit))
-    throw ConfigError(
-        "simulation.physics_rate",
-        "is too low for rk4 on this mechanism: its fastest rate (" + formatValue(stiffest.rate) +
-            " 1/s at q1 = " + formatValue(stiffest.q1) + " rad, u1 = " + formatValue(stiffest.u1) +
-            " rad/s, from spring_stiffness, the masses, damping and the motor line) needs rate h "
-            "<= " +
-            formatValue(kRk4StabilityLimit) + ", got " + formatValue(stiffest.rate * h) + " at " +
-            formatValue(c.simulation.physics_rate) +
-            " Hz; use simulation.integrator dopri5 or a physics_rate of at least " +
-            formatValue(std::ceil(stiffest.rate / kRk4StabilityLimit)) + " Hz");
+  const FrameNames names(f);
+  std::vector<std::string> own(names.bodies.begin(), names.bodies.end());
+  own.push_back(names.mechanism);
+  if (std::find(own.begin(), own.end(), f.world) != own.end())
+    throw ConfigError(s.keyPath("world"), "'" + f.world +
+                                              "' is one of the mechanism's own frames (a tf "
+                                              "loop); name the fixed world frame, e.g. 'world'");
 }
 
 }  // namespace
@@ -357,16 +279,24 @@ ConfigError::ConfigError(const std::string& key, const std::string& problem)
                                        : "config key '" + key + "' " + problem),
       key_(key) {}
 
+void setConfigValue(YAML::Node& root, const std::string& section, const std::string& key,
+                    const YAML::Node& value) {
+  if (!root.IsMap()) throw ConfigError("<root>", "must be a map with sections mechanism, ...");
+  YAML::Node node = root[section];
+  if (!node || node.IsNull()) root[section] = YAML::Node(YAML::NodeType::Map);
+  if (!root[section].IsMap())
+    throw ConfigError(section + "." + key, "cannot be set: '" + section + "' is not a section");
+  root[section][key] = value;
+}
+
 IntegratorType parseIntegratorName(const std::string& name, const std::string& key) {
-  for (IntegratorType type : {IntegratorType::kRk4, IntegratorType::kDopri5})
-    if (name == integratorName(type)) return type;
-  throw ConfigError(key, "names an unknown integrator '" + name + "' (valid: rk4, dopri5)");
+  return static_cast<IntegratorType>(
+      choiceIndex(*findParameter("simulation", "integrator"), name, key));
 }
 
 EquationsSource parseEquationsName(const std::string& name, const std::string& key) {
-  for (EquationsSource source : {EquationsSource::kGenerated, EquationsSource::kGeneric})
-    if (name == equationsName(source)) return source;
-  throw ConfigError(key, "names unknown equations '" + name + "' (valid: generated, generic)");
+  return static_cast<EquationsSource>(
+      choiceIndex(*findParameter("simulation", "equations"), name, key));
 }
 
 LoadedConfig loadConfig(const YAML::Node& root) {
@@ -377,37 +307,29 @@ LoadedConfig loadConfig(const YAML::Node& root) {
   std::vector<std::string>* unknown = &loaded.unknown_keys;
   Config& config = loaded.config;
 
-  Section mechanism(root, "mechanism", true, unknown);
-  readMechanism(mechanism, &config.mechanism);
-  Section initial_state(root, "initial_state", true, unknown);
-  readInitialState(initial_state, &config.initial_state);
-  Section simulation(root, "simulation", false, unknown);
-  readSimulation(simulation, &config.simulation);
-  Section command(root, "command", false, unknown);
-  readCommand(command, &config.command, &config.mechanism.motor);
-  Section frames(root, "frames", false, unknown);
-  readFrames(frames, &config.frames);
-  Section damping(root, "damping", false, unknown);
-  readDamping(damping, &config.mechanism.damping);
-  Section contact(root, "contact", false, unknown);
-  readContact(contact, &config.mechanism.contact);
-  Section diagnostics(root, "diagnostics", false, unknown);
-  readDiagnostics(diagnostics, &config.diagnostics);
+  // Section by section in the file's order: each parameter with its own rule, then the rules
+  // that tie a section's parameters together.
+  std::vector<Section> sections;
+  for (const SectionSpec& spec : configSections()) {
+    sections.emplace_back(root, spec.name, spec.required, unknown);
+    Section& s = sections.back();
+    for (const ParameterSpec& p : parameterSchema())
+      if (s.name() == p.section) readParameter(s, p, &config);
+    if (s.name() == "mechanism") checkMechanism(s, &config.mechanism);
+    if (s.name() == "simulation") checkSimulation(s, config.simulation);
+    if (s.name() == "frames") checkFrames(s, config.frames);
+  }
+  config.mechanism.motor.torque_limit = config.command.torque_limit;  // the line's stall torque
 
-  const std::set<std::string> sections = {"mechanism", "initial_state", "simulation",
-                                          "command",   "frames",        "damping",
-                                          "contact",   "diagnostics"};
   for (const auto& entry : root) {
     const std::string key = entry.first.Scalar();
-    if (!sections.count(key)) unknown->push_back(key);
+    const auto known = [&key](const SectionSpec& spec) { return key == spec.name; };
+    if (std::none_of(configSections().begin(), configSections().end(), known))
+      unknown->push_back(key);
   }
-  for (const Section* s : {&mechanism, &initial_state, &simulation, &command, &frames, &damping,
-                           &contact, &diagnostics})
-    s->collectUnknownKeys();
+  for (const Section& s : sections) s.collectUnknownKeys();
   for (const std::string& key : loaded.unknown_keys)
     loaded.warnings.push_back("unknown config key '" + key + "' is ignored");
-  checkInitialState(config);
-  checkIntegrable(config);
   return loaded;
 }
 

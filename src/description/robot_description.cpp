@@ -107,21 +107,21 @@ RobotDescription describeRobot(const Config& config) {
   JointDescription world_joint = joint("world_joint", Type::kFixed, f.world, f.mechanism,
                                        at(0, 0, config.frames.pivot_height, 0, M_PI / 2, 0), k, -1);
   // Rod 1 turns about O by q1 from i.
-  JointDescription crank = joint("crank_joint", Type::kContinuous, f.mechanism, f.bodies[kRod1],
-                                 at(0, 0, 0), k, kCrankJoint);
+  JointDescription crank = joint(kJointNames[kCrankJoint], Type::kContinuous, f.mechanism,
+                                 f.bodies[kRod1], at(0, 0, 0), k, kCrankJoint);
   // Rod 2 about A = (2L, 0, 0) in rod 1's frame, by -2 q1 relative to rod 1 (it turns at -u1).
-  JointDescription coupler = joint("coupler_joint", Type::kContinuous, f.bodies[kRod1],
+  JointDescription coupler = joint(kJointNames[kCouplerJoint], Type::kContinuous, f.bodies[kRod1],
                                    f.bodies[kRod2], at(2 * L, 0, 0), k, kCouplerJoint);
-  coupler.mimic = "crank_joint";
+  coupler.mimic = kJointNames[kCrankJoint];
   coupler.mimic_multiplier = -2.0;
   // Slider 3 at x_B = 4 L cos q1 on the rail, within [-4L, 4L].
-  JointDescription slider3 = joint("slider3_joint", Type::kPrismatic, f.mechanism,
+  JointDescription slider3 = joint(kJointNames[kSlider3Joint], Type::kPrismatic, f.mechanism,
                                    f.bodies[kSlider3], at(0, 0, 0), i, kSlider3Joint);
   slider3.lower = -4 * L;
   slider3.upper = 4 * L;
   // Slider 4 at x_C = q2. The textbook example has no end stops: the travel written here is
   // only what URDF requires of a prismatic joint, far beyond any reachable position.
-  JointDescription slider4 = joint("slider4_joint", Type::kPrismatic, f.mechanism,
+  JointDescription slider4 = joint(kJointNames[kSlider4Joint], Type::kPrismatic, f.mechanism,
                                    f.bodies[kSlider4], at(0, 0, 0), i, kSlider4Joint);
   slider4.lower = -1000.0;
   slider4.upper = 1000.0;

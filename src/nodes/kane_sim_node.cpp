@@ -19,6 +19,8 @@
 #include "kane_sim/description/urdf.h"
 #include "kane_sim/ros/messages.h"
 #include "kane_sim/ros/param_yaml.h"
+#include "kane_sim/sim/config_check.h"
+#include "loop/master_watch.h"
 
 namespace kane_sim {
 namespace {
@@ -28,10 +30,6 @@ constexpr double kMaxCatchUp = 0.1;          // [s]
 constexpr double kDiagnosticsPeriod = 1.0;   // [s] wall
 constexpr double kPausedPoll = 0.002;        // [s] wall, callback wait while paused
 constexpr double kPausedRepeatPeriod = 1.0;  // [s] wall, the last state again in /clock mode
-// Waiting for a tick serves callbacks in slices of at most this, then sleeps the last
-// kPreciseWait exactly: a slow tick (a low real_time_factor) never makes the node deaf.
-constexpr double kWaitSlice = 0.05;     // [s] wall
-constexpr double kPreciseWait = 0.002;  // [s] wall
 
 // Wall seconds per physics tick; 0 runs free (real_time_factor 0).
 double tickPeriod(const SimulationSettings& s) {
@@ -57,7 +55,7 @@ YAML::Node KaneSimNode::readParameterTree(const ros::NodeHandle& private_nh) {
 }
 
 Config KaneSimNode::loadParameters(const YAML::Node& tree, const ros::NodeHandle& private_nh) {
-  LoadedConfig loaded = loadConfig(tree);
+  LoadedConfig loaded = loadSimulationConfig(tree);
   for (const std::string& warning : loaded.warnings)
     ROS_WARN("%s (in %s)", warning.c_str(), private_nh.getNamespace().c_str());
   return loaded.config;
@@ -70,10 +68,11 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
       config_(loadParameters(parameter_tree_, private_nh)),
       robot_(describeRobot(config_)),
       driver_(config_, [this](const SimEvent& event) { onEvent(event); }),
-      scheduler_(tickPeriod(config_.simulation), kMaxCatchUp),
-      loop_health_(config_.diagnostics.overrun_fraction, config_.diagnostics.late_windows),
+      loop_(tickPeriod(config_.simulation), kMaxCatchUp),
+      diagnostics_(config_.diagnostics),
+      stamp_clock_(config_.simulation.publish_clock),
       ticks_per_publish_(static_cast<std::uint64_t>(
-          std::lround(config_.simulation.physics_rate / config_.simulation.publish_rate))),
+          wholeStepsPerPeriod(config_.simulation.physics_rate, config_.simulation.publish_rate))),
       paused_(config_.simulation.start_paused) {
   connect();
   runtime_parameters_ = std::make_unique<RuntimeParameters>(
@@ -135,24 +134,8 @@ void KaneSimNode::reconnect() {
       driver_.time());
 }
 
-void KaneSimNode::watchMaster() {
-  // Runs beside the loop: an XML-RPC call per second must not delay a physics tick.
-  int last_pid = -1;
-  while (ros::ok()) {
-    XmlRpc::XmlRpcValue args, result, payload;
-    args[0] = ros::this_node::getName();
-    if (ros::master::execute("getPid", args, result, payload, false)) {
-      const int pid = payload;
-      if (last_pid != -1 && pid != last_pid) master_restarted_ = true;
-      last_pid = pid;
-    }
-    for (int i = 0; i < 10 && ros::ok(); ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-}
-
 void KaneSimNode::run() {
-  std::thread master_watch(&KaneSimNode::watchMaster, this);
+  MasterWatch master_watch;
   // Linux lets a sleeping thread wake up to 50 µs late by default ("timer slack") to batch
   // wake-ups; a 1 kHz loop wants its deadlines kept to the microsecond.
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
@@ -160,11 +143,11 @@ void KaneSimNode::run() {
   publishRobotDescription();
   publishState();
   const auto now = SteadyClock::now();
-  scheduler_.anchor(now);
+  loop_.anchor();
   window_start_wall_ = last_publish_wall_ = now;
   window_start_sim_ = last_publish_sim_ = driver_.time();
   while (ros::ok()) {
-    if (master_restarted_.exchange(false)) reconnect();
+    if (master_watch.restarted()) reconnect();
     ros::getGlobalCallbackQueue()->callAvailable();
     if (paused_) {
       waitWhilePaused();
@@ -172,21 +155,6 @@ void KaneSimNode::run() {
     }
     runOneTick();
   }
-  master_watch.join();
-}
-
-void KaneSimNode::waitForTick() {
-  if (scheduler_.freeRunning()) return;
-  const auto due = scheduler_.due();
-  const auto precise = std::chrono::duration_cast<SteadyClock::duration>(
-      std::chrono::duration<double>(kPreciseWait));
-  for (auto now = SteadyClock::now(); now + precise < due && ros::ok() && !paused_;
-       now = SteadyClock::now()) {
-    const double remaining = wallSeconds(due - now) - kPreciseWait;
-    ros::getGlobalCallbackQueue()->callAvailable(
-        ros::WallDuration(std::min(remaining, kWaitSlice)));
-  }
-  if (ros::ok() && !paused_) std::this_thread::sleep_until(due);
 }
 
 bool KaneSimNode::publishDueByWallClock() const {
@@ -195,8 +163,8 @@ bool KaneSimNode::publishDueByWallClock() const {
 }
 
 void KaneSimNode::runOneTick() {
-  waitForTick();
-  if (!ros::ok() || paused_) return;
+  if (!loop_.waitForTick(*ros::getGlobalCallbackQueue(), [this] { return !ros::ok() || paused_; }))
+    return;
   if (!isStampable(driver_.time() + 1.0 / config_.simulation.physics_rate)) {
     // Stamps would leave ROS's time range: stop stepping, say why, keep serving.
     if (!stopped_at_time_limit_)
@@ -207,7 +175,7 @@ void KaneSimNode::runOneTick() {
     stopped_at_time_limit_ = paused_ = true;
     return;
   }
-  const TickScheduler::Timing timing = scheduler_.start(SteadyClock::now());
+  const TickScheduler::Timing timing = loop_.startTick();
   stats_.recordTick(timing.lateness, timing.overrun, timing.skipped);
   if (timing.skipped > 0)
     ROS_WARN_THROTTLE(5.0,
@@ -232,7 +200,7 @@ void KaneSimNode::waitWhilePaused() {
   } else if (wallSeconds(SteadyClock::now() - last_publish_wall_) >= kPausedRepeatPeriod) {
     publishState();  // the same stamp: /tf goes only to listeners that joined since
   }
-  scheduler_.anchor(SteadyClock::now());  // resume on a fresh schedule
+  loop_.anchor();  // resume on a fresh schedule
   maybeReportLoopHealth();
 }
 
@@ -247,8 +215,7 @@ void KaneSimNode::onEvent(const SimEvent& event) {
       ROS_WARN_THROTTLE(1.0, "kane_sim: %s", text);
       break;
     case SimEvent::Kind::kStepRefused:
-      ++steps_refused_in_window_;
-      last_refusal_ = event.message;
+      diagnostics_.stepRefused(event.message);
       ROS_ERROR_THROTTLE(1.0,
                          "kane_sim: %s. The last good state stays published; lower the torque or "
                          "call the reset service",
@@ -263,43 +230,21 @@ void KaneSimNode::onEvent(const SimEvent& event) {
 }
 
 ros::Time KaneSimNode::stamp() {
-  if (config_.simulation.publish_clock) return simStamp(driver_.time());
-  // Wall-clock mode stamps wall time itself: ros::Time::now() would read a /clock that a
-  // leftover /use_sim_time asks for (0 without one). A system clock stepped backwards would make
-  // stamps go back and tf drop them: hold them just after the last one instead, and say so.
-  const ros::WallTime wall = ros::WallTime::now();
-  ros::Time now(wall.sec, wall.nsec);
-  if (now <= last_wall_stamp_) {
-    if ((last_wall_stamp_ - now).toSec() > 0.01)
-      ROS_WARN_THROTTLE(10.0,
-                        "kane_sim: the system clock went back by %.3f s; stamps are held "
-                        "monotonic until it catches up",
-                        (last_wall_stamp_ - now).toSec());
-    now = last_wall_stamp_ + ros::Duration(0, 1000);
-  }
-  last_wall_stamp_ = now;
+  double went_back = 0.0;
+  const ros::Time now = stamp_clock_.stamp(driver_.time(), ros::WallTime::now(), &went_back);
+  if (went_back > 0.01)
+    ROS_WARN_THROTTLE(10.0,
+                      "kane_sim: the system clock went back by %.3f s; stamps are held "
+                      "monotonic until it catches up",
+                      went_back);
   return now;
 }
 
 void KaneSimNode::checkSimTimeSetting() {
   bool use_sim_time = false;
   ros::param::getCached("/use_sim_time", use_sim_time);
-  const bool ours = config_.simulation.publish_clock;
-  if (use_sim_time == ours) {
-    warned_sim_time_setting_ = false;
-    return;
-  }
-  if (warned_sim_time_setting_) return;
-  warned_sim_time_setting_ = true;
-  if (use_sim_time)
-    ROS_WARN(
-        "kane_sim: /use_sim_time is true but this node runs on the wall clock "
-        "(simulation/publish_clock false) and stamps wall time; other nodes wait for a /clock. "
-        "Set /use_sim_time false (rosparam set /use_sim_time false) or publish_clock true");
-  else
-    ROS_WARN(
-        "kane_sim: this node publishes /clock and stamps sim time, but /use_sim_time is false: "
-        "other nodes will not follow its clock. Set /use_sim_time true before they start");
+  const std::string warning = stamp_clock_.checkUseSimTime(use_sim_time);
+  if (!warning.empty()) ROS_WARN("kane_sim: %s", warning.c_str());
 }
 
 void KaneSimNode::publishState() {
@@ -346,70 +291,25 @@ void KaneSimNode::maybeReportLoopHealth() {
   const double wall = wallSeconds(now - window_start_wall_);
   if (wall < kDiagnosticsPeriod) return;
   checkSimTimeSetting();
-  publishDiagnostics(stats_.takeSummary(wall, driver_.time() - window_start_sim_), wall);
+  const SimulationSettings& cfg = config_.simulation;
+  const LoopDiagnostics::LoopState loop{ros::this_node::getName(),
+                                        ros::this_node::getNamespace(),
+                                        paused_,
+                                        stopped_at_time_limit_,
+                                        cfg.physics_rate,
+                                        cfg.real_time_factor,
+                                        driver_.time()};
+  diagnostic_msgs::DiagnosticArray array;
+  array.status.push_back(
+      diagnostics_.close(stats_.takeSummary(wall, driver_.time() - window_start_sim_), wall, loop));
+  array.header.stamp = stamp();
+  diagnostics_pub_.publish(array);
   window_start_wall_ = now;
   window_start_sim_ = driver_.time();
 }
 
-void KaneSimNode::publishDiagnostics(const LoopStats::Summary& s, double wall_window) {
-  const SimulationSettings& cfg = config_.simulation;
-  diagnostic_msgs::DiagnosticStatus status;
-  status.name = "kane_sim: physics loop (" + ros::this_node::getName() + ")";
-  status.hardware_id = "kane_sim" + ros::this_node::getNamespace();
-  const bool on_time = !loop_health_.update(s);
-  status.level = (paused_ || on_time) ? diagnostic_msgs::DiagnosticStatus::OK
-                                      : diagnostic_msgs::DiagnosticStatus::WARN;
-  std::ostringstream msg;
-  if (steps_refused_in_window_ > 0) {
-    status.level = diagnostic_msgs::DiagnosticStatus::ERROR;
-    msg << "physics stalled: " << steps_refused_in_window_
-        << " steps refused (the last good state is published); lower the torque or call reset. "
-        << last_refusal_;
-  } else if (stopped_at_time_limit_)
-    msg << "stopped: sim time reached the largest stampable value; restart the node";
-  else if (paused_)
-    msg << "paused";
-  else if (on_time)
-    msg << "on schedule" << (loop_health_.consecutiveLateWindows() > 0 ? " (some ticks late)" : "");
-  else
-    msg << "behind schedule for " << loop_health_.consecutiveLateWindows() << " s: " << s.overruns
-        << " of " << s.ticks << " ticks overran, " << s.skipped << " s lag dropped";
-  status.message = msg.str();
-  auto add = [&status](const std::string& key, double value) {
-    diagnostic_msgs::KeyValue kv;
-    kv.key = key;
-    std::ostringstream v;
-    v << value;
-    kv.value = v.str();
-    status.values.push_back(kv);
-  };
-  add("physics rate achieved [Hz]", s.physics_rate);
-  add("physics rate target [Hz]", paused_ ? 0.0 : cfg.physics_rate * cfg.real_time_factor);
-  add("real-time factor achieved", s.real_time_factor);
-  add("real-time factor target", cfg.real_time_factor);
-  add("tick lateness p50 [us]", s.lateness_p50 * 1e6);
-  add("tick lateness p99 [us]", s.lateness_p99 * 1e6);
-  add("tick lateness max [us]", s.lateness_max * 1e6);
-  add("overruns", static_cast<double>(s.overruns));
-  add("ticks", static_cast<double>(s.ticks));
-  add("lag dropped [s]", s.skipped);
-  add("sim time [s]", driver_.time());
-  add("torque commands received [1/s]", wall_window > 0 ? commands_in_window_ / wall_window : 0.0);
-  add("torque commands rejected or clamped", static_cast<double>(commands_refused_in_window_));
-  add("physics steps refused", static_cast<double>(steps_refused_in_window_));
-  commands_in_window_ = 0;
-  commands_refused_in_window_ = 0;
-  steps_refused_in_window_ = 0;
-  diagnostic_msgs::DiagnosticArray array;
-  array.header.stamp = stamp();
-  array.status.push_back(status);
-  diagnostics_pub_.publish(array);
-}
-
 void KaneSimNode::onTorqueCommand(const std_msgs::Float64::ConstPtr& msg) {
-  ++commands_in_window_;
-  if (driver_.command(msg->data) != TorqueCommand::Verdict::kAccepted)
-    ++commands_refused_in_window_;
+  diagnostics_.commandReceived(driver_.command(msg->data) != TorqueCommand::Verdict::kAccepted);
 }
 
 bool KaneSimNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
@@ -446,16 +346,10 @@ void KaneSimNode::onReconfigure(const Config& config) {
   config_.simulation.real_time_factor = config.simulation.real_time_factor;
   robot_ = describeRobot(config_);  // masses and inertia are in the URDF
   publishRobotDescription();
-  if (config_.simulation.real_time_factor != old_factor) {
-    scheduler_ = TickScheduler(tickPeriod(config_.simulation), kMaxCatchUp);
-    scheduler_.anchor(SteadyClock::now());
-  }
-  ROS_INFO(
-      "kane_sim: reconfigured: torque_limit %g N m, timeout %g s, real_time_factor %g, m %g kg, "
-      "M1 %g kg, M2 %g kg, k %g N/m, g %g m/s^2 (from the next physics step)",
-      config_.command.torque_limit, config_.command.timeout, config_.simulation.real_time_factor,
-      config_.mechanism.rod_mass, config_.mechanism.slider3_mass, config_.mechanism.slider4_mass,
-      config_.mechanism.spring_stiffness, config_.mechanism.gravity);
+  if (config_.simulation.real_time_factor != old_factor)
+    loop_.setPeriod(tickPeriod(config_.simulation));
+  ROS_INFO("kane_sim: reconfigured (from the next physics step): %s",
+           RuntimeParameters::summary(config_).c_str());
 }
 
 bool KaneSimNode::onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
@@ -465,7 +359,7 @@ bool KaneSimNode::onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
 
 bool KaneSimNode::onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   paused_ = false;
-  scheduler_.anchor(SteadyClock::now());
+  loop_.anchor();
   return true;
 }
 

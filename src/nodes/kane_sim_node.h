@@ -21,9 +21,11 @@
 #include "kane_sim/SetState.h"
 #include "kane_sim/config/config.h"
 #include "kane_sim/description/robot_description.h"
-#include "kane_sim/sim/loop_stats.h"
 #include "kane_sim/sim/sim_driver.h"
-#include "kane_sim/sim/tick_scheduler.h"
+#include "loop/loop_diagnostics.h"
+#include "loop/loop_stats.h"
+#include "loop/paced_loop.h"
+#include "loop/stamp_clock.h"
 #include "runtime_parameters.h"
 
 namespace kane_sim {
@@ -54,18 +56,14 @@ class KaneSimNode {
   void connect();                       // advertise, subscribe, offer the services
   void publishRobotDescription();       // robot_description (URDF) and the static tf
   void reconnect();                     // the same again after the master restarted
-  void watchMaster();                   // background thread: notices a restarted master
   void runOneTick();                    // paced physics tick (+ publishing on the publish grid)
   void waitWhilePaused();               // serve callbacks, keep wall-clock topics alive
   void onEvent(const SimEvent& event);  // the driver's events -> rosconsole (and diagnostics)
-  void waitForTick();                   // until the next tick is due; serves callbacks meanwhile
   bool publishDueByWallClock() const;   // a publish period of wall time since the last one
   void checkSimTimeSetting();           // warn once when /use_sim_time contradicts our stamps
   void publishState();                  // joint_states, tf, mechanism_state (+ /clock)
-  void publishDiagnostics(const LoopStats::Summary& summary, double wall_window);
-  void maybeReportLoopHealth();
-  // Sim time on the epoch in /clock mode; else wall time, never older than the last stamp.
-  ros::Time stamp();
+  void maybeReportLoopHealth();         // /diagnostics once per window
+  ros::Time stamp();                    // StampClock's, warning when the system clock went back
 
   ros::NodeHandle nh_;
   ros::NodeHandle private_nh_;
@@ -73,9 +71,10 @@ class KaneSimNode {
   Config config_;
   RobotDescription robot_;
   SimDriver driver_;
-  TickScheduler scheduler_;
+  PacedLoop loop_;
   LoopStats stats_;
-  LoopHealth loop_health_;
+  LoopDiagnostics diagnostics_;
+  StampClock stamp_clock_;
   std::uint64_t ticks_per_publish_;
   bool paused_;
 
@@ -90,21 +89,14 @@ class KaneSimNode {
   uint32_t tf_subscribers_ = 0;  // /tf's subscribers when the transforms were last sent
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_broadcaster_;
   std::unique_ptr<RuntimeParameters> runtime_parameters_;
-  std::atomic<bool> master_restarted_{false};  // set by watchMaster(), handled by the loop
 
-  ros::Time last_tf_stamp_;    // never two transforms of one frame with one stamp
-  ros::Time last_wall_stamp_;  // wall-clock stamps never go backwards
-  bool warned_sim_time_setting_ = false;
+  ros::Time last_tf_stamp_;  // never two transforms of one frame with one stamp
   bool stopped_at_time_limit_ = false;
-  std::uint64_t steps_refused_in_window_ = 0;
-  std::string last_refusal_;  // the driver's message for the last refused step
   SteadyClock::time_point last_publish_wall_;
   double last_publish_sim_ = 0.0;
   double achieved_real_time_factor_ = 0.0;
   SteadyClock::time_point window_start_wall_;
   double window_start_sim_ = 0.0;
-  std::uint64_t commands_in_window_ = 0;
-  std::uint64_t commands_refused_in_window_ = 0;
 };
 
 }  // namespace kane_sim

@@ -1,51 +1,79 @@
 #include "runtime_parameters.h"
 
-#include <sstream>
+#include <cstdint>
 #include <utility>
 
 #include <dynamic_reconfigure/Config.h>
 #include <dynamic_reconfigure/ConfigDescription.h>
+#include <dynamic_reconfigure/DoubleParameter.h>
+#include <dynamic_reconfigure/GroupState.h>
 
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/config/parameter_schema.h"
+#include "kane_sim/sim/config_check.h"
 
 namespace kane_sim {
 namespace {
 
-// The config key each reconfigurable value is (section, key).
-struct Binding {
-  const char* name;  // in cfg/KaneSim.cfg
-  const char* section;
-  const char* key;
-  double KaneSimConfig::*value;
-};
+std::vector<const ParameterSpec*> reconfigurableParameters() {
+  std::vector<const ParameterSpec*> specs;
+  for (const ParameterSpec& p : parameterSchema())
+    if (p.reconfigurable()) specs.push_back(&p);
+  return specs;
+}
 
-const Binding kBindings[] = {
-    {"torque_limit", "command", "torque_limit", &KaneSimConfig::torque_limit},
-    {"command_timeout", "command", "timeout", &KaneSimConfig::command_timeout},
-    {"real_time_factor", "simulation", "real_time_factor", &KaneSimConfig::real_time_factor},
-    {"rod_mass", "mechanism", "rod_mass", &KaneSimConfig::rod_mass},
-    {"slider3_mass", "mechanism", "slider3_mass", &KaneSimConfig::slider3_mass},
-    {"slider4_mass", "mechanism", "slider4_mass", &KaneSimConfig::slider4_mass},
-    {"spring_stiffness", "mechanism", "spring_stiffness", &KaneSimConfig::spring_stiffness},
-    {"gravity", "mechanism", "gravity", &KaneSimConfig::gravity},
-    {"motor_no_load_speed", "command", "motor_no_load_speed", &KaneSimConfig::motor_no_load_speed},
-    {"crank_damping", "damping", "crank_joint", &KaneSimConfig::crank_damping},
-    {"coupler_damping", "damping", "coupler_joint", &KaneSimConfig::coupler_damping},
-    {"slider3_damping", "damping", "slider3_joint", &KaneSimConfig::slider3_damping},
-    {"slider4_damping", "damping", "slider4_joint", &KaneSimConfig::slider4_damping},
-};
+// dynamic_reconfigure's Config message: one group ("Default", as its generator names the top
+// group) and a double per reconfigurable parameter.
+dynamic_reconfigure::Config configMessage(double (*value)(const ParameterSpec&, const Config&),
+                                          const Config& config) {
+  dynamic_reconfigure::Config msg;
+  for (const ParameterSpec* p : reconfigurableParameters()) {
+    dynamic_reconfigure::DoubleParameter d;
+    d.name = p->reconfigure.name;
+    d.value = value(*p, config);
+    msg.doubles.push_back(d);
+  }
+  dynamic_reconfigure::GroupState group;
+  group.name = "Default";
+  group.state = true;
+  msg.groups.push_back(group);
+  return msg;
+}
 
-const Binding* bindingOf(const std::string& name) {
-  for (const Binding& b : kBindings)
-    if (name == b.name) return &b;
-  return nullptr;
+double guiMin(const ParameterSpec& p, const Config&) { return p.reconfigure.gui_min; }
+double guiMax(const ParameterSpec& p, const Config&) { return p.reconfigure.gui_max; }
+
+// What dynparam and rqt_reconfigure read first: the parameters, their types, GUI bounds and the
+// values of the config the node started with.
+dynamic_reconfigure::ConfigDescription descriptionMessage(const Config& start) {
+  dynamic_reconfigure::ConfigDescription msg;
+  dynamic_reconfigure::Group group;
+  group.name = "Default";
+  for (const ParameterSpec* p : reconfigurableParameters()) {
+    dynamic_reconfigure::ParamDescription d;
+    d.name = p->reconfigure.name;
+    d.type = "double";
+    d.level = static_cast<std::uint32_t>(p->reconfigure.level);
+    d.description = p->path() + (*p->symbol ? " " + std::string(p->symbol) : "") +
+                    (*p->unit ? " [" + std::string(p->unit) + "]" : "") + ": " + p->doc;
+    group.parameters.push_back(d);
+  }
+  msg.groups.push_back(group);
+  msg.min = configMessage(guiMin, start);
+  msg.max = configMessage(guiMax, start);
+  msg.dflt = configMessage(numericValue, start);
+  return msg;
 }
 
 }  // namespace
 
 RuntimeParameters::RuntimeParameters(const ros::NodeHandle& private_nh, const YAML::Node& tree,
                                      const Config& config, Apply apply)
-    : private_nh_(private_nh), tree_(YAML::Clone(tree)), config_(config), apply_(std::move(apply)) {
+    : private_nh_(private_nh),
+      tree_(YAML::Clone(tree)),
+      start_(config),
+      config_(config),
+      apply_(std::move(apply)) {
   advertise();
 }
 
@@ -54,65 +82,52 @@ void RuntimeParameters::advertise() {
       private_nh_.advertiseService("set_parameters", &RuntimeParameters::onSetParameters, this);
   descriptions_pub_ = private_nh_.advertise<dynamic_reconfigure::ConfigDescription>(
       "parameter_descriptions", 1, true);
-  descriptions_pub_.publish(KaneSimConfig::__getDescriptionMessage__());
+  descriptions_pub_.publish(descriptionMessage(start_));
   updates_pub_ = private_nh_.advertise<dynamic_reconfigure::Config>("parameter_updates", 1, true);
-  publishValues();
+  updates_pub_.publish(configMessage(numericValue, config_));
 }
 
 void RuntimeParameters::removeServerKeys(YAML::Node* tree) {
   if (!tree->IsMap()) return;
-  for (const Binding& b : kBindings) tree->remove(b.name);
-}
-
-KaneSimConfig RuntimeParameters::valuesOf(const Config& c) {
-  KaneSimConfig v = KaneSimConfig::__getDefault__();
-  v.torque_limit = c.command.torque_limit;
-  v.command_timeout = c.command.timeout;
-  v.real_time_factor = c.simulation.real_time_factor;
-  v.rod_mass = c.mechanism.rod_mass;
-  v.slider3_mass = c.mechanism.slider3_mass;
-  v.slider4_mass = c.mechanism.slider4_mass;
-  v.spring_stiffness = c.mechanism.spring_stiffness;
-  v.gravity = c.mechanism.gravity;
-  v.motor_no_load_speed = c.mechanism.motor.no_load_speed;
-  v.crank_damping = c.mechanism.damping.crank;
-  v.coupler_damping = c.mechanism.damping.coupler;
-  v.slider3_damping = c.mechanism.damping.slider3;
-  v.slider4_damping = c.mechanism.damping.slider4;
-  return v;
-}
-
-void RuntimeParameters::publishValues() {
-  dynamic_reconfigure::Config msg;
-  valuesOf(config_).__toMessage__(msg);
-  updates_pub_.publish(msg);
+  for (const ParameterSpec* p : reconfigurableParameters()) tree->remove(p->reconfigure.name);
 }
 
 std::string RuntimeParameters::change(const std::vector<std::pair<std::string, double>>& changes) {
-  const KaneSimConfig current = valuesOf(config_);
   YAML::Node tree = YAML::Clone(tree_);
-  std::vector<const Binding*> changed;
+  std::vector<const ParameterSpec*> changed;
   for (const auto& [name, value] : changes) {
-    const Binding* b = bindingOf(name);
-    if (!b) return "'" + name + "' is not a reconfigurable parameter of kane_sim_node";
-    if (value == current.*(b->value)) continue;  // untouched keys stay as written
-    tree[b->section][b->key] = value;
-    changed.push_back(b);
+    const ParameterSpec* p = findReconfigurable(name);
+    if (!p) return "'" + name + "' is not a reconfigurable parameter of kane_sim_node";
+    if (value == numericValue(*p, config_)) continue;  // untouched keys stay as written
+    try {
+      setConfigValue(tree, p->section, p->key, YAML::Node(value));
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    changed.push_back(p);
   }
   if (changed.empty()) return "";
   try {
-    LoadedConfig loaded = loadConfig(tree);
+    LoadedConfig loaded = loadSimulationConfig(tree);
     tree_ = tree;
     config_ = loaded.config;
   } catch (const ConfigError& e) {
     return e.what();
   }
   // The parameter server holds the config in force under the config's own names.
-  for (const Binding* b : changed)
-    private_nh_.setParam(std::string(b->section) + "/" + b->key,
-                         tree_[b->section][b->key].as<double>());
+  for (const ParameterSpec* p : changed)
+    private_nh_.setParam(std::string(p->section) + "/" + p->key,
+                         tree_[p->section][p->key].as<double>());
   apply_(config_);
   return "";
+}
+
+std::string RuntimeParameters::summary(const Config& config) {
+  std::string text;
+  for (const ParameterSpec* p : reconfigurableParameters())
+    text += (text.empty() ? "" : ", ") + std::string(p->reconfigure.name) + " " +
+            valueText(*p, config) + (*p->unit ? " " + std::string(p->unit) : "");
+  return text;
 }
 
 bool RuntimeParameters::onSetParameters(dynamic_reconfigure::Reconfigure::Request& req,
@@ -131,8 +146,8 @@ bool RuntimeParameters::onSetParameters(dynamic_reconfigure::Reconfigure::Reques
   if (!refused.empty())
     ROS_ERROR("kane_sim: reconfiguration refused, %s; keeping the previous values",
               refused.c_str());
-  valuesOf(config_).__toMessage__(res.config);  // what is in force, as the server answers
-  publishValues();
+  res.config = configMessage(numericValue, config_);  // what is in force, as the server answers
+  updates_pub_.publish(res.config);
   return true;
 }
 

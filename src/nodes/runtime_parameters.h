@@ -7,9 +7,10 @@
 // value to the .cfg's min/max before anyone sees it (torque_limit -50 became 0, gravity inf
 // became 100) and (b) mirrors every value as a flat parameter beside the config's own names
 // (/kane_sim/spring_stiffness = 400 while /kane_sim/mechanism/spring_stiffness stayed 200). Here
-// the .cfg's ranges only bound a GUI's sliders; a value is refused (naming the config key and the
-// value) or accepted, and an accepted one is written back under its config name only, so
-// `rosparam get /kane_sim` is the config in force.
+// the parameters, their descriptions and GUI bounds come from the one parameter schema
+// (config/parameter_schema.h; there is no .cfg), the bounds only bound a GUI's sliders; a value is
+// refused (naming the config key and the value) or accepted, and an accepted one is written back
+// under its config name only, so `rosparam get /kane_sim` is the config in force.
 #ifndef KANE_SIM_NODES_RUNTIME_PARAMETERS_H
 #define KANE_SIM_NODES_RUNTIME_PARAMETERS_H
 
@@ -20,7 +21,6 @@
 #include <ros/ros.h>
 #include <yaml-cpp/yaml.h>
 
-#include "kane_sim/KaneSimConfig.h"
 #include "kane_sim/config/config.h"
 
 namespace kane_sim {
@@ -45,15 +45,17 @@ class RuntimeParameters {
   // namespace leaves them out.
   static void removeServerKeys(YAML::Node* tree);
 
+  // The reconfigurable values of `config`, for the log: "torque_limit 50 N m, ...".
+  static std::string summary(const Config& config);
+
  private:
   bool onSetParameters(dynamic_reconfigure::Reconfigure::Request& req,
                        dynamic_reconfigure::Reconfigure::Response& res);
-  void publishValues();
-  static KaneSimConfig valuesOf(const Config& config);
 
   ros::NodeHandle private_nh_;
   YAML::Node tree_;
-  Config config_;
+  Config start_;   // the description's defaults
+  Config config_;  // in force
   Apply apply_;
   ros::ServiceServer set_service_;
   ros::Publisher descriptions_pub_;

@@ -4,127 +4,11 @@
 #include <cmath>
 #include <sstream>
 
-#include <boost/numeric/odeint.hpp>
-
+#include "integrator.h"
 #include "kane_sim/analysis/stability.h"
 #include "kane_sim/format_number.h"
 
 namespace kane_sim {
-namespace odeint = boost::numeric::odeint;
-
-namespace {
-
-// Odeint's view of the first-order system x' = f(x) at a held torque, f from either the
-// generated equations (GeneratedMechanism) or the generic assembly (MechanismModel).
-template <class Equations>
-struct EquationsOfMotion {
-  const Equations* equations;
-  double torque;
-
-  void operator()(const OdeState& x, OdeState& dxdt, double /*t*/) const {
-    dxdt = equations->stateDerivative(fromOdeState(x), torque);
-  }
-};
-
-// Resting contact: the same equations with the sliders held together at the gap, the
-// constraint force from Kane's equations (MechanismModel::restingContact). q2 and u2 follow from
-// q1 and u1 on the contact, so the motion is integrated on the contact and never drifts off it.
-template <class Equations>
-struct RestingContactMotion {
-  const MechanismModel* model;
-  const Equations* equations;
-  double torque;
-
-  void operator()(const OdeState& x, OdeState& dxdt, double /*t*/) const {
-    const State held = model->onContact(fromOdeState(x));
-    dxdt = equations->stateDerivative(held, torque);  // free u', and W', D' on the contact
-    const RestingContact contact =
-        model->restingContact(held, SpeedVector(dxdt[2], dxdt[3]), torque);
-    dxdt[1] = held.u2;
-    dxdt[2] = contact.u_dot[0];
-    dxdt[3] = contact.u_dot[1];
-  }
-};
-
-bool isFinite(const OdeState& x) {
-  return std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); });
-}
-
-// Within these magnitudes every derived quantity (energies, forces, F*_r) of a state stays
-// finite for any accepted parameters; beyond them a state is a runaway, not a mechanism.
-constexpr double kMaxMagnitude = 1e100;
-
-bool withinScale(const OdeState& x) {
-  return std::all_of(x.begin(), x.end(), [](double v) { return std::abs(v) <= kMaxMagnitude; });
-}
-
-// dopri5 gives up on a physics step after this many rejected or accepted sub-steps; reaching
-// it means the tolerances ask for more than double precision can give at this state.
-constexpr int kMaxSubstepsPerTick = 100000;
-
-}  // namespace
-
-class Simulator::Integrator {
- public:
-  using Dopri5 = odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<OdeState>>;
-
-  explicit Integrator(const SimulationSettings& s)
-      : type_(s.integrator),
-        dopri5_(odeint::make_controlled(s.absolute_tolerance, s.relative_tolerance,
-                                        odeint::runge_kutta_dopri5<OdeState>())) {}
-
-  // Advances x from t to exactly t + dt. `reuse_last_derivative`: x is where the last
-  // successful call left it and the right-hand side (the torque) is unchanged. Returns nullptr,
-  // or why it failed (a literal: no string is built on the good path).
-  template <class System>
-  const char* advance(const System& system, OdeState& x, double t, double dt,
-                      bool reuse_last_derivative) {
-    if (type_ == IntegratorType::kRk4) {
-      rk4_.do_step(system, x, t, dt);
-      return nullptr;
-    }
-    // dopri5 reuses the derivative at the end of its last step (first same as last); that is
-    // only valid for the same state and the same torque.
-    if (!reuse_last_derivative) dopri5_.reset();
-    const double t_end = t + dt;
-    double substep = std::min(dopri5_substep_, dt);
-    for (int n = 0; n < kMaxSubstepsPerTick; ++n) {
-      const double remaining = t_end - t;
-      if (remaining <= 1e-12 * dt) return nullptr;
-      const bool last = substep >= remaining;
-      double h = last ? remaining : substep;
-      if (dopri5_.try_step(system, x, t, h) == odeint::success) {
-        if (!isFinite(x)) return "dopri5 produced a non-finite state";
-        // Keep the controller's suggestion for the next tick, unless this step was shortened
-        // only to land on the tick boundary.
-        if (!last) dopri5_substep_ = h;
-        if (last) return nullptr;
-      }
-      substep = h;
-    }
-    static_assert(kMaxSubstepsPerTick == 100000, "the message below names the limit");
-    return "dopri5 needed more than 100000 sub-steps for one physics step";
-  }
-
- private:
-  IntegratorType type_;
-  odeint::runge_kutta4<OdeState> rk4_;
-  Dopri5 dopri5_;
-  double dopri5_substep_ = 1e-3;
-};
-
-Simulator::Simulator(const Config& config)
-    : model_(mechanismModel(config)),
-      generated_(model_),
-      equations_(config.simulation.equations),
-      integrator_type_(config.simulation.integrator),
-      initial_state_(config.initial_state),
-      state_(config.initial_state),
-      step_size_(1.0 / config.simulation.physics_rate),
-      integrator_(std::make_unique<Integrator>(config.simulation)),
-      slider4_below_(separationAtLeast(toOdeState(state_), 0.0)) {}
-
-Simulator::~Simulator() = default;
 
 Status Simulator::setTorque(double torque) {
   if (!std::isfinite(torque)) {
@@ -145,18 +29,6 @@ bool Simulator::separationAtLeast(const OdeState& x, double threshold) const {
   if (x[1] - reach >= threshold) return true;
   if (x[1] + reach < threshold) return false;
   return sliderSeparation(L, x[0], x[1]) >= threshold;
-}
-
-void Simulator::putOnContact(OdeState* x) const {
-  const State held = model_.onContact(fromOdeState(*x));
-  (*x)[1] = held.q2;
-  (*x)[3] = held.u2;
-}
-
-template <class Equations>
-RestingContact Simulator::restingContactAt(const Equations& equations, const State& held) const {
-  const OdeState free = equations.stateDerivative(held, torque_);
-  return model_.restingContact(held, SpeedVector(free[2], free[3]), torque_);
 }
 
 Status Simulator::step() {
@@ -281,33 +153,6 @@ Status Simulator::stepWith(const Equations& equations) {
   return {};
 }
 
-template <class Equations>
-void Simulator::touch(const Equations& equations, OdeState* x) {
-  // At the gap. A rebound that the free motion would bring back within a physics step (a bounce
-  // at speed v under a closing acceleration a returns after 2 v / a) is the endless chatter of a
-  // body coming to rest: the touch ends plastically in resting contact, held by the constraint
-  // force while that force pushes. A faster approach is an impact with restitution e.
-  const State at = fromOdeState(*x);
-  const RestingContact held = restingContactAt(equations, model_.onContact(at));
-  const double approach =
-      -MechanismModel::separationJacobian(model_.kinematics(at)).dot(at.speeds());
-  const double rebound = model_.parameters().contact.restitution * std::max(approach, 0.0);
-  const bool rests =
-      held.closing_acceleration > 0.0 && rebound <= held.closing_acceleration * step_size_;
-  const std::optional<SliderImpact> impact =
-      model_.sliderImpact(at, rests ? 0.0 : model_.parameters().contact.restitution);
-  if (impact) {
-    (*x)[2] = impact->after.u1;
-    (*x)[3] = impact->after.u2;
-    (*x)[5] += impact->energy_loss;  // D: the ledger books the impact's loss
-    ++contact_impacts_;
-  }
-  if (rests) {
-    putOnContact(x);
-    resting_contact_ = true;
-  }
-}
-
 void Simulator::reset() {
   torque_ = 0.0;
   static_cast<void>(setState(initial_state_));  // the initial state was checked at start-up
@@ -315,7 +160,7 @@ void Simulator::reset() {
 
 Status Simulator::setState(const State& x) {
   const Status usable = checkState(x);
-  if (!usable.ok) return usable;
+  if (!usable.ok) return {false, usable.error + "; state kept"};
   state_ = x;
   motor_work_ = 0.0;
   dissipated_energy_ = 0.0;
@@ -330,27 +175,43 @@ Status Simulator::setState(const State& x) {
 }
 
 Status Simulator::checkState(const State& x) const {
+  const Status usable = checkUsable(x);
+  if (!usable.ok || integrator_type_ != IntegratorType::kRk4) return usable;
   const auto refuse = [&x](const std::string& why) {
+    return Status{false, stateText(x) + " " + why};
+  };
+  if (!(std::abs(x.u1) * step_size_ <= kMaxCrankTurnPerStep))
+    return refuse("turns the crank more than 1 rad per rk4 step, which rk4 cannot resolve");
+  const double rate = fastestRate(model_, x, torque_);
+  if (!(rate * step_size_ <= kRk4StabilityLimit)) {
     std::ostringstream msg;
-    msg << "q1 = " << formatNumber(x.q1) << ", q2 = " << formatNumber(x.q2)
-        << ", u1 = " << formatNumber(x.u1) << ", u2 = " << formatNumber(x.u2) << " " << why
-        << "; state kept";
-    return Status{false, msg.str()};
+    msg << "is too stiff for rk4 at " << 1.0 / step_size_
+        << " Hz: the linearised motion's fastest rate there is " << rate
+        << " 1/s (rate h = " << rate * step_size_ << ", at most " << kRk4StabilityLimit << ")";
+    return refuse(msg.str());
+  }
+  return {};
+}
+
+std::string Simulator::stateText(const State& x) {
+  return "q1 = " + formatNumber(x.q1) + ", q2 = " + formatNumber(x.q2) +
+         ", u1 = " + formatNumber(x.u1) + ", u2 = " + formatNumber(x.u2);
+}
+
+Status Simulator::checkUsable(const State& x) const {
+  const auto refuse = [&x](const std::string& why) {
+    return Status{false, stateText(x) + " " + why};
   };
   const double values[] = {x.q1, x.q2, x.u1, x.u2};
   const char* names[] = {"q1", "q2", "u1", "u2"};
-  for (int i = 0; i < 4; ++i) {
-    if (!std::isfinite(values[i])) {
-      std::ostringstream msg;
-      msg << names[i] << " = " << formatNumber(values[i]) << " is not finite; state kept";
-      return {false, msg.str()};
-    }
-  }
+  for (int i = 0; i < 4; ++i)
+    if (!std::isfinite(values[i]))
+      return {false, std::string(names[i]) + " = " + formatNumber(values[i]) + " is not finite"};
   // q1 beyond a million turns: its cosine has lost every digit of the angle's fraction.
   if (std::abs(x.q1) > kMaxCrankAngle) {
     std::ostringstream msg;
     msg << "q1 = " << formatNumber(x.q1) << " rad is beyond +-" << kMaxCrankAngle
-        << " rad, where a double no longer resolves the crank's angle; state kept";
+        << " rad, where a double no longer resolves the crank's angle";
     return {false, msg.str()};
   }
   if (!std::isfinite(model_.energy(x).total()))
@@ -358,83 +219,15 @@ Status Simulator::checkState(const State& x) const {
   const OdeState rates = generated_.stateDerivative(x, torque_);
   if (!isFinite(rates)) return refuse("gives non-finite accelerations u'");
   const SliderContact& contact = model_.parameters().contact;
-  if (contact.enabled && !separationAtLeast(toOdeState(x), contact.gap)) {
-    std::ostringstream msg;
-    msg << "q1 = " << x.q1 << ", q2 = " << x.q2 << " puts slider 4 "
-        << model_.geometry(x.q1, x.q2).sliderSeparation()
-        << " m below slider 3 (x_C - x_B), closer than contact.gap " << contact.gap
-        << " m: with contact enabled the sliders must be apart; state kept";
-    return {false, msg.str()};
-  }
+  if (contact.enabled && !separationAtLeast(toOdeState(x), contact.gap))
+    return {false,
+            "q1 = " + formatNumber(x.q1) + ", q2 = " + formatNumber(x.q2) + " puts slider 4 " +
+                formatNumber(model_.geometry(x.q1, x.q2).sliderSeparation()) +
+                " m below slider 3 (x_C - x_B), closer than contact.gap " +
+                formatNumber(contact.gap) + " m: with contact enabled the sliders must be apart"};
   if (!withinScale(toOdeState(x)))
     return refuse("is beyond the mechanism's scale (a magnitude over 1e100)");
-  if (integrator_type_ == IntegratorType::kRk4) {
-    if (!(std::abs(x.u1) * step_size_ <= kMaxCrankTurnPerStep))
-      return refuse("turns the crank more than 1 rad per rk4 step, which rk4 cannot resolve");
-    const double rate = fastestRate(model_, x, torque_);
-    if (!(rate * step_size_ <= kRk4StabilityLimit)) {
-      std::ostringstream msg;
-      msg << "is too stiff for rk4 at " << 1.0 / step_size_
-          << " Hz: the linearised motion's fastest rate there is " << rate
-          << " 1/s (rate h = " << rate * step_size_ << ", at most " << kRk4StabilityLimit << ")";
-      return refuse(msg.str());
-    }
-  }
   return {};
-}
-
-void Simulator::setParameters(const MechanismParameters& parameters) {
-  const double before = model_.energy(state_).total();
-  model_ = MechanismModel(parameters, model_.springRestLength());
-  generated_ = GeneratedMechanism(model_);
-  if (!parameters.contact.enabled) resting_contact_ = resting_contact_at_start_of_step_ = false;
-  parameter_energy_ += model_.energy(state_).total() - before;
-  ++parameter_changes_;
-  last_derivative_valid_ = false;
-}
-
-Snapshot Simulator::snapshot() const {
-  const MechanismKinematics k = model_.kinematics(state_);
-  const MechanismLoads loads = model_.loads(k, state_, torque_);
-  const MechanismModel::Equations equations = MechanismModel::equations(k, loads, state_);
-  const PowerTerms power = MechanismModel::power(loads, state_);
-  Snapshot snap;
-  snap.time = time();
-  snap.state = state_;
-  snap.torque = loads.motor.torque.z();  // what the drive delivers (motor line) at u1
-  snap.command.commanded = torque_;
-  // u' as the integrators step it: from the generated equations on that path (so a check of
-  // the published u' checks the equations in use), else from the assembly; equal to rounding.
-  if (equations_ == EquationsSource::kGenerated) {
-    const OdeState dx = generated_.stateDerivative(state_, torque_);
-    snap.u_dot = SpeedVector(dx[2], dx[3]);
-  } else {
-    snap.u_dot = equations.solveAccelerations();
-  }
-  snap.active_forces = equations.active_forces;
-  if (resting_contact_) {
-    // Held together: the contact force is one more load, J^T N in F_r, and u' is constrained.
-    const RestingContact contact = model_.restingContact(state_, snap.u_dot, torque_);
-    snap.u_dot = contact.u_dot;
-    snap.active_forces += contact.generalized_force;
-    snap.contact_force = contact.force;
-    snap.resting_contact = true;
-  }
-  snap.inertia_forces = equations.inertiaForces(snap.u_dot);
-  snap.energy = model_.energy(k, state_);
-  snap.motor_work = motor_work_;
-  snap.dissipated_energy = dissipated_energy_;
-  snap.parameter_energy = parameter_energy_;
-  snap.parameter_changes = parameter_changes_;
-  snap.motor_power = power.motor;
-  snap.dissipated_power = power.dissipated;
-  snap.contact_impacts = contact_impacts_;
-  snap.spring_elongation = model_.springElongation(k.geometry);
-  snap.slider_separation = k.geometry.sliderSeparation();
-  snap.slider_crossings = slider_crossings_;
-  snap.geometry = k.geometry;
-  snap.joints = MechanismModel::jointValues(k, state_, snap.torque);
-  return snap;
 }
 
 }  // namespace kane_sim

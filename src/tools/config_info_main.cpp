@@ -4,6 +4,7 @@
 //
 //   config_info urdf FILE [--frame-prefix P]   the robot_description (URDF) of FILE
 //   config_info use_sim_time FILE              true when FILE's simulation.publish_clock is
+//   config_info parameters                     every config parameter (the README's table)
 //
 // launch/sim.launch sets robot_description and /use_sim_time from these before starting
 // robot_state_publisher and rviz, which read both once at start-up. Exit codes: 0 ok, 1 bad
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/config/parameter_schema.h"
 #include "kane_sim/description/robot_description.h"
 #include "kane_sim/description/urdf.h"
 
@@ -20,7 +22,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: config_info urdf FILE [--frame-prefix PREFIX]\n"
-    "       config_info use_sim_time FILE\n";
+    "       config_info use_sim_time FILE\n"
+    "       config_info parameters\n";
 
 int usage(const std::string& problem) {
   std::cerr << "error: " << problem << "\n" << kUsage;
@@ -33,6 +36,10 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (args.size() == 1 && (args[0] == "-h" || args[0] == "--help")) {
     std::cout << kUsage;
+    return 0;
+  }
+  if (args.size() == 1 && args[0] == "parameters") {
+    std::cout << kane_sim::parameterTable();
     return 0;
   }
   if (args.size() < 2) return usage("a command and a config FILE are needed");
@@ -56,7 +63,7 @@ int main(int argc, char** argv) {
       std::cout << (loaded.config.simulation.publish_clock ? "true" : "false");
       return 0;
     }
-    return usage("unknown command '" + command + "' (urdf or use_sim_time)");
+    return usage("unknown command '" + command + "' (urdf, use_sim_time or parameters)");
   } catch (const kane_sim::ConfigError& e) {
     std::cerr << "error: " << path << ": " << e.what() << "\n";
     return 1;

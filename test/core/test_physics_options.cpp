@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/simulator.h"
 #include "test_helpers.h"
 
@@ -415,7 +416,7 @@ TEST(Contact, RestingContactLetsGoWhenItWouldPull) {
 TEST(Stability, TheLoaderChecksEveryConfigurationAndEveryRate) {
   const auto loads = [](const YAML::Node& root) {
     try {
-      loadConfig(root);
+      loadSimulationConfig(root);
       return std::string();
     } catch (const ConfigError& e) {
       return e.key() + ": " + e.what();

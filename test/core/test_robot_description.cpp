@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include "kane_sim/description/joint_values.h"
 #include "kane_sim/description/robot_description.h"
 #include "kane_sim/description/urdf.h"
 #include "kane_sim/model/mechanism_model.h"
@@ -37,7 +38,7 @@ TEST(RobotDescription, FramesFollowTheModelGeometryAtRandomStates) {
   for (int n = 0; n < 200; ++n) {
     const State s{angle(rng), x(rng), speed(rng), speed(rng)};
     const MechanismKinematics k = model.kinematics(s);
-    const JointValues j = MechanismModel::jointValues(k, s, 0.0);
+    const JointValues j = jointValues(k, s, 0.0);
     const MechanismGeometry& g = k.geometry;
     const auto& f = robot.frames;
     const Eigen::Isometry3d rod1 = linkPose(robot, j, f.bodies[kRod1]);

@@ -1,6 +1,13 @@
 """The textbook example's mechanism built independently with SymPy's KanesMethod (sympy.physics.mechanics),
 from the geometry in doc/mechanism.md only. Used by test/tools/sympy_crosscheck_test.py and
-bench/compare_sympy.py."""
+bench/compare_sympy.py.
+
+Independent on purpose: this is a test oracle, so it shares nothing with the code it checks -
+not codegen/generate_equations.py's derivation (which generates the C++ fast path), not the
+config loader (parameters arrive as plain numbers, the rod inertia default is written again
+below), not the generic Kane assembly. A mistake in the shared derivation would otherwise pass
+its own test. The Lagrange cross-check (test/core/test_lagrange_crosscheck.cpp) and the Simbody
+and MuJoCo peers (bench/) are independent in the same way."""
 import math
 
 import numpy as np

@@ -5,27 +5,23 @@
 #ifndef KANE_SIM_CONFIG_CONFIG_H
 #define KANE_SIM_CONFIG_CONFIG_H
 
+#include <cmath>
 #include <string>
 
 #include "kane_sim/model/mechanism_model.h"
 #include "kane_sim/model/mechanism_parameters.h"
 #include "kane_sim/model/state.h"
+#include "kane_sim/sim/integration.h"
 
 namespace kane_sim {
 
-enum class IntegratorType { kRk4, kDopri5 };
-
-constexpr const char* integratorName(IntegratorType type) {
-  return type == IntegratorType::kRk4 ? "rk4" : "dopri5";
-}
-
-// Which equations of motion the integrators step: the ones generated from a SymPy KanesMethod
-// derivation (model/generated_equations.h, the fast path) or the generic Kane assembly term by
-// term (model/mechanism_model.h, the readable reference). They agree to rounding.
-enum class EquationsSource { kGenerated, kGeneric };
-
-constexpr const char* equationsName(EquationsSource source) {
-  return source == EquationsSource::kGenerated ? "generated" : "generic";
+// The physics steps in one period of `rate` when `rate` divides physics_rate into a whole number
+// of steps, else 0. Within 1e-9 relative: a rate written in text (3 Hz of 999 Hz) is not exact.
+// Outputs must sit on the physics grid: publish_rate here, simulate's --output-rate.
+inline double wholeStepsPerPeriod(double physics_rate, double rate) {
+  const double ratio = physics_rate / rate;
+  const double whole = std::round(ratio);
+  return std::abs(ratio - whole) <= 1e-9 * ratio ? whole : 0.0;
 }
 
 struct SimulationSettings {

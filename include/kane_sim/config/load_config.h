@@ -41,6 +41,12 @@ LoadedConfig loadConfigFile(const std::string& path);
 // neither exists.
 std::string defaultConfigFile();
 
+// Sets `section`.`key` in a config tree (the section created when absent or empty), as a user
+// would edit the file: how a reconfiguration, a sweep case and simulate's --integrator change a
+// config before it goes through loadConfig again. ConfigError when the section is not a map.
+void setConfigValue(YAML::Node& root, const std::string& section, const std::string& key,
+                    const YAML::Node& value);
+
 // "rk4" -> kRk4, ...; throws ConfigError(key, ...) listing the valid names otherwise.
 IntegratorType parseIntegratorName(const std::string& name, const std::string& key);
 // "generated" -> kGenerated, "generic" -> kGeneric; throws ConfigError(key, ...) otherwise.

@@ -21,8 +21,8 @@
 #include <Eigen/Geometry>
 
 #include "kane_sim/config/config.h"
-#include "kane_sim/description/frame_names.h"
-#include "kane_sim/model/joint_values.h"
+#include "kane_sim/config/frame_names.h"
+#include "kane_sim/description/joint_values.h"
 
 namespace kane_sim {
 

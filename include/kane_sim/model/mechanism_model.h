@@ -16,7 +16,7 @@
 #include <Eigen/Core>
 
 #include "kane_sim/kane/kane_method.h"
-#include "kane_sim/model/joint_values.h"
+#include "kane_sim/model/joint_names.h"
 #include "kane_sim/model/mechanism_parameters.h"
 #include "kane_sim/model/state.h"
 
@@ -180,9 +180,6 @@ class MechanismModel {
 
   EnergyTerms energy(const MechanismKinematics& k, const State& x) const;
   EnergyTerms energy(const State& x) const { return energy(kinematics(x), x); }
-
-  // The mechanism as the four joints of joint_states.
-  static JointValues jointValues(const MechanismKinematics& k, const State& x, double motor_torque);
 
  private:
   MechanismParameters parameters_;

@@ -10,11 +10,6 @@
 
 namespace kane_sim {
 
-// The slider blocks' height along the rail (i) [m]: the boxes the robot description and the
-// markers draw (description/body_shapes.h) are this tall, so with contact on the sliders touch when
-// their centers are this far apart (half a block each side).
-constexpr double kSliderBlockHeight = 0.07;
-
 // Viscous damping at the four joints (joint_states' names); all zero in the textbook example.
 struct JointDamping {
   double crank = 0.0;    // c_O [N m s/rad] pin O: torque -c_O w1 k on rod 1
@@ -47,8 +42,10 @@ inline double motorLineTorque(const MotorLine& line, double command, double u1) 
 // restitution 1 is lossless; what an impact takes is dissipated energy.
 struct SliderContact {
   bool enabled = false;
-  double gap = kSliderBlockHeight;  // [m] x_C - x_B at touch
-  double restitution = 0.5;         // e in [0, 1]: separating speed / approaching speed
+  // [m] x_C - x_B at touch. The robot description draws the slider blocks this tall
+  // (description/body_shapes.h), so by default they touch when contact does.
+  double gap = 0.07;
+  double restitution = 0.5;  // e in [0, 1]: separating speed / approaching speed
 };
 
 struct MechanismParameters {

@@ -8,7 +8,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include "kane_sim/description/body_shapes.h"
-#include "kane_sim/description/frame_names.h"
+#include "kane_sim/config/frame_names.h"
 #include "kane_sim/sim/snapshot.h"
 
 namespace kane_sim {

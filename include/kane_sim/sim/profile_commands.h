@@ -6,6 +6,8 @@
 #ifndef KANE_SIM_SIM_PROFILE_COMMANDS_H
 #define KANE_SIM_SIM_PROFILE_COMMANDS_H
 
+#include <atomic>
+
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/torque_profile.h"
 
@@ -37,6 +39,27 @@ class ProfileCommands {
   double last_torque_ = 0.0;
   double last_time_ = 0.0;
 };
+
+enum class RunEnd { kFinished, kStepRefused, kStopped };
+
+// The offline run, one loop for `simulate` and every sweep case: `steps` physics steps of
+// `driver` under `commands` (the caller updates them once at the start, before its first
+// output; then after each step, as the node's tick does), on_step(driver)
+// after every step and on_sample(driver) after every `steps_per_sample`-th and the last. Ends
+// early when a step is refused or `stop` is set (checked before each step). A template, so the
+// callbacks inline into the loop (simulate's speed bar is measured on it).
+template <typename OnStep, typename OnSample>
+RunEnd runProfile(SimDriver& driver, ProfileCommands& commands, long steps, long steps_per_sample,
+                  const std::atomic<bool>* stop, OnStep on_step, OnSample on_sample) {
+  for (long i = 1; i <= steps; ++i) {
+    if (stop && stop->load(std::memory_order_relaxed)) return RunEnd::kStopped;
+    if (!driver.step()) return RunEnd::kStepRefused;
+    commands.update(driver);
+    on_step(driver);
+    if (i % steps_per_sample == 0 || i == steps) on_sample(driver);
+  }
+  return RunEnd::kFinished;
+}
 
 }  // namespace kane_sim
 

@@ -55,6 +55,12 @@ class Simulator {
   // finite energy and finite u', the sliders at least contact.gap apart when contact is on, and
   // with rk4 the motion's fastest rate there within rk4's stability at this step size.
   Status checkState(const State& state) const;
+  // The part of checkState that holds whatever the integrator: finite values within scale, q1
+  // within kMaxCrankAngle, finite energy and u', the sliders apart when contact is on. The one
+  // check of a state: set_state, and the config's initial state (sim/config_check.h).
+  Status checkUsable(const State& state) const;
+  // "q1 = 0.5, q2 = 1.2, u1 = 0, u2 = 0": how refusals name a state.
+  static std::string stateText(const State& state);
   static constexpr double kMaxCrankAngle = 2 * M_PI * 1e6;  // [rad] a million turns
 
   // New physical parameters from the next step on, at the current state (the spring's rest

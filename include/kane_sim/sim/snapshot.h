@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <limits>
 
-#include "kane_sim/model/joint_values.h"
+#include "kane_sim/description/joint_values.h"
 #include "kane_sim/model/mechanism_model.h"
 #include "kane_sim/model/state.h"
 

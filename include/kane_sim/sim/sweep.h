@@ -50,7 +50,7 @@ Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t ind
 
 // Every key of `plan` is one the loader reads (a typo, or an unknown section, would sweep
 // nothing): throws std::invalid_argument naming the first that is not.
-void checkSweepKeys(const YAML::Node& base, const SweepPlan& plan);
+void checkSweepKeys(const SweepPlan& plan);
 
 struct SweepSettings {
   double duration = 10.0;  // [s] simulated per case

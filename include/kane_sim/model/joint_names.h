@@ -1,6 +1,8 @@
-// The mechanism seen as four joints, in sensor_msgs/JointState order.
-#ifndef KANE_SIM_MODEL_JOINT_VALUES_H
-#define KANE_SIM_MODEL_JOINT_VALUES_H
+// The mechanism's four joints and their names: joint_states', the robot description's and the
+// damping section's keys (config/parameter_schema.cpp) are these. The values the robot
+// description gives them are description/joint_values.h.
+#ifndef KANE_SIM_MODEL_JOINT_NAMES_H
+#define KANE_SIM_MODEL_JOINT_NAMES_H
 
 #include <array>
 
@@ -17,12 +19,6 @@ enum Joint {
 constexpr std::array<const char*, kNumJoints> kJointNames = {"crank_joint", "coupler_joint",
                                                              "slider3_joint", "slider4_joint"};
 
-struct JointValues {
-  std::array<double, kNumJoints> position{};  // rad, rad, m, m
-  std::array<double, kNumJoints> velocity{};  // rad/s, rad/s, m/s, m/s
-  std::array<double, kNumJoints> effort{};    // N m, N m, N, N: actuator effort (only the crank)
-};
-
 }  // namespace kane_sim
 
-#endif  // KANE_SIM_MODEL_JOINT_VALUES_H
+#endif  // KANE_SIM_MODEL_JOINT_NAMES_H

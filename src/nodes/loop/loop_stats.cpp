@@ -1,4 +1,4 @@
-#include "kane_sim/sim/loop_stats.h"
+#include "loop/loop_stats.h"
 
 #include <algorithm>
 #include <cmath>

@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "kane_sim/sim/loop_stats.h"
-#include "kane_sim/sim/tick_scheduler.h"
+#include "loop/loop_stats.h"
+#include "loop/tick_scheduler.h"
 
 namespace kane_sim {
 namespace {

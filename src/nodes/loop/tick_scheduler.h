@@ -3,8 +3,8 @@
 // Tick n is due at anchor + n * period. A late tick runs at once, so short hiccups are caught
 // up and sim time does not drift from wall time; when the loop is more than `max_lag` behind,
 // it re-anchors and reports how far it fell behind instead of bursting to catch up.
-#ifndef KANE_SIM_SIM_TICK_SCHEDULER_H
-#define KANE_SIM_SIM_TICK_SCHEDULER_H
+#ifndef KANE_SIM_NODES_LOOP_TICK_SCHEDULER_H
+#define KANE_SIM_NODES_LOOP_TICK_SCHEDULER_H
 
 #include <chrono>
 #include <cstdint>
@@ -38,4 +38,4 @@ class TickScheduler {
 
 }  // namespace kane_sim
 
-#endif  // KANE_SIM_SIM_TICK_SCHEDULER_H
+#endif  // KANE_SIM_NODES_LOOP_TICK_SCHEDULER_H

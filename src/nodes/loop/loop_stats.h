@@ -1,7 +1,7 @@
 // Loop health over a reporting window: tick lateness percentiles, overruns, achieved physics
 // rate and real-time factor. ROS-free; the node turns a Summary into diagnostics.
-#ifndef KANE_SIM_SIM_LOOP_STATS_H
-#define KANE_SIM_SIM_LOOP_STATS_H
+#ifndef KANE_SIM_NODES_LOOP_LOOP_STATS_H
+#define KANE_SIM_NODES_LOOP_LOOP_STATS_H
 
 #include <cstdint>
 #include <vector>
@@ -59,4 +59,4 @@ class LoopHealth {
 
 }  // namespace kane_sim
 
-#endif  // KANE_SIM_SIM_LOOP_STATS_H
+#endif  // KANE_SIM_NODES_LOOP_LOOP_STATS_H

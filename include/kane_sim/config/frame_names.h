@@ -1,6 +1,7 @@
-// The tf frame ids (= URDF link names) of the mechanism, with the configured prefix.
-#ifndef KANE_SIM_DESCRIPTION_FRAME_NAMES_H
-#define KANE_SIM_DESCRIPTION_FRAME_NAMES_H
+// The tf frame ids (= URDF link names) of the mechanism, with the configured prefix: the names
+// the frames section gives (the loader refuses a world frame named like one of them).
+#ifndef KANE_SIM_CONFIG_FRAME_NAMES_H
+#define KANE_SIM_CONFIG_FRAME_NAMES_H
 
 #include <array>
 #include <string>
@@ -29,4 +30,4 @@ struct FrameNames {
 
 }  // namespace kane_sim
 
-#endif  // KANE_SIM_DESCRIPTION_FRAME_NAMES_H
+#endif  // KANE_SIM_CONFIG_FRAME_NAMES_H

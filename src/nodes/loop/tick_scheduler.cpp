@@ -1,4 +1,4 @@
-#include "kane_sim/sim/tick_scheduler.h"
+#include "loop/tick_scheduler.h"
 
 #include <algorithm>
 

@@ -1,0 +1,103 @@
+// The config's parameters, each declared once: its key, the textbook's symbol, unit, rule,
+// default (or required), whether it can be reconfigured at run time, and a line of doc. From this
+// one list come the loader's reads and checks (config/load_config.h), the dynamic_reconfigure
+// description and bindings the node serves, and the README's parameter table (`config_info
+// parameters`, checked against the README by a test). Rules that tie two parameters together
+// (publish_rate divides physics_rate, rod_inertia's default from m and L, the motor line's stall
+// torque) stay in the loader, and `cross_rule` names them for the table.
+//
+// To add a parameter: a field in config.h's structs (its default is the field's initializer), one
+// entry in src/config/parameter_schema.cpp, and the physics that uses it.
+#ifndef KANE_SIM_CONFIG_PARAMETER_SCHEMA_H
+#define KANE_SIM_CONFIG_PARAMETER_SCHEMA_H
+
+#include <string>
+#include <vector>
+
+#include "kane_sim/config/config.h"
+
+namespace kane_sim {
+
+// What a value must satisfy (every check is written so that NaN fails it).
+struct ValueRule {
+  enum Kind {
+    kFinite,       // any finite number
+    kPositive,     // > 0
+    kNonNegative,  // >= 0
+    kRange,        // in [lo, hi]
+    kZeroOrRange,  // 0 or in [lo, hi]
+    kWholeRange,   // a whole number in [lo, hi]
+    kFrameName,    // letters, digits, '_' and '/', not starting with '/'
+    kAnyName,      // kFrameName, or empty
+    kChoice,       // one of `choices`
+    kFlag,         // true or false
+  };
+  Kind kind = kFinite;
+  double lo = 0.0;
+  double hi = 0.0;
+  const char* range_note = "";  // what follows "[lo, hi]" in a message: a unit or a reading
+};
+
+// Where a parameter lives in Config. Exactly one member is set, by the value's type.
+struct ConfigField {
+  double& (*number)(Config&) = nullptr;
+  int& (*whole)(Config&) = nullptr;
+  bool& (*flag)(Config&) = nullptr;
+  std::string& (*text)(Config&) = nullptr;
+  // A choice (an enum): its index into ParameterSpec::choices.
+  int (*get_choice)(const Config&) = nullptr;
+  void (*set_choice)(Config&, int) = nullptr;
+};
+
+// A parameter dynamic_reconfigure offers (dynparam, rqt_reconfigure). The GUI bounds only bound
+// sliders; values are checked by the loader's rules, unclamped.
+struct ReconfigureSpec {
+  const char* name = nullptr;  // nullptr: not reconfigurable
+  int level = 0;               // 1: changes the physics (energy booked as parameter_energy)
+  double gui_min = 0.0;
+  double gui_max = 0.0;
+};
+
+struct ParameterSpec {
+  const char* section;
+  const char* key;
+  const char* symbol;  // the textbook's, or ""
+  const char* unit;    // SI, or ""
+  ValueRule rule;
+  ConfigField field;
+  bool required;
+  const char* doc;                   // one line: what it is
+  const char* cross_rule;            // a rule involving other parameters (the loader's), or ""
+  const char* default_text;          // the default when it is not the field's initializer, or ""
+  std::vector<std::string> choices;  // kChoice: the valid names, in the enum's order
+  const char* choice_noun;           // kChoice: "integrator" in "names an unknown integrator"
+  ReconfigureSpec reconfigure;
+
+  std::string path() const { return std::string(section) + "." + key; }
+  bool reconfigurable() const { return reconfigure.name != nullptr; }
+};
+
+// Every parameter, sections in the config file's order.
+const std::vector<ParameterSpec>& parameterSchema();
+// The sections, in order; which must be present.
+struct SectionSpec {
+  const char* name;
+  bool required;
+};
+const std::vector<SectionSpec>& configSections();
+
+// nullptr when absent.
+const ParameterSpec* findParameter(const std::string& section, const std::string& key);
+const ParameterSpec* findReconfigurable(const std::string& name);
+
+// A parameter's value in `config`, as a number (flags 0/1, choices their index); NaN for text.
+double numericValue(const ParameterSpec& spec, const Config& config);
+// The value as the config file would spell it ("rk4", "true", "0.5").
+std::string valueText(const ParameterSpec& spec, const Config& config);
+
+// The README's parameter table (Markdown), one row per parameter.
+std::string parameterTable();
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_CONFIG_PARAMETER_SCHEMA_H

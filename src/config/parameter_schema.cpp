@@ -1,0 +1,632 @@
+#include "kane_sim/config/parameter_schema.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "kane_sim/format_number.h"
+#include "kane_sim/model/joint_names.h"
+
+namespace kane_sim {
+namespace {
+
+// Where a value lives: a captureless lambda per field (nested members have no member pointer).
+#define KANE_SIM_NUMBER(member)                    \
+  ConfigField {                                    \
+    +[](Config& c) -> double& { return c.member; } \
+  }
+#define KANE_SIM_FLAG(member)                                      \
+  ConfigField {                                                    \
+    nullptr, nullptr, +[](Config& c) -> bool& { return c.member; } \
+  }
+#define KANE_SIM_TEXT(member)                                                      \
+  ConfigField {                                                                    \
+    nullptr, nullptr, nullptr, +[](Config& c) -> std::string& { return c.member; } \
+  }
+
+ConfigField wholeField(int& (*field)(Config&)) {
+  ConfigField f;
+  f.whole = field;
+  return f;
+}
+
+constexpr ValueRule kAny{ValueRule::kFinite};
+constexpr ValueRule kPositive{ValueRule::kPositive};
+constexpr ValueRule kNonNegative{ValueRule::kNonNegative};
+constexpr ValueRule kFlag{ValueRule::kFlag};
+constexpr ValueRule kChoice{ValueRule::kChoice};
+
+// Physical parameters are reconfigured at level 1 (their energy change is booked), the others 0.
+constexpr ReconfigureSpec kFixed{};
+constexpr ReconfigureSpec physical(const char* name, double gui_min, double gui_max) {
+  return {name, 1, gui_min, gui_max};
+}
+constexpr ReconfigureSpec operational(const char* name, double gui_min, double gui_max) {
+  return {name, 0, gui_min, gui_max};
+}
+
+std::vector<ParameterSpec> declareParameters() {
+  ConfigField integrator;
+  integrator.get_choice = [](const Config& c) { return static_cast<int>(c.simulation.integrator); };
+  integrator.set_choice = [](Config& c, int i) {
+    c.simulation.integrator = static_cast<IntegratorType>(i);
+  };
+  ConfigField equations;
+  equations.get_choice = [](const Config& c) { return static_cast<int>(c.simulation.equations); };
+  equations.set_choice = [](Config& c, int i) {
+    c.simulation.equations = static_cast<EquationsSource>(i);
+  };
+  const std::vector<std::string> integrators = {integratorName(IntegratorType::kRk4),
+                                                integratorName(IntegratorType::kDopri5)};
+  const std::vector<std::string> equation_sources = {equationsName(EquationsSource::kGenerated),
+                                                     equationsName(EquationsSource::kGeneric)};
+
+  // section, key, symbol, unit, rule, field, required, doc, cross_rule, default_text, choices,
+  // choice_noun, reconfigure
+  return {
+      // ---- mechanism: the textbook's parameters --------------------------------------------
+      {"mechanism",
+       "rod_mass",
+       "m",
+       "kg",
+       kPositive,
+       KANE_SIM_NUMBER(mechanism.rod_mass),
+       true,
+       "mass of each rod (OA and AB)",
+       "",
+       "",
+       {},
+       "",
+       physical("rod_mass", 0.0, 1e3)},
+      {"mechanism",
+       "rod_half_length",
+       "L",
+       "m",
+       kPositive,
+       KANE_SIM_NUMBER(mechanism.rod_half_length),
+       true,
+       "half the length of each rod (2L long)",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"mechanism",
+       "slider3_mass",
+       "M1",
+       "kg",
+       kPositive,
+       KANE_SIM_NUMBER(mechanism.slider3_mass),
+       true,
+       "mass of slider 3 at B",
+       "",
+       "",
+       {},
+       "",
+       physical("slider3_mass", 0.0, 1e3)},
+      {"mechanism",
+       "slider4_mass",
+       "M2",
+       "kg",
+       kPositive,
+       KANE_SIM_NUMBER(mechanism.slider4_mass),
+       true,
+       "mass of slider 4 at C",
+       "",
+       "",
+       {},
+       "",
+       physical("slider4_mass", 0.0, 1e3)},
+      {"mechanism",
+       "spring_stiffness",
+       "k",
+       "N/m",
+       kNonNegative,
+       KANE_SIM_NUMBER(mechanism.spring_stiffness),
+       true,
+       "stiffness of the spring between B and C",
+       "",
+       "",
+       {},
+       "",
+       physical("spring_stiffness", 0.0, 1e7)},
+      {"mechanism",
+       "gravity",
+       "g",
+       "m/s²",
+       kAny,
+       KANE_SIM_NUMBER(mechanism.gravity),
+       true,
+       "gravity along +i (down the rail)",
+       "",
+       "",
+       {},
+       "",
+       physical("gravity", -100.0, 100.0)},
+      {"mechanism",
+       "rod_inertia",
+       "I1z = I2z",
+       "kg m²",
+       kPositive,
+       KANE_SIM_NUMBER(mechanism.rod_inertia),
+       false,
+       "central moment of inertia of each rod about k",
+       "",
+       "m (2L)²/12",
+       {},
+       "",
+       kFixed},
+      // ---- initial_state: where the motion starts; the spring is unstretched there ---------
+      {"initial_state",
+       "q1",
+       "q10",
+       "rad",
+       kAny,
+       KANE_SIM_NUMBER(initial_state.q1),
+       true,
+       "crank angle",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"initial_state",
+       "q2",
+       "q20",
+       "m",
+       kAny,
+       KANE_SIM_NUMBER(initial_state.q2),
+       true,
+       "x of slider 4 (C); the spring is unstretched at (q10, q20)",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"initial_state",
+       "u1",
+       "u10",
+       "rad/s",
+       kAny,
+       KANE_SIM_NUMBER(initial_state.u1),
+       true,
+       "crank speed",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"initial_state",
+       "u2",
+       "u20",
+       "m/s",
+       kAny,
+       KANE_SIM_NUMBER(initial_state.u2),
+       true,
+       "speed of slider 4",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      // ---- simulation ------------------------------------------------------------------------
+      // Below 1 Hz a "physics step" is not a simulation; above 1 MHz a step nears double's
+      // useful resolution of time.
+      {"simulation",
+       "physics_rate",
+       "",
+       "Hz",
+       {ValueRule::kRange, 1.0, 1e6, "Hz"},
+       KANE_SIM_NUMBER(simulation.physics_rate),
+       false,
+       "physics steps per second of sim time (one step is 1/physics_rate)",
+       "with rk4, fast enough for the motion's fastest rate: \\|λ\\| h ≤ 2.5 over a sampled turn "
+       "of the crank, at rest and as fast as the initial energy lets it swing, with the dampers "
+       "and the motor line (as a crank damper of torque_limit/ω0) counted; checked at start-up "
+       "and at every reconfiguration",
+       "",
+       {},
+       "",
+       kFixed},
+      {"simulation", "integrator", "", "", kChoice, integrator, false,
+       "rk4: one fixed step; dopri5: error-controlled Dormand–Prince inside each step", "", "",
+       integrators, "an unknown integrator", kFixed},
+      {"simulation", "equations", "", "", kChoice, equations, false,
+       "generated (from SymPy, the fast path) or generic (the Kane assembly term by term); same "
+       "physics to rounding",
+       "", "", equation_sources, "unknown equations", kFixed},
+      {"simulation",
+       "absolute_tolerance",
+       "",
+       "",
+       kPositive,
+       KANE_SIM_NUMBER(simulation.absolute_tolerance),
+       false,
+       "dopri5's absolute error tolerance",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"simulation",
+       "relative_tolerance",
+       "",
+       "",
+       kPositive,
+       KANE_SIM_NUMBER(simulation.relative_tolerance),
+       false,
+       "dopri5's relative error tolerance",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"simulation",
+       "publish_rate",
+       "",
+       "Hz",
+       kAny,
+       KANE_SIM_NUMBER(simulation.publish_rate),
+       false,
+       "joint_states, tf and mechanism_state per second",
+       "in [physics_rate / 10⁵, physics_rate] and divides physics_rate",
+       "",
+       {},
+       "",
+       kFixed},
+      {"simulation",
+       "real_time_factor",
+       "",
+       "",
+       {ValueRule::kZeroOrRange, 1e-3, 1e6, "(or 0 = as fast as possible)"},
+       KANE_SIM_NUMBER(simulation.real_time_factor),
+       false,
+       "sim time per wall time; 0 = as fast as possible",
+       "",
+       "",
+       {},
+       "",
+       operational("real_time_factor", 0.0, 1e6)},
+      {"simulation",
+       "publish_clock",
+       "",
+       "",
+       kFlag,
+       KANE_SIM_FLAG(simulation.publish_clock),
+       false,
+       "the node owns /clock (sim.launch's `publish_clock` arg sets it)",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"simulation",
+       "start_paused",
+       "",
+       "",
+       kFlag,
+       KANE_SIM_FLAG(simulation.start_paused),
+       false,
+       "wait for `unpause` or `step`",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      // ---- command: the driver moment M_m ----------------------------------------------------
+      {"command",
+       "torque_limit",
+       "",
+       "N m",
+       kNonNegative,
+       KANE_SIM_NUMBER(command.torque_limit),
+       false,
+       "\\|M_m\\| is clamped to this; the motor line's stall torque",
+       "",
+       "",
+       {},
+       "",
+       operational("torque_limit", 0.0, 1e4)},
+      {"command",
+       "timeout",
+       "",
+       "s",
+       kNonNegative,
+       KANE_SIM_NUMBER(command.timeout),
+       false,
+       "no command for this long (sim time) → torque 0; 0 disables",
+       "",
+       "",
+       {},
+       "",
+       operational("command_timeout", 0.0, 3600.0)},
+      {"command",
+       "motor_no_load_speed",
+       "ω0",
+       "rad/s",
+       kNonNegative,
+       KANE_SIM_NUMBER(mechanism.motor.no_load_speed),
+       false,
+       "the motor's torque–speed line (below); 0 = off",
+       "",
+       "",
+       {},
+       "",
+       physical("motor_no_load_speed", 0.0, 1e5)},
+      // ---- damping: viscous, at the joints joint_states names --------------------------------
+      {"damping",
+       "crank_joint",
+       "c_O",
+       "N m s/rad",
+       kNonNegative,
+       KANE_SIM_NUMBER(mechanism.damping.crank),
+       false,
+       "pin O: −c_O u1 on rod 1",
+       "",
+       "",
+       {},
+       "",
+       physical("crank_damping", 0.0, 1e4)},
+      {"damping",
+       "coupler_joint",
+       "c_A",
+       "N m s/rad",
+       kNonNegative,
+       KANE_SIM_NUMBER(mechanism.damping.coupler),
+       false,
+       "pin A: on the relative rate of rods 2 and 1",
+       "",
+       "",
+       {},
+       "",
+       physical("coupler_damping", 0.0, 1e4)},
+      {"damping",
+       "slider3_joint",
+       "c_B",
+       "N s/m",
+       kNonNegative,
+       KANE_SIM_NUMBER(mechanism.damping.slider3),
+       false,
+       "slider 3 on the rail",
+       "",
+       "",
+       {},
+       "",
+       physical("slider3_damping", 0.0, 1e4)},
+      {"damping",
+       "slider4_joint",
+       "c_C",
+       "N s/m",
+       kNonNegative,
+       KANE_SIM_NUMBER(mechanism.damping.slider4),
+       false,
+       "slider 4 on the rail",
+       "",
+       "",
+       {},
+       "",
+       physical("slider4_damping", 0.0, 1e4)},
+      // ---- contact between the sliders -------------------------------------------------------
+      {"contact",
+       "enabled",
+       "",
+       "",
+       kFlag,
+       KANE_SIM_FLAG(mechanism.contact.enabled),
+       false,
+       "slider impacts and resting contact (below)",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"contact",
+       "gap",
+       "",
+       "m",
+       kNonNegative,
+       KANE_SIM_NUMBER(mechanism.contact.gap),
+       false,
+       "x_C − x_B at touch",
+       "the initial state must be at least this far apart",
+       "",
+       {},
+       "",
+       kFixed},
+      {"contact",
+       "restitution",
+       "e",
+       "",
+       {ValueRule::kRange, 0.0, 1.0, "(0 plastic, 1 elastic)"},
+       KANE_SIM_NUMBER(mechanism.contact.restitution),
+       false,
+       "separating speed / approaching speed",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      // ---- frames ----------------------------------------------------------------------------
+      {"frames",
+       "prefix",
+       "",
+       "",
+       {ValueRule::kAnyName},
+       KANE_SIM_TEXT(frames.prefix),
+       false,
+       "prepended to every frame name",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"frames",
+       "world",
+       "",
+       "",
+       {ValueRule::kFrameName},
+       KANE_SIM_TEXT(frames.world),
+       false,
+       "the REP-105 world frame, z up",
+       "not one of the mechanism's own frames",
+       "",
+       {},
+       "",
+       kFixed},
+      {"frames",
+       "pivot_height",
+       "",
+       "m",
+       kAny,
+       KANE_SIM_NUMBER(frames.pivot_height),
+       false,
+       "height of O above the world origin",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"frames",
+       "publish_tf",
+       "",
+       "",
+       kFlag,
+       KANE_SIM_FLAG(frames.publish_tf),
+       false,
+       "false: no tf from the node (robot_state_publisher computes it)",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      // ---- diagnostics -----------------------------------------------------------------------
+      {"diagnostics",
+       "overrun_fraction",
+       "",
+       "",
+       {ValueRule::kRange, 0.0, 1.0, "(a fraction of the ticks of a 1 s window)"},
+       KANE_SIM_NUMBER(diagnostics.overrun_fraction),
+       false,
+       "a 1 s window is late when more than this fraction of its ticks overran (or lag was "
+       "dropped)",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"diagnostics",
+       "late_windows",
+       "",
+       "windows",
+       {ValueRule::kWholeRange, 1.0, 3600.0, "windows of 1 s"},
+       wholeField([](Config& c) -> int& { return c.diagnostics.late_windows; }),
+       false,
+       "`/diagnostics` says WARN after this many late windows in a row",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+  };
+}
+
+#undef KANE_SIM_NUMBER
+#undef KANE_SIM_FLAG
+#undef KANE_SIM_TEXT
+
+std::string ruleText(const ValueRule& rule, const std::vector<std::string>& choices) {
+  switch (rule.kind) {
+    case ValueRule::kFinite:
+      return "finite";
+    case ValueRule::kPositive:
+      return "> 0";
+    case ValueRule::kNonNegative:
+      return "≥ 0";
+    case ValueRule::kRange:
+      return "in [" + formatNumber(rule.lo) + ", " + formatNumber(rule.hi) + "]";
+    case ValueRule::kZeroOrRange:
+      return "0 or in [" + formatNumber(rule.lo) + ", " + formatNumber(rule.hi) + "]";
+    case ValueRule::kWholeRange:
+      return "whole number in [" + formatNumber(rule.lo) + ", " + formatNumber(rule.hi) + "]";
+    case ValueRule::kFrameName:
+      return "letters, digits, `_`, `/`; not starting with `/`";
+    case ValueRule::kAnyName:
+      return "empty, or letters, digits, `_`, `/`; not starting with `/`";
+    case ValueRule::kChoice: {
+      std::string text;
+      for (const std::string& c : choices) text += (text.empty() ? "" : " or ") + c;
+      return text;
+    }
+    case ValueRule::kFlag:
+      return "true or false";
+  }
+  return "";
+}
+
+}  // namespace
+
+const std::vector<ParameterSpec>& parameterSchema() {
+  static const std::vector<ParameterSpec> schema = declareParameters();
+  return schema;
+}
+
+const std::vector<SectionSpec>& configSections() {
+  static const std::vector<SectionSpec> sections = {
+      {"mechanism", true}, {"initial_state", true}, {"simulation", false}, {"command", false},
+      {"damping", false},  {"contact", false},      {"frames", false},     {"diagnostics", false}};
+  return sections;
+}
+
+const ParameterSpec* findParameter(const std::string& section, const std::string& key) {
+  for (const ParameterSpec& p : parameterSchema())
+    if (section == p.section && key == p.key) return &p;
+  return nullptr;
+}
+
+const ParameterSpec* findReconfigurable(const std::string& name) {
+  for (const ParameterSpec& p : parameterSchema())
+    if (p.reconfigurable() && name == p.reconfigure.name) return &p;
+  return nullptr;
+}
+
+double numericValue(const ParameterSpec& spec, const Config& config) {
+  // The accessors only name a member; reading through them does not modify the config.
+  Config& c = const_cast<Config&>(config);
+  const ConfigField& f = spec.field;
+  if (f.number) return f.number(c);
+  if (f.whole) return f.whole(c);
+  if (f.flag) return f.flag(c) ? 1.0 : 0.0;
+  if (f.get_choice) return f.get_choice(config);
+  return std::nan("");
+}
+
+std::string valueText(const ParameterSpec& spec, const Config& config) {
+  const ConfigField& f = spec.field;
+  if (f.text) return f.text(const_cast<Config&>(config));
+  if (f.flag) return numericValue(spec, config) != 0.0 ? "true" : "false";
+  if (f.get_choice) return spec.choices.at(static_cast<std::size_t>(f.get_choice(config)));
+  return formatNumber(numericValue(spec, config));
+}
+
+std::string parameterTable() {
+  const Config defaults;
+  std::ostringstream table;
+  table << "| key | symbol | unit | default | rule | reconfigure name | meaning |\n"
+        << "|---|---|---|---|---|---|---|\n";
+  for (const ParameterSpec& p : parameterSchema()) {
+    std::string fallback = p.required        ? "required"
+                           : *p.default_text ? p.default_text
+                                             : valueText(p, defaults);
+    if (fallback.empty()) fallback = "\"\"";
+    // A value that is only read (finite) and then checked against others shows the latter.
+    std::string rule = ruleText(p.rule, p.choices);
+    if (*p.cross_rule)
+      rule = p.rule.kind == ValueRule::kFinite ? p.cross_rule : rule + "; " + p.cross_rule;
+    table << "| " << p.path() << " | " << p.symbol << " | " << p.unit << " | " << fallback << " | "
+          << rule << " | "
+          << (p.reconfigurable() ? std::string("`") + p.reconfigure.name + "`" : "") << " | "
+          << p.doc << " |\n";
+  }
+  return table.str();
+}
+
+}  // namespace kane_sim

@@ -1,0 +1,69 @@
+#include "kane_sim/sim/config_check.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "kane_sim/analysis/stability.h"
+#include "kane_sim/sim/simulator.h"
+
+namespace kane_sim {
+namespace {
+
+std::string formatValue(double value) {
+  std::ostringstream out;
+  out.precision(17);
+  out << value;
+  return out.str();
+}
+
+void checkIntegrable(const Config& c) {
+  if (c.simulation.integrator != IntegratorType::kRk4) return;  // dopri5 adapts its step
+  const double h = 1.0 / c.simulation.physics_rate;
+  const MechanismModel model = mechanismModel(c);
+  StiffestConfiguration stiffest = stiffestConfiguration(model, c.initial_state);
+  // The initial speeds add their own (centripetal) rates.
+  const double initial = fastestRate(model, c.initial_state, 0.0);
+  if (!(initial <= stiffest.rate)) stiffest = {initial, c.initial_state.q1, c.initial_state.u1};
+  if (!std::isfinite(stiffest.rate))
+    throw ConfigError(
+        "mechanism",
+        "gives equations of motion that are not finite at q1 = " + formatValue(stiffest.q1) +
+            " rad: the masses, lengths, stiffness and damping are too far apart "
+            "for double precision (rod_mass " +
+            formatValue(c.mechanism.rod_mass) + ", slider3_mass " +
+            formatValue(c.mechanism.slider3_mass) + ", slider4_mass " +
+            formatValue(c.mechanism.slider4_mass) + ", spring_stiffness " +
+            formatValue(c.mechanism.spring_stiffness) + ")");
+  if (!(stiffest.rate * h <= kRk4StabilityLimit))
+    throw ConfigError(
+        "simulation.physics_rate",
+        "is too low for rk4 on this mechanism: its fastest rate (" + formatValue(stiffest.rate) +
+            " 1/s at q1 = " + formatValue(stiffest.q1) + " rad, u1 = " + formatValue(stiffest.u1) +
+            " rad/s, from spring_stiffness, the masses, damping and the motor line) needs rate h "
+            "<= " +
+            formatValue(kRk4StabilityLimit) + ", got " + formatValue(stiffest.rate * h) + " at " +
+            formatValue(c.simulation.physics_rate) +
+            " Hz; use simulation.integrator dopri5 or a physics_rate of at least " +
+            formatValue(std::ceil(stiffest.rate / kRk4StabilityLimit)) + " Hz");
+}
+
+}  // namespace
+
+void checkSimulatable(const Config& config) {
+  const Status usable = Simulator(config).checkUsable(config.initial_state);
+  if (!usable.ok)
+    throw ConfigError("initial_state", "is not a state to start from: " + usable.error);
+  checkIntegrable(config);
+}
+
+LoadedConfig loadSimulationConfig(const YAML::Node& root) {
+  LoadedConfig loaded = loadConfig(root);
+  checkSimulatable(loaded.config);
+  return loaded;
+}
+
+LoadedConfig loadSimulationConfigFile(const std::string& path) {
+  return loadSimulationConfig(loadYamlFile(path));
+}
+
+}  // namespace kane_sim

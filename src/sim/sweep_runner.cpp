@@ -1,0 +1,116 @@
+// Running a sweep: each case through the one driver and runProfile, on a thread per core,
+// results handed to the sink in case order.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <system_error>
+#include <thread>
+
+#include "kane_sim/sim/profile_commands.h"
+#include "kane_sim/sim/sim_driver.h"
+#include "kane_sim/sim/sweep.h"
+
+namespace kane_sim {
+
+SweepResult runSweepCase(const Config& config, const SweepSettings& settings) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  SweepResult r;
+  std::string refusal;
+  SimDriver driver(config, [&refusal](const SimEvent& event) {
+    if (event.kind == SimEvent::Kind::kStepRefused) refusal = event.message;
+  });
+  const long steps = std::lround(settings.duration * config.simulation.physics_rate);
+  const long steps_per_sample =
+      std::max(1L, std::lround(config.simulation.physics_rate / settings.ledger_rate));
+  const double start_balance = driver.snapshot().energyBalance();
+  ProfileCommands commands(settings.torque, config.command.timeout);
+  commands.update(driver);
+  const RunEnd end = runProfile(
+      driver, commands, steps, steps_per_sample, settings.stop,
+      [&r](const SimDriver& d) {
+        const State& x = d.simulator().state();
+        r.max_abs_q1 = std::max(r.max_abs_q1, std::abs(x.q1));
+        r.max_abs_q2 = std::max(r.max_abs_q2, std::abs(x.q2));
+      },
+      [&](const SimDriver& d) {
+        r.ledger_error =
+            std::max(r.ledger_error, std::abs(d.snapshot().energyBalance() - start_balance));
+      });
+  r.status = end == RunEnd::kFinished  ? "ok"
+             : end == RunEnd::kStopped ? "interrupted"
+                                       : "step_refused";
+  if (end == RunEnd::kStepRefused) r.error = refusal;
+  const Simulator& sim = driver.simulator();
+  r.final_state = sim.state();
+  r.time = sim.time();
+  r.motor_work = sim.motorWork();
+  r.dissipated_energy = sim.dissipatedEnergy();
+  r.contact_impacts = sim.contactImpacts();
+  r.slider_crossings = sim.sliderCrossings();
+  r.steps = sim.ticks();
+  r.wall_time =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return r;
+}
+
+std::vector<SweepResult> runSweep(const YAML::Node& base, const SweepPlan& plan,
+                                  const SweepSettings& settings, const SweepSink& sink) {
+  const size_t n = plan.cases.size();
+  std::vector<SweepResult> results(n);
+  std::vector<char> done(n, 0);
+  std::atomic<size_t> next{0};
+  std::mutex mutex;    // guards done, written and the sink
+  size_t written = 0;  // cases 0 .. written - 1 are with the sink
+  const auto stopped = [&settings] {
+    return settings.stop && settings.stop->load(std::memory_order_relaxed);
+  };
+  // yaml-cpp nodes share state between copies: each worker clones the base once, alone.
+  auto worker = [&](const YAML::Node& own_base) {
+    for (size_t i = next++; i < n && !stopped(); i = next++) {
+      SweepResult result;
+      try {
+        result = runSweepCase(sweepCaseConfig(own_base, plan, i), settings);
+      } catch (const std::exception& e) {
+        result.status = "config_refused";
+        result.error = e.what();
+      }
+      if (result.status == "interrupted") continue;  // not finished: no row
+      std::lock_guard<std::mutex> lock(mutex);
+      results[i] = std::move(result);
+      done[i] = 1;
+      // Rows go out in case order as soon as every case before them is finished.
+      for (; written < n && done[written]; ++written)
+        if (sink) sink(written, results[written]);
+    }
+  };
+  unsigned jobs = settings.jobs ? settings.jobs : std::max(1u, std::thread::hardware_concurrency());
+  jobs = static_cast<unsigned>(std::min<size_t>(jobs, n));
+  std::vector<YAML::Node> bases;
+  for (unsigned j = 0; j < jobs; ++j) bases.push_back(YAML::Clone(base));
+  std::vector<std::thread> threads;
+  for (unsigned j = 1; j < jobs; ++j) {
+    try {
+      threads.emplace_back(worker, bases[j]);
+    } catch (const std::system_error& e) {
+      // The system would not give more threads (a process or memory limit): run on those there
+      // are, and say so.
+      if (settings.on_warning)
+        settings.on_warning("could start only " + std::to_string(j) + " of " +
+                            std::to_string(jobs) + " sweep threads (" + e.what() +
+                            "); running on those");
+      break;
+    }
+  }
+  worker(bases[0]);
+  for (std::thread& t : threads) t.join();
+  // Interrupted: the finished cases after an unfinished one go out too, still in case order.
+  for (size_t i = written; i < n; ++i)
+    if (done[i] && sink) sink(i, results[i]);
+  for (size_t i = 0; i < n; ++i)
+    if (!done[i]) results[i].status = "interrupted";
+  return results;
+}
+
+}  // namespace kane_sim

@@ -1,0 +1,198 @@
+#include "simulate/options.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "kane_sim/config/load_config.h"
+
+namespace po = boost::program_options;
+
+namespace simulate {
+namespace {
+
+constexpr double kMaxDuration = 1e7;  // [s] ~4 months of sim time; beyond that is a typo
+
+}  // namespace
+
+po::options_description describeOptions() {
+  po::options_description desc(
+      "Usage: simulate [--config FILE] --duration SECONDS [options]\n\n"
+      "Simulates the textbook example's mechanism (Kane equations - Example 1) offline (no ROS "
+      "master). Writes a CSV with the\n"
+      "header t,q1,q2,u1,u2,energy,... (rows every 1/output-rate s from t = 0 to the duration)\n"
+      "to stdout or --csv FILE, and/or a bag (--bag FILE) with the topics the node publishes,\n"
+      "stamped in sim time from 1000000000 s. With --bag and no --csv, no CSV is written.\n\n"
+      "Torque (at most one; default 0; clamped to command.torque_limit like the node):\n"
+      "  --torque NM                 constant\n"
+      "  --torque-step T,BEFORE,AFTER  BEFORE N m until T s, then AFTER N m\n"
+      "  --torque-sine AMP,FREQ[,OFFSET]  OFFSET + AMP sin(2 pi FREQ t)\n"
+      "  --torque-csv FILE           lines 't,torque' (optional header), each value held from\n"
+      "                              its time on, 0 before the first; times non-decreasing\n\n"
+      "Sweeps (many cases in one process, spread over the cores; one CSV row per case with the\n"
+      "final state, max |q1|, max |q2|, the ledger error max|E + D - W - (E + D - W)(0)| at 10 "
+      "Hz,\n"
+      "W, D, impacts, crossings, steps and wall time; the same torque for every case):\n"
+      "  --sweep KEY=START:STOP:COUNT  COUNT values of a config key (section.key, e.g.\n"
+      "                              mechanism.spring_stiffness) from START to STOP; repeat for\n"
+      "                              a grid (the last varies fastest)\n"
+      "  --sweep-file FILE           a CSV: a header of keys, one row of values per case\n"
+      "  --jobs N                    threads, 1 to 4 per core (default: one per core)\n\n"
+      "Files are written under FILE.partial and renamed when complete; SIGINT or SIGTERM stops\n"
+      "the run and keeps what was simulated (every finished sweep case), exit 128 + signal.\n\n"
+      "Options");
+  desc.add_options()("help,h", "print this help and exit")(
+      "config", po::value<std::string>(),
+      "mechanism YAML (default: the package's config/mechanism.yaml)")(
+      "duration", po::value<double>()->required(), "simulated time [s], >= 0")(
+      "torque", po::value<double>(), "constant driver moment M_m [N m]")(
+      "torque-step", po::value<std::string>(), "T,BEFORE,AFTER")(
+      "torque-sine", po::value<std::string>(), "AMP,FREQ[,OFFSET]")(
+      "torque-csv", po::value<std::string>(), "FILE of t,torque lines")(
+      "output-rate", po::value<double>()->default_value(100.0),
+      "rows / bag messages per simulated second [Hz]; must divide simulation.physics_rate")(
+      "integrator", po::value<std::string>(), "rk4 | dopri5 (default: the config's)")(
+      "csv", po::value<std::string>(), "write the CSV to this file instead of stdout")(
+      "bag", po::value<std::string>(), "also write a bag of the node's topics to this file")(
+      "sweep", po::value<std::vector<std::string>>()->composing(), "KEY=START:STOP:COUNT")(
+      "sweep-file", po::value<std::string>(), "CSV of parameter sets")(
+      "jobs", po::value<long long>(), "sweep threads, 1 to 4 per core (default: one per core)");
+  return desc;
+}
+
+std::string num(double value) {  // shortest exact-enough form for messages: 1e+12, 0.5, 300
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.15g", value);
+  return buffer;
+}
+
+double requireFinite(const std::string& flag, double value) {
+  if (!std::isfinite(value)) throw UsageError("--" + flag + " must be finite, got " + num(value));
+  return value;
+}
+
+std::vector<double> parseList(const std::string& flag, const std::string& text, size_t min_count,
+                              size_t max_count) {
+  std::vector<double> values;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    try {
+      size_t used = 0;
+      values.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw UsageError("--" + flag + ": '" + item + "' is not a number");
+    }
+    requireFinite(flag, values.back());
+  }
+  if (!text.empty() && text.back() == ',')
+    throw UsageError("--" + flag + ": '" + text + "' ends with a comma (a value is missing)");
+  if (values.size() < min_count || values.size() > max_count)
+    throw UsageError("--" + flag + " takes " + std::to_string(min_count) +
+                     (max_count > min_count ? " to " + std::to_string(max_count) : "") +
+                     " comma-separated numbers, got '" + text + "'");
+  return values;
+}
+
+kane_sim::TorqueProfile parseProfile(const po::variables_map& vm) {
+  int given = 0;
+  for (const char* flag : {"torque", "torque-step", "torque-sine", "torque-csv"})
+    given += static_cast<int>(vm.count(flag));
+  if (given > 1)
+    throw UsageError("give at most one of --torque, --torque-step, --torque-sine, --torque-csv");
+  if (vm.count("torque-step")) {
+    const auto v = parseList("torque-step", vm["torque-step"].as<std::string>(), 3, 3);
+    return kane_sim::TorqueProfile::step(v[0], v[1], v[2]);
+  }
+  if (vm.count("torque-sine")) {
+    const auto v = parseList("torque-sine", vm["torque-sine"].as<std::string>(), 2, 3);
+    return kane_sim::TorqueProfile::sine(v[0], v[1], v.size() > 2 ? v[2] : 0.0);
+  }
+  if (vm.count("torque-csv")) {
+    try {
+      return kane_sim::TorqueProfile::fromCsvFile(vm["torque-csv"].as<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--torque-csv: ") + e.what());
+    }
+  }
+  const double torque =
+      vm.count("torque") ? requireFinite("torque", vm["torque"].as<double>()) : 0.0;
+  return kane_sim::TorqueProfile::constant(torque);
+}
+
+// Returns false when --help was asked for.
+bool parseOptions(int argc, char** argv, Options* options) {
+  const po::options_description desc = describeOptions();
+  po::variables_map vm;
+  try {
+    po::store(po::parse_command_line(argc, argv, desc), vm);
+    if (vm.count("help")) {
+      std::cout << desc << "\n";
+      return false;
+    }
+    po::notify(vm);
+  } catch (const po::error& e) {
+    throw UsageError(e.what());
+  }
+  if (vm.count("config")) {
+    options->config_path = vm["config"].as<std::string>();
+  } else {
+    options->config_path = kane_sim::defaultConfigFile();
+    options->default_config = true;
+  }
+  options->duration = requireFinite("duration", vm["duration"].as<double>());
+  options->output_rate = requireFinite("output-rate", vm["output-rate"].as<double>());
+  options->profile = parseProfile(vm);
+  if (vm.count("integrator")) {
+    options->integrator = vm["integrator"].as<std::string>();
+    if (options->integrator != kane_sim::integratorName(kane_sim::IntegratorType::kRk4) &&
+        options->integrator != kane_sim::integratorName(kane_sim::IntegratorType::kDopri5))
+      throw UsageError("--integrator must be rk4 or dopri5, got '" + options->integrator + "'");
+  }
+  if (vm.count("sweep")) options->sweep_axes = vm["sweep"].as<std::vector<std::string>>();
+  if (vm.count("sweep-file")) options->sweep_file = vm["sweep-file"].as<std::string>();
+  if (vm.count("jobs")) {
+    const long long jobs = vm["jobs"].as<long long>();
+    const long long most = 4LL * std::max(1u, std::thread::hardware_concurrency());
+    if (jobs < 1 || jobs > most)
+      throw UsageError("--jobs must be in [1, " + std::to_string(most) + "] (4 per core), got " +
+                       std::to_string(jobs));
+    options->jobs = static_cast<unsigned>(jobs);
+  }
+  if (!options->sweep_axes.empty() && !options->sweep_file.empty())
+    throw UsageError("give --sweep or --sweep-file, not both");
+  if (options->sweep() && vm.count("bag"))
+    throw UsageError("--bag writes one run's topics; a sweep writes one summary row per case");
+  if (vm.count("jobs") && !options->sweep()) throw UsageError("--jobs is for --sweep");
+  if (vm.count("csv")) options->csv_path = vm["csv"].as<std::string>();
+  if (vm.count("bag")) options->bag_path = vm["bag"].as<std::string>();
+  for (const char* flag : {"csv", "bag"})
+    if (vm.count(flag) && vm[flag].as<std::string>().empty())
+      throw UsageError(std::string("--") + flag + " needs a file name, got ''");
+  // Two outputs, or an output and the config, in one file would destroy each other.
+  const auto same = [](const std::string& a, const std::string& b) {
+    std::error_code error;
+    return !a.empty() && !b.empty() &&
+           (a == b || std::filesystem::weakly_canonical(a, error) ==
+                          std::filesystem::weakly_canonical(b, error));
+  };
+  if (same(options->csv_path, options->config_path) ||
+      same(options->bag_path, options->config_path))
+    throw UsageError("--csv and --bag must not name the --config file '" + options->config_path +
+                     "'");
+  if (same(options->csv_path, options->bag_path))
+    throw UsageError("--csv and --bag must name different files, got '" + options->csv_path +
+                     "' for both");
+  if (options->duration < 0 || options->duration > kMaxDuration)
+    throw UsageError("--duration must be in [0, " + num(kMaxDuration) + "] s, got " +
+                     num(options->duration));
+  if (!(options->output_rate > 0))
+    throw UsageError("--output-rate must be > 0, got " + num(options->output_rate));
+  return true;
+}
+
+}  // namespace simulate

@@ -1,0 +1,46 @@
+// simulate's command line: the options, their parsing and checks (a bad flag is a UsageError
+// naming it and the value).
+#ifndef KANE_SIM_TOOLS_SIMULATE_OPTIONS_H
+#define KANE_SIM_TOOLS_SIMULATE_OPTIONS_H
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <boost/program_options.hpp>
+
+#include "kane_sim/sim/torque_profile.h"
+
+namespace simulate {
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Options {
+  std::string config_path;
+  double duration = 0.0;
+  double output_rate = 100.0;
+  std::optional<kane_sim::TorqueProfile> profile;  // resolved after parsing
+  std::string integrator;                          // empty: the config's
+  std::string csv_path;                            // empty: stdout (unless only a bag is asked for)
+  std::string bag_path;
+  // Sweep mode: many cases, one summary row each (kane_sim/sim/sweep.h).
+  std::vector<std::string> sweep_axes;  // --sweep KEY=START:STOP:COUNT, repeatable (a grid)
+  std::string sweep_file;               // --sweep-file CSV of parameter sets
+  unsigned jobs = 0;                    // --jobs, 0 = one per core
+  bool default_config = false;          // no --config: the package's config/mechanism.yaml
+  bool sweep() const { return !sweep_axes.empty() || !sweep_file.empty(); }
+};
+
+// The --help text.
+boost::program_options::options_description describeOptions();
+// Fills `options` from the command line; false after --help (printed). Throws UsageError.
+bool parseOptions(int argc, char** argv, Options* options);
+// Numbers in simulate's messages: shortest exact-enough form (1e+12, 0.5, 300).
+std::string num(double value);
+
+}  // namespace simulate
+
+#endif  // KANE_SIM_TOOLS_SIMULATE_OPTIONS_H

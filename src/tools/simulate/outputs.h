@@ -1,0 +1,145 @@
+// Where simulate's rows go: a CSV (a file, staged as FILE.partial and renamed when complete, or
+// stdout) and/or a bag, both fed from the same snapshots. A write that fails is an OutputError.
+#ifndef KANE_SIM_TOOLS_SIMULATE_OUTPUTS_H
+#define KANE_SIM_TOOLS_SIMULATE_OUTPUTS_H
+
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "kane_sim/config/config.h"
+#include "kane_sim/description/robot_description.h"
+#include "kane_sim/ros/bag_writer.h"
+#include "kane_sim/sim/snapshot.h"
+#include "simulate/options.h"
+
+namespace simulate {
+
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// An output written under FILE.partial and renamed to FILE when complete (also when the run is
+// interrupted or refused a step: what was simulated is kept): an existing FILE is replaced only
+// by a finished one, and an interrupted run never leaves a truncated FILE behind. A FILE that
+// exists and is not a regular file (/dev/stdout, a pipe) is written directly.
+class StagedPath {
+ public:
+  explicit StagedPath(std::string path) : path_(std::move(path)), staging_(path_ + ".partial") {
+    std::error_code error;
+    if (std::filesystem::exists(path_, error) && !std::filesystem::is_regular_file(path_, error)) {
+      staging_ = path_;
+      published_ = true;
+    }
+  }
+  StagedPath(const StagedPath&) = delete;
+  StagedPath& operator=(const StagedPath&) = delete;
+  ~StagedPath() {
+    std::error_code error;
+    if (!published_) std::filesystem::remove(staging_, error);  // an output error: no debris
+  }
+  const std::string& staging() const { return staging_; }
+  void publish() {
+    if (staging_ == path_) return;
+    std::error_code error;
+    std::filesystem::rename(staging_, path_, error);
+    if (error)
+      throw OutputError("cannot rename '" + staging_ + "' to '" + path_ + "': " + error.message());
+    published_ = true;
+  }
+
+ private:
+  std::string path_, staging_;
+  bool published_ = false;
+};
+
+// The CSV: --csv FILE (staged, see StagedPath) or stdout.
+class CsvOutput {
+ public:
+  explicit CsvOutput(const std::string& path) {
+    if (path.empty()) return;
+    staged_ = std::make_unique<StagedPath>(path);
+    file_.open(staged_->staging());
+    if (!file_) throw OutputError("cannot write --csv '" + path + "'");
+  }
+  std::ostream& stream() { return staged_ ? static_cast<std::ostream&>(file_) : std::cout; }
+  // Flushed: what was written survives a crash (in FILE.partial).
+  void flush() {
+    stream().flush();
+    if (!stream()) throw OutputError("writing the CSV failed (disk full?)");
+  }
+  // The last bytes out and the file in place.
+  void finish() {
+    flush();
+    if (!staged_) return;
+    file_.close();
+    staged_->publish();
+  }
+
+ private:
+  std::unique_ptr<StagedPath> staged_;
+  std::ofstream file_;
+};
+
+// Where the rows go: a CSV stream and/or a bag, both fed from the same snapshots.
+class Outputs {
+ public:
+  Outputs(const Options& options, const kane_sim::Config& config)
+      : robot_(kane_sim::describeRobot(config)) {
+    // With a bag and no --csv, no CSV.
+    if (!options.csv_path.empty() || options.bag_path.empty())
+      csv_ = std::make_unique<CsvOutput>(options.csv_path);
+    if (!options.bag_path.empty()) {
+      bag_path_ = options.bag_path;
+      bag_file_ = std::make_unique<StagedPath>(options.bag_path);
+      try {
+        bag_ = std::make_unique<kane_sim::BagWriter>(bag_file_->staging());
+      } catch (const std::exception& e) {
+        throw OutputError("cannot write --bag '" + options.bag_path + "': " + e.what());
+      }
+      bag_->writeStatic(kane_sim::staticTransforms(robot_, kane_sim::simStamp(0)));
+    }
+    if (csv_) kane_sim::writeCsvHeader(csv_->stream());
+  }
+
+  void write(const kane_sim::Snapshot& snapshot) {
+    if (csv_) {
+      kane_sim::writeCsvRow(csv_->stream(), snapshot);
+      if (!csv_->stream()) throw OutputError("writing the CSV failed (disk full?)");
+    }
+    if (bag_) {
+      const ros::Time stamp = kane_sim::simStamp(snapshot.time);
+      try {
+        // real_time_factor 0: offline, not paced against any wall clock.
+        bag_->write(kane_sim::buildMessages(snapshot, robot_, 0.0, stamp), stamp);
+      } catch (const std::exception& e) {
+        throw OutputError("writing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
+      }
+    }
+  }
+
+  // Completes the outputs (the bag's index, the CSV's last bytes) and puts them in place.
+  void finish() {
+    if (bag_) {
+      try {
+        bag_->close();
+      } catch (const std::exception& e) {
+        throw OutputError("closing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
+      }
+      bag_file_->publish();
+    }
+    if (csv_) csv_->finish();
+  }
+
+ private:
+  kane_sim::RobotDescription robot_;  // the node's tf tree, the same in the bag
+  std::unique_ptr<StagedPath> bag_file_;
+  std::string bag_path_;
+  std::unique_ptr<CsvOutput> csv_;
+  std::unique_ptr<kane_sim::BagWriter> bag_;
+};
+
+}  // namespace simulate
+
+#endif  // KANE_SIM_TOOLS_SIMULATE_OUTPUTS_H

@@ -1,0 +1,78 @@
+// What the loader cannot judge from the values alone (sim/config_check.h): an initial state the
+// simulator cannot start from, and with rk4 a mechanism too stiff for the physics rate. Each error
+// names the key and says what to change.
+#include <gtest/gtest.h>
+
+#include "kane_sim/sim/config_check.h"
+#include "test_helpers.h"
+
+namespace kane_sim {
+namespace {
+
+YAML::Node defaultYaml() { return YAML::LoadFile(test::configPath("mechanism.yaml")); }
+
+// Expects loadSimulationConfig(root) to throw a ConfigError for `key` whose message contains
+// `text`, while loadConfig (which integrates nothing) accepts it.
+void expectError(const YAML::Node& root, const std::string& key, const std::string& text) {
+  EXPECT_NO_THROW(loadConfig(root)) << key;
+  try {
+    loadSimulationConfig(root);
+    ADD_FAILURE() << "no error for " << key;
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), key) << e.what();
+    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+  }
+}
+
+// With contact on, the sliders must start at least the gap apart (slider 4 below slider 3).
+TEST(ConfigCheck, ContactRefusesSlidersStartingWithinTheGap) {
+  YAML::Node root = defaultYaml();
+  root["contact"]["enabled"] = true;
+  root["initial_state"]["q2"] = 0.9;  // x_B = 4 L cos(pi/6) = 0.866: 3.4 cm apart
+  expectError(root, "initial_state", "closer than contact.gap 0.07 m");
+  root["contact"]["enabled"] = false;
+  EXPECT_NO_THROW(loadSimulationConfig(root));
+}
+
+// A damper rk4 cannot follow: c_C / M2 = 5000 /s at 1 kHz (h |lambda| = 5 > 2.78).
+TEST(ConfigCheck, DampingTooStrongForRk4IsRefused) {
+  YAML::Node root = defaultYaml();
+  root["damping"]["slider4_joint"] = 4000.0;
+  expectError(root, "simulation.physics_rate", "is too low for rk4 on this mechanism");
+}
+
+// A finite initial state whose energy is not (V_g = -M2 g q2 overflows).
+TEST(ConfigCheck, InitialStateWithNonFiniteEnergyIsRefused) {
+  YAML::Node root = defaultYaml();
+  root["initial_state"]["q2"] = 1e308;
+  expectError(root, "initial_state", "gives a non-finite energy");
+}
+
+// k = 1e9 N/m on the 0.8 kg slider: a mode near 43 000 rad/s, so rk4 at 1 kHz (ω h ≈ 43, far
+// past its stability limit 2.78) would diverge within milliseconds. Refused at start-up with
+// the limit and the fix; dopri5 or a fast enough rate are accepted.
+TEST(ConfigCheck, StiffMechanismIsRefusedForRk4AtTooLowARate) {
+  YAML::Node root = defaultYaml();
+  root["mechanism"]["spring_stiffness"] = 1e9;
+  expectError(root, "simulation.physics_rate",
+              "use simulation.integrator dopri5 or a physics_rate of at least 18362 Hz");
+}
+
+TEST(ConfigCheck, StiffMechanismIsFineWithDopri5OrAFastEnoughRate) {
+  YAML::Node root = defaultYaml();
+  root["mechanism"]["spring_stiffness"] = 1e9;
+  root["simulation"]["integrator"] = "dopri5";
+  EXPECT_NO_THROW(loadSimulationConfig(root));
+  root["simulation"]["integrator"] = "rk4";
+  root["simulation"]["physics_rate"] = 20000;
+  root["simulation"]["publish_rate"] = 100;
+  EXPECT_NO_THROW(loadSimulationConfig(root));
+}
+
+TEST(ConfigCheck, TheShippedConfigsCanBeSimulated) {
+  for (const char* file : {"mechanism.yaml", "textbook.yaml"})
+    EXPECT_NO_THROW(loadSimulationConfigFile(test::configPath(file))) << file;
+}
+
+}  // namespace
+}  // namespace kane_sim

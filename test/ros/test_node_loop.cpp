@@ -1,0 +1,200 @@
+// The node's loop parts, each alone and without a master: stamps (sim epoch, monotonic wall
+// stamps, the /use_sim_time check), the master watch (a fake getPid), the /diagnostics status of
+// a window, and the paced wait that serves callbacks.
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include <gtest/gtest.h>
+#include <ros/callback_queue.h>
+#include <ros/time.h>
+
+#include "kane_sim/ros/messages.h"
+#include "loop/loop_diagnostics.h"
+#include "loop/master_watch.h"
+#include "loop/paced_loop.h"
+#include "loop/stamp_clock.h"
+
+namespace kane_sim {
+namespace {
+
+class NodeLoop : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { ros::Time::init(); }
+};
+
+TEST_F(NodeLoop, SimStampsAreSimTimeOnTheEpoch) {
+  StampClock clock(true);
+  // The wall clock plays no part; the epoch keeps stamps of a fresh run clear of zero.
+  EXPECT_EQ(clock.stamp(12.5, ros::WallTime(1000, 0)), ros::Time(kSimEpochSeconds + 12, 500000000));
+  EXPECT_EQ(clock.stamp(0.0, ros::WallTime(5, 0)), ros::Time(kSimEpochSeconds, 0));
+}
+
+TEST_F(NodeLoop, WallStampsNeverGoBackwards) {
+  StampClock clock(false);
+  double back = -1;
+  EXPECT_EQ(clock.stamp(0, ros::WallTime(100, 0), &back), ros::Time(100, 0));
+  EXPECT_EQ(back, 0.0);
+  // The system clock steps back 2 s: held 1 µs after the last stamp, and the step is reported.
+  const ros::Time held = clock.stamp(0, ros::WallTime(98, 0), &back);
+  EXPECT_EQ(held, ros::Time(100, 1000));
+  EXPECT_DOUBLE_EQ(back, 2.0);
+  // The same reading twice: still strictly increasing.
+  EXPECT_GT(clock.stamp(0, ros::WallTime(98, 0)), held);
+  // Caught up: wall time again.
+  EXPECT_EQ(clock.stamp(0, ros::WallTime(101, 0), &back), ros::Time(101, 0));
+  EXPECT_EQ(back, 0.0);
+}
+
+TEST_F(NodeLoop, UseSimTimeDisagreementIsSaidOncePerDisagreement) {
+  StampClock wall(false);
+  EXPECT_EQ(wall.checkUseSimTime(false), "");
+  const std::string warning = wall.checkUseSimTime(true);
+  EXPECT_NE(warning.find("/use_sim_time is true but this node runs on the wall clock"),
+            std::string::npos);
+  EXPECT_EQ(wall.checkUseSimTime(true), "");  // once
+  EXPECT_EQ(wall.checkUseSimTime(false), "");
+  EXPECT_EQ(wall.checkUseSimTime(true), warning);  // again after they agreed
+  StampClock sim(true);
+  EXPECT_NE(sim.checkUseSimTime(false).find("/use_sim_time is false"), std::string::npos);
+}
+
+// Waits until `condition` holds, at most `limit`.
+template <typename Condition>
+bool eventually(Condition condition, std::chrono::milliseconds limit) {
+  const auto end = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < end) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return condition();
+}
+
+TEST_F(NodeLoop, MasterWatchReportsANewPidOnce) {
+  std::atomic<int> pid{100};
+  std::atomic<bool> up{true};
+  std::atomic<int> questions{0};
+  MasterWatch watch(
+      [&](int* out) {
+        ++questions;
+        *out = pid;
+        return up.load();
+      },
+      std::chrono::milliseconds(5));
+  ASSERT_TRUE(eventually([&] { return questions > 3; }, std::chrono::seconds(2)));
+  EXPECT_FALSE(watch.restarted());  // the same master all along
+  up = false;                       // down: not yet a new master
+  pid = 200;
+  const int asked = questions;
+  ASSERT_TRUE(eventually([&] { return questions > asked + 3; }, std::chrono::seconds(2)));
+  EXPECT_FALSE(watch.restarted());
+  up = true;  // back with another pid: one restart
+  bool seen = false;
+  ASSERT_TRUE(
+      eventually([&] { return seen = seen || watch.restarted(); }, std::chrono::seconds(2)));
+  const int after = questions;
+  ASSERT_TRUE(eventually([&] { return questions > after + 3; }, std::chrono::seconds(2)));
+  EXPECT_FALSE(watch.restarted());  // reported once
+}
+
+LoopStats::Summary window(std::uint64_t ticks, std::uint64_t overruns, double skipped = 0.0) {
+  LoopStats::Summary s;
+  s.ticks = ticks;
+  s.overruns = overruns;
+  s.skipped = skipped;
+  s.physics_rate = static_cast<double>(ticks);
+  return s;
+}
+
+std::string value(const diagnostic_msgs::DiagnosticStatus& status, const std::string& key) {
+  for (const auto& kv : status.values)
+    if (kv.key == key) return kv.value;
+  return "<missing>";
+}
+
+TEST_F(NodeLoop, DiagnosticsWarnOnSustainedLatenessOnly) {
+  DiagnosticsSettings settings;  // 5 % of a window, 3 windows
+  LoopDiagnostics diagnostics(settings);
+  LoopDiagnostics::LoopState loop{"/kane_sim", "/", false, false, 1000.0, 1.0, 1.0};
+  using Status = diagnostic_msgs::DiagnosticStatus;
+  EXPECT_EQ(diagnostics.close(window(1000, 10), 1.0, loop).level, Status::OK);   // 1 %: not late
+  EXPECT_EQ(diagnostics.close(window(1000, 100), 1.0, loop).level, Status::OK);  // late once
+  EXPECT_EQ(diagnostics.close(window(1000, 100), 1.0, loop).level, Status::OK);  // twice
+  const Status behind = diagnostics.close(window(1000, 100), 1.0, loop);         // three times
+  EXPECT_EQ(behind.level, Status::WARN);
+  EXPECT_NE(behind.message.find("behind schedule for 3 s: 100 of 1000 ticks overran"),
+            std::string::npos)
+      << behind.message;
+  EXPECT_EQ(diagnostics.close(window(1000, 0), 1.0, loop).level, Status::OK);
+  loop.paused = true;  // paused: never a warning, target 0
+  const Status paused = diagnostics.close(window(0, 0, 0.5), 1.0, loop);
+  EXPECT_EQ(paused.level, Status::OK);
+  EXPECT_EQ(paused.message, "paused");
+  EXPECT_EQ(value(paused, "physics rate target [Hz]"), "0");
+  EXPECT_EQ(paused.name, "kane_sim: physics loop (/kane_sim)");
+}
+
+TEST_F(NodeLoop, DiagnosticsCountTheWindowAndStartAnew) {
+  LoopDiagnostics diagnostics{DiagnosticsSettings{}};
+  const LoopDiagnostics::LoopState loop{"/kane_sim", "/", false, false, 1000.0, 1.0, 2.0};
+  for (int i = 0; i < 10; ++i) diagnostics.commandReceived(i % 5 == 0);
+  diagnostics.stepRefused("first");
+  diagnostics.stepRefused("u1 went non-finite");
+  const auto stalled = diagnostics.close(window(1000, 0), 2.0, loop);
+  EXPECT_EQ(stalled.level, diagnostic_msgs::DiagnosticStatus::ERROR);
+  EXPECT_NE(stalled.message.find("physics stalled: 2 steps refused"), std::string::npos);
+  EXPECT_NE(stalled.message.find("u1 went non-finite"), std::string::npos);  // the last reason
+  EXPECT_EQ(value(stalled, "torque commands received [1/s]"), "5");          // 10 in 2 s
+  EXPECT_EQ(value(stalled, "torque commands rejected or clamped"), "2");
+  EXPECT_EQ(value(stalled, "physics steps refused"), "2");
+  const auto next = diagnostics.close(window(1000, 0), 1.0, loop);
+  EXPECT_EQ(next.level, diagnostic_msgs::DiagnosticStatus::OK);
+  EXPECT_EQ(value(next, "torque commands received [1/s]"), "0");
+  EXPECT_EQ(value(next, "physics steps refused"), "0");
+}
+
+// A callback that counts its calls, as a subscription's would be served.
+struct Counting : ros::CallbackInterface {
+  explicit Counting(std::atomic<int>* calls) : calls_(calls) {}
+  CallResult call() override {
+    ++*calls_;
+    return Success;
+  }
+  std::atomic<int>* calls_;
+};
+
+TEST_F(NodeLoop, PacedWaitServesCallbacksAndKeepsTheDeadline) {
+  ros::CallbackQueue queue;
+  PacedLoop loop(0.2, 0.1);  // a slow tick: 200 ms
+  loop.anchor();
+  loop.startTick();  // tick 0 now; tick 1 due in 200 ms
+  std::atomic<int> served{0};
+  const auto start = std::chrono::steady_clock::now();
+  // A callback posted during the wait is served long before the tick (the node never goes deaf).
+  std::thread poster([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    queue.addCallback(boost::make_shared<Counting>(&served));
+  });
+  std::chrono::steady_clock::time_point served_at{};
+  EXPECT_TRUE(loop.waitForTick(queue, [&] {
+    if (served && served_at == std::chrono::steady_clock::time_point{})
+      served_at = std::chrono::steady_clock::now();
+    return false;
+  }));
+  const double waited =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  poster.join();
+  EXPECT_EQ(served, 1);
+  // Served within a wait slice (50 ms) of being posted at 20 ms, plus scheduling slack.
+  EXPECT_LT(std::chrono::duration<double>(served_at - start).count(), 0.020 + 0.05 + 0.05);
+  EXPECT_GE(waited, 0.2 - 1e-3);  // not before the tick is due
+  EXPECT_LT(waited, 0.2 + 0.1);   // nor long after (a loaded shared machine: 100 ms slack)
+  // Interrupted (a pause from a callback): returns at once, false.
+  loop.startTick();
+  const auto t = std::chrono::steady_clock::now();
+  EXPECT_FALSE(loop.waitForTick(queue, [] { return true; }));
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(), 0.05);
+}
+
+}  // namespace
+}  // namespace kane_sim
