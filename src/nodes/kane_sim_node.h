@@ -19,6 +19,7 @@
 #include <tf2_ros/static_transform_broadcaster.h>
 
 #include "kane_sim/SetState.h"
+#include "kane_sim/StepWithCommand.h"
 #include "kane_sim/config/config.h"
 #include "kane_sim/description/robot_description.h"
 #include "kane_sim/sim/sim_driver.h"
@@ -51,6 +52,7 @@ class KaneSimNode {
   bool onUnpause(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool onStep(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
   bool onSetState(SetState::Request& req, SetState::Response& res);
+  bool onStepWithCommand(StepWithCommand::Request& req, StepWithCommand::Response& res);
   void onReconfigure(const Config& config);  // an accepted runtime parameter change
 
   void connect();                       // advertise, subscribe, offer the services

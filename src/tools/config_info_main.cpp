@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
     std::cout << kUsage;
     return 0;
   }
-  if (args.size() == 1 && args[0] == "parameters") {
+  if (!args.empty() && args[0] == "parameters") {
+    if (args.size() != 1) return usage("parameters takes no arguments");
     std::cout << kane_sim::parameterTable();
     return 0;
   }

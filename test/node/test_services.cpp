@@ -10,6 +10,10 @@
 
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/SetState.h"
+#include "kane_sim/StepWithCommand.h"
+#include "kane_sim/ros/param_yaml.h"
+#include "kane_sim/sim/config_check.h"
+#include "kane_sim/sim/sim_driver.h"
 #include "node_test_utils.h"
 #include "test_helpers.h"
 
@@ -177,6 +181,76 @@ TEST_F(Services, SetStateCanPutSlider4AtTheSpringsRestLength) {
   EXPECT_NEAR(m.q[1], 4 * 0.25 * std::cos(1.0) + model.springRestLength(), 1e-15);
   EXPECT_NEAR(m.spring_elongation, 0.0, 1e-15);
   EXPECT_NEAR(model.springRestLength(), 0.3, 1e-12);  // config: slider 4 0.3 m below slider 3
+  ASSERT_TRUE(call("kane_sim/unpause", empty));
+}
+
+// One round trip: torque and steps in, the state after them out; exactly what the ROS-free
+// driver computes from the same state with the same command (one stepping path). Refused while
+// running, and for hostile values, with nothing changed.
+TEST_F(Services, StepWithCommandAdvancesAPausedSimulationByTheStepsAsked) {
+  Recorder<MechanismState>& state = state_;
+  ASSERT_TRUE(state.waitForCount(5, 15.0));
+  StepWithCommand step;
+  step.request.torque = 3.0;
+  step.request.steps = 200;
+  ASSERT_TRUE(call("kane_sim/step_with_command", step));
+  EXPECT_FALSE(step.response.success);
+  EXPECT_NE(step.response.message.find("not paused"), std::string::npos) << step.response.message;
+
+  std_srvs::Empty empty;
+  ASSERT_TRUE(call("kane_sim/pause", empty));
+  SetState set;
+  set.request.q1 = 0.5;
+  set.request.spring_at_rest = true;
+  ASSERT_TRUE(call("kane_sim/set_state", set));
+  ASSERT_TRUE(set.response.success) << set.response.message;
+  test::sleepWall(0.1);
+  const double t0 = state.last().sim_time;
+  const MechanismState& last = state.last();
+  const State x0{last.q[0], last.q[1], last.u[0], last.u[1]};
+
+  // Hostile requests: refused, nothing moves.
+  for (const auto& [torque, steps] :
+       std::vector<std::pair<double, std::uint32_t>>{{std::nan(""), 10},
+                                                     {std::numeric_limits<double>::infinity(), 10},
+                                                     {1.0, 0},
+                                                     {1.0, 4000000000u}}) {
+    StepWithCommand bad;
+    bad.request.torque = torque;
+    bad.request.steps = steps;
+    ASSERT_TRUE(call("kane_sim/step_with_command", bad));
+    EXPECT_FALSE(bad.response.success) << torque << " " << steps;
+    EXPECT_NE(bad.response.message.find("nothing changed"), std::string::npos)
+        << bad.response.message;
+  }
+  test::sleepWall(0.1);
+  EXPECT_EQ(state.last().sim_time, t0);
+
+  ASSERT_TRUE(call("kane_sim/step_with_command", step));
+  ASSERT_TRUE(step.response.success) << step.response.message;
+  EXPECT_NEAR(step.response.time - t0, 0.2, 1e-9);  // 200 steps of 1 ms
+
+  // The same from the ROS-free driver: the node's config (its parameter namespace), started at
+  // the state set above, the command once, 200 steps.
+  XmlRpc::XmlRpcValue params;
+  ASSERT_TRUE(ros::param::get("/kane_sim", params));
+  const Config config = loadSimulationConfig(yamlFromXmlRpc(params)).config;
+  SimDriver driver(config, {});
+  ASSERT_TRUE(driver.setState(x0).ok);  // as set_state: the config's spring rest length kept
+  driver.command(3.0);
+  for (int i = 0; i < 200; ++i) ASSERT_TRUE(driver.step());
+  EXPECT_EQ(step.response.q1, driver.simulator().state().q1);
+  EXPECT_EQ(step.response.u1, driver.simulator().state().u1);
+  EXPECT_EQ(step.response.q2, driver.simulator().state().q2);
+  EXPECT_EQ(step.response.applied_torque, 3.0);
+
+  // Beyond the torque limit: clamped, and said.
+  step.request.torque = 1e6;
+  step.request.steps = 1;
+  ASSERT_TRUE(call("kane_sim/step_with_command", step));
+  EXPECT_TRUE(step.response.success);
+  EXPECT_NE(step.response.message.find("clamped"), std::string::npos) << step.response.message;
+  EXPECT_EQ(step.response.applied_torque, 50.0);
   ASSERT_TRUE(call("kane_sim/unpause", empty));
 }
 

@@ -36,6 +36,19 @@ for exe in kane_sim_node pd_controller crank_marker teleop_key simulate analyze 
   check "$exe --help" helps "$exe"
 done
 
+# The parameter table the README holds (test_parameter_schema compares the two), and a stray
+# argument refused as a usage error.
+parameter_table() {
+  "$bin/config_info" parameters >"$work/out" 2>"$work/err" || { cat "$work/err"; return 1; }
+  head -1 "$work/out" | grep -q "^| key | symbol | unit | default | rule |" &&
+    grep -q "^| mechanism.rod_mass | m | kg | required | > 0 |" "$work/out" || { cat "$work/out"; return 1; }
+  "$bin/config_info" parameters extra >"$work/out" 2>"$work/err"
+  local code=$?
+  [ "$code" -eq 2 ] && grep -q "parameters takes no arguments" "$work/err" ||
+    { echo "     exit $code"; cat "$work/err"; return 1; }
+}
+check "config_info parameters prints the table; a stray argument is a usage error" parameter_table
+
 refuses_name() {  # refuses_name EXE ARG TEXT: exit 1 with TEXT on stderr, no abort
   timeout 5 "$bin/$1" "$2" >"$work/out" 2>"$work/err" </dev/null
   local code=$?
