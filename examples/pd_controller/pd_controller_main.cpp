@@ -10,11 +10,12 @@
 
 namespace {
 constexpr const char* kUsage =
-    "Usage: rosrun kane_sim pd_controller [_kp:=500] [_kd:=40] [_setpoint:=1.0] "
+    "Usage: rosrun kane_sim pd_controller [_kp:=500] [_kd:=40] [_ki:=0] [_setpoint:=1.0] "
     "[_torque_limit:=50]\n\n"
     "Example crank position controller for kane_sim_node: answers every joint_states reading\n"
-    "with torque_command = kp (setpoint - q1) - kd u1, clamped; the setpoint also on the\n"
-    "`setpoint` topic (std_msgs/Float64). Gains in config/controller.yaml.\n";
+    "with torque_command = kp (setpoint - q1) - kd u1 + ki * integral of the error, clamped;\n"
+    "the setpoint also on the `setpoint` topic (std_msgs/Float64). The integral is cleared on\n"
+    "the simulator's kane_sim/reset_event (reset, set_state). Gains in config/controller.yaml.\n";
 }  // namespace
 
 int main(int argc, char** argv) {

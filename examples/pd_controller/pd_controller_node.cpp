@@ -16,13 +16,20 @@ PdControllerNode::PdControllerNode(const ros::NodeHandle& nh, const ros::NodeHan
   gains_.kd = boundedParam(private_nh, "kd", defaults.kd, ParamBound::kNonNegative);
   gains_.torque_limit =
       boundedParam(private_nh, "torque_limit", defaults.torque_limit, ParamBound::kNonNegative);
+  gains_.ki = boundedParam(private_nh, "ki", defaults.ki, ParamBound::kNonNegative);
   setpoint_ = boundedParam(private_nh, "setpoint", 0.0, ParamBound::kAnyFinite);
   torque_pub_ = nh_.advertise<std_msgs::Float64>("torque_command", 10);
   joint_state_sub_ = nh_.subscribe("joint_states", 10, &PdControllerNode::onJointState, this,
                                    ros::TransportHints().tcpNoDelay());
   setpoint_sub_ = nh_.subscribe("setpoint", 10, &PdControllerNode::onSetpoint, this);
-  ROS_INFO("pd_controller: holding crank_joint at %g rad (kp %g N m/rad, kd %g N m s/rad)",
-           setpoint_, gains_.kp, gains_.kd);
+  // The simulator's private topic, beside it in this namespace (/kane_sim/reset_event, or
+  // /robot_a/kane_sim/reset_event under ns robot_a); remap `kane_sim/reset_event` for another.
+  reset_event_sub_ =
+      nh_.subscribe("kane_sim/reset_event", 10, &PdControllerNode::onResetEvent, this);
+  ROS_INFO(
+      "pd_controller: holding crank_joint at %g rad (kp %g N m/rad, kd %g N m s/rad, ki %g N "
+      "m/(rad s))",
+      setpoint_, gains_.kp, gains_.kd, gains_.ki);
 }
 
 void PdControllerNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
@@ -32,8 +39,11 @@ void PdControllerNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg
     ROS_WARN_THROTTLE(5.0, "pd_controller: joint_states without crank_joint position and velocity");
     return;
   }
+  const double q1 = msg->position[i];
+  if (!last_sample_.isZero()) integral_.add(gains_, setpoint_ - q1, (msg->header.stamp - last_sample_).toSec());
+  last_sample_ = msg->header.stamp;
   std_msgs::Float64 torque;
-  torque.data = pdTorque(gains_, setpoint_, msg->position[i], msg->velocity[i]);
+  torque.data = pdTorque(gains_, setpoint_, q1, msg->velocity[i], integral_.value());
   if (std::isfinite(torque.data)) torque_pub_.publish(torque);
 }
 
@@ -45,6 +55,14 @@ void PdControllerNode::onSetpoint(const std_msgs::Float64::ConstPtr& msg) {
   setpoint_ = msg->data;
   // Debug level: an interactive marker being dragged sends tens of setpoints a second.
   ROS_DEBUG("pd_controller: new setpoint %g rad", setpoint_);
+}
+
+void PdControllerNode::onResetEvent(const ResetEvent::ConstPtr& msg) {
+  // The motion the integral summed is gone: start it afresh from the moved state.
+  integral_.clear();
+  last_sample_ = msg->header.stamp;
+  ROS_INFO("pd_controller: the mechanism was moved (%s at t = %.3f s): integral cleared",
+           msg->cause.c_str(), msg->sim_time);
 }
 
 }  // namespace kane_sim

@@ -1,11 +1,14 @@
-// Example of commanding the virtual robot from another node: a PD position controller for the
-// crank. Reads joint_states, publishes torque_command on every crank reading.
+// Example of commanding the virtual robot from another node: a PD (PID with ~ki) position
+// controller for the crank. Reads joint_states, publishes torque_command on every crank reading;
+// clears its integral when the simulator announces a reset or set_state (reset_event).
 #ifndef KANE_SIM_EXAMPLES_PD_CONTROLLER_NODE_H
 #define KANE_SIM_EXAMPLES_PD_CONTROLLER_NODE_H
 
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Float64.h>
+
+#include "kane_sim/ResetEvent.h"
 
 #include "pd_law.h"
 
@@ -19,12 +22,16 @@ class PdControllerNode {
  private:
   void onJointState(const sensor_msgs::JointState::ConstPtr& msg);
   void onSetpoint(const std_msgs::Float64::ConstPtr& msg);
+  void onResetEvent(const ResetEvent::ConstPtr& msg);
 
   ros::NodeHandle nh_;
   PdGains gains_;
   double setpoint_ = 0.0;  // [rad] q1 to hold
+  IntegralTerm integral_;
+  ros::Time last_sample_;  // stamp of the last joint_states used (the integral's dt)
   ros::Subscriber joint_state_sub_;
   ros::Subscriber setpoint_sub_;
+  ros::Subscriber reset_event_sub_;
   ros::Publisher torque_pub_;
 };
 

@@ -15,6 +15,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include "kane_sim/MechanismState.h"
+#include "kane_sim/ResetEvent.h"
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/description/urdf.h"
 #include "kane_sim/ros/messages.h"
@@ -97,6 +98,7 @@ void KaneSimNode::connect() {
   mechanism_state_pub_ = nh_.advertise<kane_sim::MechanismState>("mechanism_state", 10);
   marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("visualization_markers", 10);
   diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  reset_event_pub_ = private_nh_.advertise<kane_sim::ResetEvent>("reset_event", 10);
   if (config_.simulation.publish_clock)
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   // Private, as Gazebo's /gazebo/pause_physics: two sims (or turtlesim's /reset) never collide.
@@ -126,8 +128,8 @@ void KaneSimNode::reconnect() {
   // roscpp registers topics and services once; a new master knows nothing of them. Drop them
   // (unregistering from a dead master fails quietly) and register everything again.
   torque_sub_.shutdown();
-  for (ros::Publisher* pub :
-       {&joint_state_pub_, &mechanism_state_pub_, &marker_pub_, &diagnostics_pub_, &clock_pub_})
+  for (ros::Publisher* pub : {&joint_state_pub_, &mechanism_state_pub_, &marker_pub_,
+                              &diagnostics_pub_, &clock_pub_, &reset_event_pub_})
     pub->shutdown();
   for (ros::ServiceServer& service : services_) service.shutdown();
   tf_pub_.shutdown();
@@ -256,6 +258,7 @@ void KaneSimNode::checkSimTimeSetting() {
 
 void KaneSimNode::publishState() {
   const ros::Time now = stamp();
+  last_state_stamp_ = now;
   const auto wall_now = SteadyClock::now();
   const double wall_elapsed = wallSeconds(wall_now - last_publish_wall_);
   if (wall_elapsed > 0)
@@ -323,6 +326,7 @@ bool KaneSimNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
   driver_.reset();
   ROS_INFO("kane_sim: reset to the initial state (sim time runs on at %.3f s)", driver_.time());
   publishState();
+  announceReset("reset");
   return true;
 }
 
@@ -342,7 +346,19 @@ bool KaneSimNode::onSetState(SetState::Request& req, SetState::Response& res) {
   res.message = msg.str();
   ROS_INFO("kane_sim: %s", res.message.c_str());
   publishState();
+  announceReset("set_state");
   return true;
+}
+
+void KaneSimNode::announceReset(const std::string& cause) {
+  const State& x = driver_.simulator().state();
+  ResetEvent event;
+  event.header.stamp = last_state_stamp_;  // the moved state's stamp: tf at it is the new pose
+  event.cause = cause;
+  event.sim_time = driver_.time();
+  event.q = {x.q1, x.q2};
+  event.u = {x.u1, x.u2};
+  reset_event_pub_.publish(event);
 }
 
 void KaneSimNode::onReconfigure(const Config& config) {

@@ -54,6 +54,9 @@ class KaneSimNode {
   bool onSetState(SetState::Request& req, SetState::Response& res);
   bool onStepWithCommand(StepWithCommand::Request& req, StepWithCommand::Response& res);
   void onReconfigure(const Config& config);  // an accepted runtime parameter change
+  // ~reset_event after the moved state is published, with its stamp: controllers clear their
+  // state, and tf at that stamp is the new pose.
+  void announceReset(const std::string& cause);
 
   void connect();                       // advertise, subscribe, offer the services
   void publishRobotDescription();       // robot_description (URDF) and the static tf
@@ -86,13 +89,15 @@ class KaneSimNode {
   ros::Publisher marker_pub_;
   ros::Publisher clock_pub_;
   ros::Publisher diagnostics_pub_;
+  ros::Publisher reset_event_pub_;
   std::vector<ros::ServiceServer> services_;
   ros::Publisher tf_pub_;        // /tf (empty with frames.publish_tf false)
   uint32_t tf_subscribers_ = 0;  // /tf's subscribers when the transforms were last sent
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_broadcaster_;
   std::unique_ptr<RuntimeParameters> runtime_parameters_;
 
-  ros::Time last_tf_stamp_;  // never two transforms of one frame with one stamp
+  ros::Time last_tf_stamp_;     // never two transforms of one frame with one stamp
+  ros::Time last_state_stamp_;  // the stamp of the last published state
   bool stopped_at_time_limit_ = false;
   SteadyClock::time_point last_publish_wall_;
   double last_publish_sim_ = 0.0;

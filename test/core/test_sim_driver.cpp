@@ -86,6 +86,27 @@ TEST_F(SimDriverTest, TimeoutIsReportedOnceAndTheNextCommandResumes) {
   EXPECT_FALSE(driver.snapshot().command.timed_out);
 }
 
+// A reset forgets the command and clears the timeout latch: no "timed out" carried into the new
+// run, and a command after it lapses (and is reported) afresh; sim time runs on.
+TEST_F(SimDriverTest, ResetClearsTheTimeoutLatchAndKeepsTime) {
+  SimDriver driver = makeDriver(test::defaultConfig());
+  driver.command(4.0);
+  for (int i = 0; i < 1000; ++i) ASSERT_TRUE(driver.step());
+  ASSERT_TRUE(driver.snapshot().command.timed_out);
+  const double before = driver.time();
+  driver.reset();
+  EXPECT_EQ(driver.time(), before);
+  Snapshot s = driver.snapshot();
+  EXPECT_FALSE(s.command.timed_out);
+  EXPECT_EQ(s.command.commanded, 0.0);
+  EXPECT_EQ(s.torque, 0.0);
+  for (int i = 0; i < 1000; ++i) ASSERT_TRUE(driver.step());
+  EXPECT_EQ(count(Kind::kCommandTimedOut), 1) << "no command since the reset: nothing lapses";
+  driver.command(1.0);
+  for (int i = 0; i < 1000; ++i) ASSERT_TRUE(driver.step());
+  EXPECT_EQ(count(Kind::kCommandTimedOut), 2);
+}
+
 // Driven at the limit the crank spins up until the sliders cross and rk4 at 1 kHz no longer
 // follows it; each is reported once, and again after a reset.
 TEST_F(SimDriverTest, SliderCrossingAndCoarseStepAreReportedOncePerStartOrReset) {
