@@ -19,11 +19,13 @@ catkin_add_executable_with_gtest(node_tests
   test/node/test_options.cpp
   test/node/test_fuzz.cpp
   test/node/test_resets.cpp
+  test/node/test_lockstep.cpp
   EXCLUDE_FROM_ALL)
 if(TARGET node_tests)
   target_include_directories(node_tests PRIVATE ${urdfdom_INCLUDE_DIRS})
   target_link_libraries(node_tests kane_sim_ros kane_sim_warnings ${urdfdom_LIBRARIES})
-  target_include_directories(node_tests PRIVATE ${PROJECT_SOURCE_DIR}/test/common)
+  target_include_directories(node_tests PRIVATE ${PROJECT_SOURCE_DIR}/test/common
+    ${PROJECT_SOURCE_DIR}/examples/pd_controller)
   add_dependencies(tests node_tests)
   target_compile_definitions(node_tests PRIVATE
     KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config"
@@ -31,7 +33,8 @@ if(TARGET node_tests)
     KANE_SIM_TELEOP_EXE="$<TARGET_FILE:teleop_key>")
   foreach(case topics torque commands services clock_mode bad_param namespaces controller robustness
       stalled leftover_sim_time slow_ticks robot_description robot_description_textbook rsp_tf
-      reconfigure crank_marker teleop options fuzz resets resets_rsp)
+      reconfigure crank_marker teleop options fuzz resets resets_rsp lockstep lockstep_hog
+      lockstep_fallback)
     add_rostest(test/node/${case}.test DEPENDENCIES node_tests kane_sim_node pd_controller simulate
       crank_marker teleop_key)
   endforeach()

@@ -11,11 +11,13 @@
 namespace {
 constexpr const char* kUsage =
     "Usage: rosrun kane_sim pd_controller [_kp:=500] [_kd:=40] [_ki:=0] [_setpoint:=1.0] "
-    "[_torque_limit:=50]\n\n"
+    "[_torque_limit:=50] [_stamped:=false]\n\n"
     "Example crank position controller for kane_sim_node: answers every joint_states reading\n"
     "with torque_command = kp (setpoint - q1) - kd u1 + ki * integral of the error, clamped;\n"
     "the setpoint also on the `setpoint` topic (std_msgs/Float64). The integral is cleared on\n"
-    "the simulator's kane_sim/reset_event (reset, set_state). Gains in config/controller.yaml.\n";
+    "the simulator's kane_sim/reset_event (reset, set_state). _stamped:=true answers on\n"
+    "torque_command_stamped with each reading's stamp (what lockstep waits for). Gains in\n"
+    "config/controller.yaml.\n";
 }  // namespace
 
 int main(int argc, char** argv) {

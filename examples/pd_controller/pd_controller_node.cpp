@@ -18,7 +18,11 @@ PdControllerNode::PdControllerNode(const ros::NodeHandle& nh, const ros::NodeHan
       boundedParam(private_nh, "torque_limit", defaults.torque_limit, ParamBound::kNonNegative);
   gains_.ki = boundedParam(private_nh, "ki", defaults.ki, ParamBound::kNonNegative);
   setpoint_ = boundedParam(private_nh, "setpoint", 0.0, ParamBound::kAnyFinite);
-  torque_pub_ = nh_.advertise<std_msgs::Float64>("torque_command", 10);
+  // ~stamped: answer each reading on torque_command_stamped with its stamp, which lockstep
+  // (simulation.lockstep) waits for; else the plain torque_command.
+  stamped_ = flagParam(private_nh, "stamped", false);
+  torque_pub_ = stamped_ ? nh_.advertise<TorqueCommandStamped>("torque_command_stamped", 10)
+                         : nh_.advertise<std_msgs::Float64>("torque_command", 10);
   joint_state_sub_ = nh_.subscribe("joint_states", 10, &PdControllerNode::onJointState, this,
                                    ros::TransportHints().tcpNoDelay());
   setpoint_sub_ = nh_.subscribe("setpoint", 10, &PdControllerNode::onSetpoint, this);
@@ -40,11 +44,21 @@ void PdControllerNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg
     return;
   }
   const double q1 = msg->position[i];
-  if (!last_sample_.isZero()) integral_.add(gains_, setpoint_ - q1, (msg->header.stamp - last_sample_).toSec());
+  if (!last_sample_.isZero())
+    integral_.add(gains_, setpoint_ - q1, (msg->header.stamp - last_sample_).toSec());
   last_sample_ = msg->header.stamp;
-  std_msgs::Float64 torque;
-  torque.data = pdTorque(gains_, setpoint_, q1, msg->velocity[i], integral_.value());
-  if (std::isfinite(torque.data)) torque_pub_.publish(torque);
+  const double torque = pdTorque(gains_, setpoint_, q1, msg->velocity[i], integral_.value());
+  if (!std::isfinite(torque)) return;
+  if (stamped_) {
+    TorqueCommandStamped answer;
+    answer.header.stamp = msg->header.stamp;  // the state this answers
+    answer.torque = torque;
+    torque_pub_.publish(answer);
+  } else {
+    std_msgs::Float64 plain;
+    plain.data = torque;
+    torque_pub_.publish(plain);
+  }
 }
 
 void PdControllerNode::onSetpoint(const std_msgs::Float64::ConstPtr& msg) {

@@ -9,6 +9,7 @@
 #include <std_msgs/Float64.h>
 
 #include "kane_sim/ResetEvent.h"
+#include "kane_sim/TorqueCommandStamped.h"
 
 #include "pd_law.h"
 
@@ -32,7 +33,8 @@ class PdControllerNode {
   ros::Subscriber joint_state_sub_;
   ros::Subscriber setpoint_sub_;
   ros::Subscriber reset_event_sub_;
-  ros::Publisher torque_pub_;
+  ros::Publisher torque_pub_;  // torque_command, or torque_command_stamped with ~stamped
+  bool stamped_ = false;
 };
 
 }  // namespace kane_sim

@@ -55,6 +55,15 @@ std::vector<ParameterSpec> declareParameters() {
   equations.set_choice = [](Config& c, int i) {
     c.simulation.equations = static_cast<EquationsSource>(i);
   };
+  ConfigField lockstep_fallback;
+  lockstep_fallback.get_choice = [](const Config& c) {
+    return static_cast<int>(c.simulation.lockstep_fallback);
+  };
+  lockstep_fallback.set_choice = [](Config& c, int i) {
+    c.simulation.lockstep_fallback = static_cast<LockstepFallback>(i);
+  };
+  const std::vector<std::string> lockstep_fallbacks = {
+      lockstepFallbackName(LockstepFallback::kHold), lockstepFallbackName(LockstepFallback::kZero)};
   const std::vector<std::string> integrators = {integratorName(IntegratorType::kRk4),
                                                 integratorName(IntegratorType::kDopri5)};
   const std::vector<std::string> equation_sources = {equationsName(EquationsSource::kGenerated),
@@ -312,6 +321,36 @@ std::vector<ParameterSpec> declareParameters() {
        {},
        "",
        kFixed},
+      {"simulation",
+       "lockstep",
+       "",
+       "",
+       kFlag,
+       KANE_SIM_FLAG(simulation.lockstep),
+       false,
+       "step past a published state only when a torque_command_stamped answers its stamp "
+       "(sim.launch's `lockstep` arg)",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"simulation",
+       "lockstep_timeout",
+       "",
+       "s",
+       {ValueRule::kRange, 1e-3, 3600.0, "s (wall)"},
+       KANE_SIM_NUMBER(simulation.lockstep_timeout),
+       false,
+       "wall time lockstep waits for an answer before its fallback (counted in /diagnostics)",
+       "",
+       "",
+       {},
+       "",
+       kFixed},
+      {"simulation", "lockstep_fallback", "", "", kChoice, lockstep_fallback, false,
+       "without an answer in time: hold the last command, or zero (0 N m)", "", "",
+       lockstep_fallbacks, "an unknown lockstep fallback", kFixed},
       // ---- command: the driver moment M_m ----------------------------------------------------
       {"command",
        "torque_limit",

@@ -6,8 +6,8 @@
 
 #include <visualization_msgs/InteractiveMarker.h>
 
-#include "kane_sim/description/body_shapes.h"
 #include "kane_sim/config/frame_names.h"
+#include "kane_sim/description/body_shapes.h"
 #include "kane_sim/ros/node_params.h"
 #include "kane_sim/teleop/crank_angle.h"
 

@@ -18,9 +18,9 @@
 #include "kane_sim/ResetEvent.h"
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/description/urdf.h"
+#include "kane_sim/format_number.h"
 #include "kane_sim/ros/messages.h"
 #include "kane_sim/ros/param_yaml.h"
-#include "kane_sim/format_number.h"
 #include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/profile_commands.h"
 #include "loop/master_watch.h"
@@ -94,6 +94,9 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
 void KaneSimNode::connect() {
   torque_sub_ = nh_.subscribe("torque_command", 10, &KaneSimNode::onTorqueCommand, this,
                               ros::TransportHints().tcpNoDelay());
+  torque_stamped_sub_ =
+      nh_.subscribe("torque_command_stamped", 10, &KaneSimNode::onTorqueCommandStamped, this,
+                    ros::TransportHints().tcpNoDelay());
   joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
   mechanism_state_pub_ = nh_.advertise<kane_sim::MechanismState>("mechanism_state", 10);
   marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("visualization_markers", 10);
@@ -102,13 +105,13 @@ void KaneSimNode::connect() {
   if (config_.simulation.publish_clock)
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   // Private, as Gazebo's /gazebo/pause_physics: two sims (or turtlesim's /reset) never collide.
-  services_ = {private_nh_.advertiseService("reset", &KaneSimNode::onReset, this),
-               private_nh_.advertiseService("pause", &KaneSimNode::onPause, this),
-               private_nh_.advertiseService("unpause", &KaneSimNode::onUnpause, this),
-               private_nh_.advertiseService("step", &KaneSimNode::onStep, this),
-               private_nh_.advertiseService("set_state", &KaneSimNode::onSetState, this),
-               private_nh_.advertiseService("step_with_command", &KaneSimNode::onStepWithCommand,
-                                            this)};
+  services_ = {
+      private_nh_.advertiseService("reset", &KaneSimNode::onReset, this),
+      private_nh_.advertiseService("pause", &KaneSimNode::onPause, this),
+      private_nh_.advertiseService("unpause", &KaneSimNode::onUnpause, this),
+      private_nh_.advertiseService("step", &KaneSimNode::onStep, this),
+      private_nh_.advertiseService("set_state", &KaneSimNode::onSetState, this),
+      private_nh_.advertiseService("step_with_command", &KaneSimNode::onStepWithCommand, this)};
   if (config_.frames.publish_tf) {
     // What tf2_ros::TransformBroadcaster does, with the publisher at hand: its subscriber count
     // tells when a listener joined while the stamp stands still (see publishState).
@@ -128,6 +131,7 @@ void KaneSimNode::reconnect() {
   // roscpp registers topics and services once; a new master knows nothing of them. Drop them
   // (unregistering from a dead master fails quietly) and register everything again.
   torque_sub_.shutdown();
+  torque_stamped_sub_.shutdown();
   for (ros::Publisher* pub : {&joint_state_pub_, &mechanism_state_pub_, &marker_pub_,
                               &diagnostics_pub_, &clock_pub_, &reset_event_pub_})
     pub->shutdown();
@@ -183,6 +187,11 @@ void KaneSimNode::runOneTick() {
           driver_.time(), kMaxStampableSimTime);
     stopped_at_time_limit_ = paused_ = true;
     return;
+  }
+  if (config_.simulation.lockstep && driver_.ticks() % ticks_per_publish_ == 0 &&
+      !lockstep_answered_) {
+    if (!waitForLockstepAnswer()) return;
+    loop_.anchor();  // waiting for the controller is not lateness
   }
   const TickScheduler::Timing timing = loop_.startTick();
   stats_.recordTick(timing.lateness, timing.overrun, timing.skipped);
@@ -258,6 +267,7 @@ void KaneSimNode::checkSimTimeSetting() {
 
 void KaneSimNode::publishState() {
   const ros::Time now = stamp();
+  if (now != last_state_stamp_) lockstep_answered_ = false;  // a new state awaits its answer
   last_state_stamp_ = now;
   const auto wall_now = SteadyClock::now();
   const double wall_elapsed = wallSeconds(wall_now - last_publish_wall_);
@@ -318,6 +328,41 @@ void KaneSimNode::maybeReportLoopHealth() {
   window_start_sim_ = driver_.time();
 }
 
+void KaneSimNode::onTorqueCommandStamped(const TorqueCommandStamped::ConstPtr& msg) {
+  const bool answers_last_state = msg->header.stamp == last_state_stamp_;
+  // In lockstep a late answer (to a state already stepped past) is dropped: only the answer to
+  // the state in force is applied, whatever the timing.
+  if (config_.simulation.lockstep && !answers_last_state) {
+    ROS_DEBUG_THROTTLE(1.0, "kane_sim: lockstep: dropped a late torque_command_stamped");
+    return;
+  }
+  diagnostics_.commandReceived(driver_.command(msg->torque) != TorqueCommand::Verdict::kAccepted);
+  if (answers_last_state) lockstep_answered_ = true;
+}
+
+bool KaneSimNode::waitForLockstepAnswer() {
+  const auto deadline =
+      SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(
+                               std::chrono::duration<double>(config_.simulation.lockstep_timeout));
+  while (!lockstep_answered_) {
+    if (!ros::ok() || paused_) return false;
+    if (SteadyClock::now() >= deadline) {
+      diagnostics_.lockstepTimedOut();
+      const bool zero = config_.simulation.lockstep_fallback == LockstepFallback::kZero;
+      if (zero) driver_.command(0.0);
+      ROS_WARN_THROTTLE(5.0,
+                        "kane_sim: lockstep: no torque_command_stamped for the state at t = %.6f "
+                        "s within %g s; %s and stepping on",
+                        driver_.time(), config_.simulation.lockstep_timeout,
+                        zero ? "commanding 0 N m" : "holding the last command");
+      lockstep_answered_ = true;
+      break;
+    }
+    ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.001));
+  }
+  return true;
+}
+
 void KaneSimNode::onTorqueCommand(const std_msgs::Float64::ConstPtr& msg) {
   diagnostics_.commandReceived(driver_.command(msg->data) != TorqueCommand::Verdict::kAccepted);
 }
@@ -326,6 +371,7 @@ bool KaneSimNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
   driver_.reset();
   ROS_INFO("kane_sim: reset to the initial state (sim time runs on at %.3f s)", driver_.time());
   publishState();
+  lockstep_answered_ = false;  // in /clock mode the moved state keeps the stamp: answer it anew
   announceReset("reset");
   return true;
 }
@@ -346,6 +392,7 @@ bool KaneSimNode::onSetState(SetState::Request& req, SetState::Response& res) {
   res.message = msg.str();
   ROS_INFO("kane_sim: %s", res.message.c_str());
   publishState();
+  lockstep_answered_ = false;
   announceReset("set_state");
   return true;
 }
@@ -407,8 +454,7 @@ bool KaneSimNode::onStep(std_srvs::Trigger::Request&, std_srvs::Trigger::Respons
   return true;
 }
 
-bool KaneSimNode::onStepWithCommand(StepWithCommand::Request& req,
-                                    StepWithCommand::Response& res) {
+bool KaneSimNode::onStepWithCommand(StepWithCommand::Request& req, StepWithCommand::Response& res) {
   const auto refuse = [&res](const std::string& why) {
     res.success = false;
     res.message = why + "; nothing changed";
@@ -427,9 +473,9 @@ bool KaneSimNode::onStepWithCommand(StepWithCommand::Request& req,
   ProfileCommands commands(held, config_.command.timeout);
   commands.update(driver_);
   const double start = driver_.time();
-  const RunEnd end =
-      runProfile(driver_, commands, req.steps, req.steps, nullptr, [](const SimDriver&) {},
-                 [](const SimDriver&) {});
+  const RunEnd end = runProfile(
+      driver_, commands, req.steps, req.steps, nullptr, [](const SimDriver&) {},
+      [](const SimDriver&) {});
   publishState();
   const Snapshot snapshot = driver_.snapshot();
   res.time = snapshot.time;

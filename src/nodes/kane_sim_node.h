@@ -20,6 +20,7 @@
 
 #include "kane_sim/SetState.h"
 #include "kane_sim/StepWithCommand.h"
+#include "kane_sim/TorqueCommandStamped.h"
 #include "kane_sim/config/config.h"
 #include "kane_sim/description/robot_description.h"
 #include "kane_sim/sim/sim_driver.h"
@@ -47,6 +48,10 @@ class KaneSimNode {
   static Config loadParameters(const YAML::Node& tree, const ros::NodeHandle& private_nh);
 
   void onTorqueCommand(const std_msgs::Float64::ConstPtr& msg);
+  void onTorqueCommandStamped(const TorqueCommandStamped::ConstPtr& msg);
+  // Lockstep: serves callbacks until the last published state is answered (or the timeout's
+  // fallback); false when interrupted (shutdown, pause).
+  bool waitForLockstepAnswer();
   bool onReset(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool onPause(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool onUnpause(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
@@ -84,6 +89,7 @@ class KaneSimNode {
   bool paused_;
 
   ros::Subscriber torque_sub_;
+  ros::Subscriber torque_stamped_sub_;
   ros::Publisher joint_state_pub_;
   ros::Publisher mechanism_state_pub_;
   ros::Publisher marker_pub_;
@@ -96,8 +102,9 @@ class KaneSimNode {
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_broadcaster_;
   std::unique_ptr<RuntimeParameters> runtime_parameters_;
 
-  ros::Time last_tf_stamp_;     // never two transforms of one frame with one stamp
-  ros::Time last_state_stamp_;  // the stamp of the last published state
+  ros::Time last_tf_stamp_;         // never two transforms of one frame with one stamp
+  ros::Time last_state_stamp_;      // the stamp of the last published state
+  bool lockstep_answered_ = false;  // a stamped command answered last_state_stamp_
   bool stopped_at_time_limit_ = false;
   SteadyClock::time_point last_publish_wall_;
   double last_publish_sim_ = 0.0;

@@ -163,6 +163,21 @@ struct Counting : ros::CallbackInterface {
   std::atomic<int>* calls_;
 };
 
+TEST_F(NodeLoop, LockstepTimeoutsAreCountedAndWarned) {
+  LoopDiagnostics diagnostics{DiagnosticsSettings{}};
+  const LoopDiagnostics::LoopState loop{"/kane_sim", "/", false, false, 1000.0, 0.0, 1.0};
+  diagnostics.lockstepTimedOut();
+  diagnostics.lockstepTimedOut();
+  const auto late = diagnostics.close(window(100, 0), 1.0, loop);
+  EXPECT_EQ(late.level, diagnostic_msgs::DiagnosticStatus::WARN);
+  EXPECT_NE(late.message.find("lockstep: 2 states got no torque_command_stamped in time"),
+            std::string::npos)
+      << late.message;
+  EXPECT_EQ(value(late, "lockstep timeouts"), "2");
+  EXPECT_EQ(diagnostics.close(window(100, 0), 1.0, loop).level,
+            diagnostic_msgs::DiagnosticStatus::OK);
+}
+
 TEST_F(NodeLoop, PacedWaitServesCallbacksAndKeepsTheDeadline) {
   ros::CallbackQueue queue;
   PacedLoop loop(0.2, 0.1);  // a slow tick: 200 ms

@@ -100,7 +100,20 @@ catkin_lint_clean() {
   echo "     $(grep -c 'notice:' "$work/lint") notices (README, Package checks), no warnings or errors"
 }
 
+# lockstep:=true controller:=true: the controller answers stamped, so lockstep never waits for a
+# timeout: as fast as possible (real_time_factor 0) it covers many simulated seconds per second.
+lockstep_runs_with_the_controller() {
+  start lockstep:=true controller:=true real_time_factor:=0 || return 1
+  [ "$(rosparam get /pd_controller/stamped)" = "true" ] || { echo "     controller not stamped"; return 1; }
+  local a b
+  a=$(field /mechanism_state/sim_time); sleep 1; b=$(field /mechanism_state/sim_time)
+  stop
+  /usr/bin/python3 -c "import sys; sys.exit(not float(sys.argv[2]) - float(sys.argv[1]) > 2.0)" "$a" "$b" ||
+    { echo "     lockstep advanced only $a -> $b s of sim time in ~1 s"; return 1; }
+}
+
 check "relaunch on the same master takes the new config" relaunch_takes_the_new_config
+check "lockstep with the example controller runs at the controller's pace" lockstep_runs_with_the_controller
 check "wall-clock launch after a sim-time launch stamps wall time" wall_clock_after_sim_time
 check "the config file's publish_clock is honoured without launch arguments" config_publish_clock_is_honoured
 check "every rosrun in the README resolves to one executable" readme_rosruns_resolve_once

@@ -24,6 +24,12 @@ inline double wholeStepsPerPeriod(double physics_rate, double rate) {
   return std::abs(ratio - whole) <= 1e-9 * ratio ? whole : 0.0;
 }
 
+// What lockstep does when no answer came in time: keep the last command, or command 0 N m.
+enum class LockstepFallback { kHold, kZero };
+constexpr const char* lockstepFallbackName(LockstepFallback f) {
+  return f == LockstepFallback::kHold ? "hold" : "zero";
+}
+
 struct SimulationSettings {
   double physics_rate = 1000.0;  // [Hz], one physics step is 1/physics_rate of sim time
   IntegratorType integrator = IntegratorType::kRk4;
@@ -34,6 +40,11 @@ struct SimulationSettings {
   double real_time_factor = 1.0;     // sim time per wall time; 0 = as fast as possible
   bool publish_clock = false;        // true: the node owns /clock
   bool start_paused = false;         // true: the node waits for `unpause` or `step`
+  // Lockstep: the node steps past a published state only once a torque_command_stamped with that
+  // state's stamp arrived (or lockstep_timeout wall seconds passed: then the fallback).
+  bool lockstep = false;
+  double lockstep_timeout = 1.0;  // [s] wall
+  LockstepFallback lockstep_fallback = LockstepFallback::kHold;
 };
 
 struct CommandSettings {

@@ -42,6 +42,15 @@ inline double boundedParam(const ros::NodeHandle& pnh, const std::string& name, 
   return value;
 }
 
+// The boolean parameter `name` of `pnh`, or `fallback` when absent. Throws std::invalid_argument
+// when it is present but not true or false (a typo such as "yes" is not silently false).
+inline bool flagParam(const ros::NodeHandle& pnh, const std::string& name, bool fallback) {
+  bool value = fallback;
+  if (pnh.hasParam(name) && !pnh.getParam(name, value))
+    throw std::invalid_argument("parameter " + pnh.resolveName(name) + " must be true or false");
+  return value;
+}
+
 }  // namespace kane_sim
 
 #endif  // KANE_SIM_ROS_NODE_PARAMS_H

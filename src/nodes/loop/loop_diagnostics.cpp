@@ -54,7 +54,13 @@ diagnostic_msgs::DiagnosticStatus LoopDiagnostics::close(const LoopStats::Summar
   add("torque commands received [1/s]", wall_window > 0 ? commands_ / wall_window : 0.0);
   add("torque commands rejected or clamped", static_cast<double>(commands_refused_));
   add("physics steps refused", static_cast<double>(steps_refused_));
-  commands_ = commands_refused_ = steps_refused_ = 0;
+  add("lockstep timeouts", static_cast<double>(lockstep_timeouts_));
+  if (lockstep_timeouts_ > 0 && status.level == diagnostic_msgs::DiagnosticStatus::OK) {
+    status.level = diagnostic_msgs::DiagnosticStatus::WARN;
+    status.message += "; lockstep: " + std::to_string(lockstep_timeouts_) +
+                      " states got no torque_command_stamped in time (fallback applied)";
+  }
+  commands_ = commands_refused_ = steps_refused_ = lockstep_timeouts_ = 0;
   return status;
 }
 

@@ -24,6 +24,7 @@ class LoopDiagnostics {
     ++commands_;
     if (refused) ++commands_refused_;
   }
+  void lockstepTimedOut() { ++lockstep_timeouts_; }
   void stepRefused(const std::string& why) {
     ++steps_refused_;
     last_refusal_ = why;
@@ -51,6 +52,7 @@ class LoopDiagnostics {
   std::uint64_t commands_ = 0;
   std::uint64_t commands_refused_ = 0;
   std::uint64_t steps_refused_ = 0;
+  std::uint64_t lockstep_timeouts_ = 0;
   std::string last_refusal_;
 };
 

@@ -1,0 +1,159 @@
+// Lockstep (test/node/lockstep.test, and lockstep_hog.test with two busy processes competing for
+// the cores): the node steps past a published state only once the controller's
+// torque_command_stamped answers it, so the trajectory is the offline driver's under the same
+// law (pd_law.h, sampled at every publish, torque held between) bit for bit, whatever the load.
+#include <signal.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <vector>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <gtest/gtest.h>
+#include <sensor_msgs/JointState.h>
+#include <std_msgs/Float64.h>
+#include <std_srvs/Empty.h>
+
+#include "kane_sim/MechanismState.h"
+#include "kane_sim/ros/param_yaml.h"
+#include "kane_sim/sim/config_check.h"
+#include "kane_sim/sim/sim_driver.h"
+#include "node_test_utils.h"
+#include "pd_law.h"
+
+namespace kane_sim {
+namespace {
+
+using test::Recorder;
+
+// Two processes spinning on a core each while the test runs (killed when it ends).
+class CpuHog {
+ public:
+  explicit CpuHog(bool on) {
+    for (int i = 0; on && i < 2; ++i) {
+      const pid_t pid = fork();
+      if (pid == 0) {
+        volatile unsigned long spin = 0;
+        for (;;) ++spin;
+      }
+      if (pid > 0) pids_.push_back(pid);
+    }
+  }
+  ~CpuHog() {
+    for (pid_t pid : pids_) {
+      kill(pid, SIGKILL);
+      waitpid(pid, nullptr, 0);
+    }
+  }
+  size_t size() const { return pids_.size(); }
+
+ private:
+  std::vector<pid_t> pids_;
+};
+
+TEST(Lockstep, TheTrajectoryIsTheOfflineOneBitForBitWhateverTheLoad) {
+  ros::NodeHandle nh;
+  ros::NodeHandle pnh("~");
+  bool hog_on = false;
+  pnh.getParam("hog", hog_on);
+  Recorder<sensor_msgs::JointState> js(nh, "joint_states");
+  ASSERT_TRUE(js.waitForCount(1, 20.0));  // the paused initial state
+  // The controller answers it (once a second the paused state is repeated; its answer is in).
+  ASSERT_TRUE(test::waitFor(
+      [] {
+        return ros::topic::waitForMessage<sensor_msgs::JointState>("joint_states",
+                                                                   ros::Duration(2.0)) != nullptr;
+      },
+      5.0));
+  test::sleepWall(1.5);
+  const ros::Time paused_stamp = js.last().header.stamp;
+  js.clear();
+  CpuHog hog(hog_on);
+  ASSERT_EQ(hog.size(), hog_on ? 2u : 0u);
+  std_srvs::Empty empty;
+  ASSERT_TRUE(ros::service::waitForService("kane_sim/unpause", ros::Duration(10.0)));
+  ASSERT_TRUE(ros::service::call("kane_sim/unpause", empty));
+  constexpr size_t kPublishes = 300;  // 3 s of sim time at 100 Hz
+  ASSERT_TRUE(js.waitForCount(kPublishes + 2, 60.0)) << js.count();
+  ros::service::call("kane_sim/pause", empty);
+
+  // Offline: the node's own config, the controller's gains, the law at every publish.
+  XmlRpc::XmlRpcValue params;
+  ASSERT_TRUE(ros::param::get("/kane_sim", params));
+  const Config config = loadSimulationConfig(yamlFromXmlRpc(params)).config;
+  PdGains gains;
+  double setpoint = 0.0;
+  ASSERT_TRUE(ros::param::get("/pd_controller/kp", gains.kp));
+  ASSERT_TRUE(ros::param::get("/pd_controller/kd", gains.kd));
+  ASSERT_TRUE(ros::param::get("/pd_controller/torque_limit", gains.torque_limit));
+  ASSERT_TRUE(ros::param::get("/pd_controller/setpoint", setpoint));
+  SimDriver driver(config, {});
+  // The paused state may be repeated (once a second) after the clear: not a stepped state.
+  std::vector<sensor_msgs::JointState> recorded;
+  for (const auto& m : js.messages())
+    if (m.header.stamp != paused_stamp) recorded.push_back(m);
+  ASSERT_GE(recorded.size(), kPublishes);
+  // The first message after unpausing is the first stepped state; the paused one was answered.
+  const int ticks_per_publish = static_cast<int>(
+      wholeStepsPerPeriod(config.simulation.physics_rate, config.simulation.publish_rate));
+  size_t compared = 0;
+  for (size_t k = 0; k < kPublishes; ++k) {
+    const State& x = driver.simulator().state();
+    driver.command(pdTorque(gains, setpoint, x.q1, x.u1));
+    for (int i = 0; i < ticks_per_publish; ++i) ASSERT_TRUE(driver.step());
+    const sensor_msgs::JointState& m = recorded[k];
+    const Snapshot s = driver.snapshot();
+    ASSERT_EQ(m.position.size(), 4u);
+    for (int j = 0; j < 4; ++j) {
+      EXPECT_EQ(m.position[j], s.joints.position[j]) << "publish " << k << " joint " << j;
+      EXPECT_EQ(m.velocity[j], s.joints.velocity[j]) << "publish " << k << " joint " << j;
+    }
+    EXPECT_EQ(m.effort[0], s.joints.effort[0]) << "publish " << k;
+    ++compared;
+    if (::testing::Test::HasFailure()) break;
+  }
+  EXPECT_EQ(compared, kPublishes);
+  // The controller did move the crank: a comparison of a mechanism at rest would prove little.
+  EXPECT_GT(std::abs(recorded[kPublishes - 1].position[0] - config.initial_state.q1), 0.2);
+}
+
+}  // namespace
+}  // namespace kane_sim
+
+namespace kane_sim {
+namespace {
+
+// Nobody answers: each published state waits lockstep_timeout (0.05 s wall) and then the
+// fallback zeroes the torque; /diagnostics counts the timeouts and says WARN.
+TEST(LockstepFallback, WithoutAnswersEachStateWaitsThenTheFallbackApplies) {
+  ros::NodeHandle nh;
+  Recorder<MechanismState> state(nh, "mechanism_state");
+  Recorder<diagnostic_msgs::DiagnosticArray> diagnostics(nh, "/diagnostics");
+  ros::Publisher torque = nh.advertise<std_msgs::Float64>("torque_command", 10);
+  ASSERT_TRUE(state.waitForCount(3, 20.0));
+  ASSERT_TRUE(test::waitFor([&] { return torque.getNumSubscribers() > 0; }, 5.0));
+  std_msgs::Float64 five;
+  five.data = 5.0;
+  torque.publish(five);  // a plain command: applied, but it answers no state
+  const double t0 = state.last().sim_time;
+  test::sleepWall(1.0);
+  // ~1 publish period (10 ms of sim time) per 0.05 s of wall time: about 0.2 s, far from the
+  // 1 s a free-running wall-clock sim would cover. Loose bounds: a loaded machine is slower.
+  const double advanced = state.last().sim_time - t0;
+  EXPECT_GT(advanced, 0.05);
+  EXPECT_LT(advanced, 0.5);
+  // The fallback zeroed the command after the first timeout following it.
+  EXPECT_EQ(state.last().applied_torque, 0.0);
+  ASSERT_TRUE(diagnostics.waitForCount(2, 5.0));
+  bool warned = false;
+  for (const auto& array : diagnostics.messages())
+    for (const auto& status : array.status)
+      for (const auto& kv : status.values)
+        if (kv.key == "lockstep timeouts" && std::stod(kv.value) > 5)
+          warned = status.level == diagnostic_msgs::DiagnosticStatus::WARN;
+  EXPECT_TRUE(warned);
+}
+
+}  // namespace
+}  // namespace kane_sim
