@@ -227,8 +227,9 @@ void readParameter(Section& s, const ParameterSpec& p, Config* config) {
   }
   if (f.whole) {
     if (value != std::floor(value))
-      throw ConfigError(
-          key, "must be a whole number of " + std::string(p.unit) + ", got " + formatValue(value));
+      throw ConfigError(key, "must be a whole number" +
+                                 (*p.unit ? " of " + std::string(p.unit) : std::string()) +
+                                 ", got " + formatValue(value));
     f.whole(*config) = static_cast<int>(value);
   } else {
     f.number(*config) = value;

@@ -66,6 +66,7 @@ class KaneSimNode {
   void connect();                       // advertise, subscribe, offer the services
   void publishRobotDescription();       // robot_description (URDF) and the static tf
   void reconnect();                     // the same again after the master restarted
+  void applyRealtimePriority();         // simulation.realtime_priority, or why not
   void runOneTick();                    // paced physics tick (+ publishing on the publish grid)
   void waitWhilePaused();               // serve callbacks, keep wall-clock topics alive
   void onEvent(const SimEvent& event);  // the driver's events -> rosconsole (and diagnostics)

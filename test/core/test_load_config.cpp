@@ -147,6 +147,12 @@ TEST(LoadConfig, OutOfRangeValuesNameKeyAndValue) {
   const Case cases[] = {
       {"mechanism", "rod_mass", "-1", "must be > 0, got -1"},
       {"mechanism", "slider3_mass", "0", "must be > 0, got 0"},
+      {"simulation", "realtime_priority", "100", "must be in [0, 99] (0 = off, else a SCHED_FIFO"},
+      {"simulation", "realtime_priority", "-1", "must be in [0, 99]"},
+      {"simulation", "realtime_priority", "2.5", "must be a whole number, got 2.5"},
+      {"simulation", "lockstep_timeout", "0", "must be in [0.001, 3600] s (wall), got 0"},
+      {"simulation", "lockstep_fallback", "halt",
+       "unknown lockstep fallback 'halt' (valid: hold, zero)"},
       {"mechanism", "rod_half_length", "-0.25", "must be > 0, got -0.25"},
       {"mechanism", "rod_inertia", "0", "must be > 0, got 0"},
       {"mechanism", "spring_stiffness", "-3", "must be >= 0, got -3"},

@@ -1,6 +1,12 @@
 // The node's loop parts, each alone and without a master: stamps (sim epoch, monotonic wall
 // stamps, the /use_sim_time check), the master watch (a fake getPid), the /diagnostics status of
 // a window, and the paced wait that serves callbacks.
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
 #include <thread>
@@ -13,6 +19,7 @@
 #include "loop/loop_diagnostics.h"
 #include "loop/master_watch.h"
 #include "loop/paced_loop.h"
+#include "loop/realtime.h"
 #include "loop/stamp_clock.h"
 
 namespace kane_sim {
@@ -176,6 +183,42 @@ TEST_F(NodeLoop, LockstepTimeoutsAreCountedAndWarned) {
   EXPECT_EQ(value(late, "lockstep timeouts"), "2");
   EXPECT_EQ(diagnostics.close(window(100, 0), 1.0, loop).level,
             diagnostic_msgs::DiagnosticStatus::OK);
+}
+
+// In a child process (the test's own scheduling stays as it is): `check` returns the exit code.
+template <typename Check>
+int inChild(Check check) {
+  const pid_t pid = fork();
+  if (pid == 0) _exit(check());
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 100;
+}
+
+TEST_F(NodeLoop, RealtimeIsRefusedWithTheReasonWithoutPrivileges) {
+  if (geteuid() != 0) GTEST_SKIP() << "needs root to become an unprivileged user";
+  const int code = inChild([] {
+    if (setgid(65534) != 0 || setuid(65534) != 0) return 10;  // nobody
+    const RealtimeResult r = makeRealtime(10);
+    if (r.scheduled) return 11;
+    if (r.problem.find("SCHED_FIFO priority 10 refused") == std::string::npos) return 12;
+    if (r.problem.find("rtprio") == std::string::npos) return 13;
+    return sched_getscheduler(0) == SCHED_OTHER ? 0 : 14;
+  });
+  EXPECT_EQ(code, 0);
+}
+
+TEST_F(NodeLoop, RealtimeSchedulesFifoAndLocksMemoryWhenPermitted) {
+  if (geteuid() != 0) GTEST_SKIP() << "SCHED_FIFO needs root (or an rtprio limit)";
+  const int code = inChild([] {
+    const RealtimeResult r = makeRealtime(10);
+    if (!r.scheduled || !r.memory_locked || !r.problem.empty()) return 20;
+    sched_param param{};
+    int policy = 0;
+    if (pthread_getschedparam(pthread_self(), &policy, &param) != 0) return 21;
+    return policy == SCHED_FIFO && param.sched_priority == 10 ? 0 : 22;
+  });
+  EXPECT_EQ(code, 0);
 }
 
 TEST_F(NodeLoop, PacedWaitServesCallbacksAndKeepsTheDeadline) {

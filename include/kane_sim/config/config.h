@@ -45,6 +45,8 @@ struct SimulationSettings {
   bool lockstep = false;
   double lockstep_timeout = 1.0;  // [s] wall
   LockstepFallback lockstep_fallback = LockstepFallback::kHold;
+  // > 0: the node's physics loop runs SCHED_FIFO at this priority with its memory locked.
+  int realtime_priority = 0;
 };
 
 struct CommandSettings {
