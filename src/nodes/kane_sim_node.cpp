@@ -380,6 +380,7 @@ bool KaneSimNode::waitForLockstepAnswer() {
       break;
     }
     ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.001));
+    maybeReportLoopHealth();  // /diagnostics goes on while a slow controller thinks
   }
   return true;
 }
