@@ -105,6 +105,10 @@ TEST(BadParam, SmallNodesRefuseBadNumbersNamingThem) {
        "parameter /pd_huge/kp must be finite and >= 0, got -1e+200"},
       {"crank_marker __name:=marker_neg _scale:=-1e300",
        "parameter /marker_neg/scale must be finite and > 0, got -1e+300"},
+      // The example controller's integral gain and its lockstep switch (a typo is not false).
+      {"pd_controller __name:=pd_ki _ki:=-5", "parameter /pd_ki/ki must be finite and >= 0"},
+      {"pd_controller __name:=pd_stamped _stamped:=yes",
+       "parameter /pd_stamped/stamped must be true or false"},
   };
   for (const Case& c : cases) {
     const kane_sim::test::CommandResult r = kane_sim::test::runCommand(

@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <vector>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -16,6 +17,7 @@
 #include <std_srvs/Empty.h>
 
 #include "kane_sim/MechanismState.h"
+#include "kane_sim/TorqueCommandStamped.h"
 #include "kane_sim/ros/param_yaml.h"
 #include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/sim_driver.h"
@@ -153,6 +155,25 @@ TEST(LockstepFallback, WithoutAnswersEachStateWaitsThenTheFallbackApplies) {
         if (kv.key == "lockstep timeouts" && std::stod(kv.value) > 5)
           warned = status.level == diagnostic_msgs::DiagnosticStatus::WARN;
   EXPECT_TRUE(warned);
+
+  // Hostile answers on the stamped topic: NaN, ±inf, 1e308 for the state in force. Refused or
+  // clamped as on torque_command; the node runs on and publishes only finite numbers.
+  ros::Publisher stamped = nh.advertise<TorqueCommandStamped>("torque_command_stamped", 10);
+  ASSERT_TRUE(test::waitFor([&] { return stamped.getNumSubscribers() > 0; }, 5.0));
+  for (const double hostile : {std::nan(""), HUGE_VAL, -HUGE_VAL, 1e308}) {
+    TorqueCommandStamped answer;
+    answer.header.stamp = state.last().header.stamp;
+    answer.torque = hostile;
+    stamped.publish(answer);
+    test::sleepWall(0.1);
+  }
+  const double before = state.last().sim_time;
+  test::sleepWall(0.5);
+  EXPECT_GT(state.last().sim_time, before);
+  for (const auto& m : state.messages()) {
+    EXPECT_TRUE(std::isfinite(m.applied_torque));
+    EXPECT_LE(std::abs(m.applied_torque), 50.0);
+  }
 }
 
 }  // namespace
