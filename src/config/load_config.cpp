@@ -262,6 +262,17 @@ void checkSimulation(const Section& s, const SimulationSettings& sim) {
                           formatValue(sim.publish_rate));
 }
 
+void checkSensors(const Section& s, const SensorSettings& sensors, const SimulationSettings& sim) {
+  if (sensors.rate == 0.0) return;  // publish_rate's, checked above
+  requireRange(s.keyPath("rate"), sensors.rate, sim.physics_rate / kMaxStepsPerPublish,
+               sim.physics_rate, "Hz (0 = simulation.publish_rate)");
+  if (wholeStepsPerPeriod(sim.physics_rate, sensors.rate) == 0.0)
+    throw ConfigError(s.keyPath("rate"), "must divide simulation.physics_rate (" +
+                                             formatValue(sim.physics_rate) +
+                                             " Hz) into a whole number of physics steps, got " +
+                                             formatValue(sensors.rate));
+}
+
 void checkFrames(const Section& s, const FrameSettings& f) {
   // world is the parent of the mechanism's frames: naming it like one of them makes a loop.
   const FrameNames names(f);
@@ -319,6 +330,7 @@ LoadedConfig loadConfig(const YAML::Node& root) {
     if (s.name() == "mechanism") checkMechanism(s, &config.mechanism);
     if (s.name() == "simulation") checkSimulation(s, config.simulation);
     if (s.name() == "frames") checkFrames(s, config.frames);
+    if (s.name() == "sensors") checkSensors(s, config.sensors, config.simulation);
   }
   config.mechanism.motor.torque_limit = config.command.torque_limit;  // the line's stall torque
 

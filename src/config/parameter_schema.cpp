@@ -44,6 +44,201 @@ constexpr ReconfigureSpec operational(const char* name, double gui_min, double g
   return {name, 0, gui_min, gui_max};
 }
 
+// sensors.<joint>_*: four parameters per joint, each reaching its joint's settings.
+template <int J>
+double& positionNoise(Config& c) {
+  return c.sensors.joints[J].position_noise;
+}
+template <int J>
+double& velocityNoise(Config& c) {
+  return c.sensors.joints[J].velocity_noise;
+}
+template <int J>
+double& biasWalk(Config& c) {
+  return c.sensors.joints[J].bias_walk;
+}
+template <int J>
+double& encoderCounts(Config& c) {
+  return c.sensors.joints[J].encoder_counts;
+}
+
+struct JointSensorKeys {
+  const char* position_noise;
+  const char* velocity_noise;
+  const char* bias_walk;
+  const char* encoder_counts;
+  bool revolute;
+};
+constexpr JointSensorKeys kJointSensorKeys[kNumJoints] = {
+    {"crank_position_noise", "crank_velocity_noise", "crank_bias_walk", "crank_encoder_counts",
+     true},
+    {"coupler_position_noise", "coupler_velocity_noise", "coupler_bias_walk",
+     "coupler_encoder_counts", true},
+    {"slider3_position_noise", "slider3_velocity_noise", "slider3_bias_walk",
+     "slider3_encoder_counts", false},
+    {"slider4_position_noise", "slider4_velocity_noise", "slider4_bias_walk",
+     "slider4_encoder_counts", false}};
+
+// σ up to 1e6 (of rad or m) keeps every reading finite over the longest stampable run.
+constexpr ValueRule kNoiseRule{ValueRule::kRange, 0.0, 1e6, ""};
+constexpr ValueRule kCountsRule{ValueRule::kZeroOrRange, 1.0, 1e12, "(0 = not quantised)"};
+
+template <int J>
+void appendJointSensor(std::vector<ParameterSpec>* out) {
+  const JointSensorKeys& k = kJointSensorKeys[J];
+  const auto number = [](double& (*field)(Config&)) {
+    ConfigField f;
+    f.number = field;
+    return f;
+  };
+  const std::string joint = kJointNames[J];
+  static const std::string docs[4] = {
+      joint + ": σ of the white noise on position", joint + ": σ of the white noise on velocity",
+      joint + ": position bias random walk (its σ grows as this × √t)",
+      joint + ": encoder resolution; position rounded to whole counts"};
+  out->push_back({"sensors",
+                  k.position_noise,
+                  "",
+                  k.revolute ? "rad" : "m",
+                  kNoiseRule,
+                  number(&positionNoise<J>),
+                  false,
+                  docs[0].c_str(),
+                  "",
+                  "",
+                  {},
+                  "",
+                  kFixed});
+  out->push_back({"sensors",
+                  k.velocity_noise,
+                  "",
+                  k.revolute ? "rad/s" : "m/s",
+                  kNoiseRule,
+                  number(&velocityNoise<J>),
+                  false,
+                  docs[1].c_str(),
+                  "",
+                  "",
+                  {},
+                  "",
+                  kFixed});
+  out->push_back({"sensors",
+                  k.bias_walk,
+                  "",
+                  k.revolute ? "rad/√s" : "m/√s",
+                  kNoiseRule,
+                  number(&biasWalk<J>),
+                  false,
+                  docs[2].c_str(),
+                  "",
+                  "",
+                  {},
+                  "",
+                  kFixed});
+  out->push_back({"sensors",
+                  k.encoder_counts,
+                  "",
+                  k.revolute ? "counts/turn" : "counts/m",
+                  kCountsRule,
+                  number(&encoderCounts<J>),
+                  false,
+                  docs[3].c_str(),
+                  "",
+                  "",
+                  {},
+                  "",
+                  kFixed});
+}
+
+// The sensors section: what joint_states carries when they are on (sim/ sensors).
+void appendSensorParameters(std::vector<ParameterSpec>* out) {
+  constexpr ValueRule kLatencyRule{ValueRule::kRange, 0.0, 10.0, "s"};
+  out->push_back({"sensors",
+                  "enabled",
+                  "",
+                  "",
+                  kFlag,
+                  KANE_SIM_FLAG(sensors.enabled),
+                  false,
+                  "joint_states carries the sensor view below (ground truth on "
+                  "joint_states_true and mechanism_state); false: the truth",
+                  "",
+                  "",
+                  {},
+                  "",
+                  kFixed});
+  out->push_back({"sensors",
+                  "seed",
+                  "",
+                  "",
+                  {ValueRule::kWholeRange, 0.0, 2147483647.0, ""},
+                  wholeField([](Config& c) -> int& { return c.sensors.seed; }),
+                  false,
+                  "seed of the sensors' random numbers: one seed, one sequence of readings",
+                  "",
+                  "",
+                  {},
+                  "",
+                  kFixed});
+  out->push_back({"sensors",
+                  "rate",
+                  "",
+                  "Hz",
+                  kNonNegative,
+                  KANE_SIM_NUMBER(sensors.rate),
+                  false,
+                  "readings per second on joint_states (0: simulation.publish_rate)",
+                  "0 or a whole number of physics steps per reading",
+                  "",
+                  {},
+                  "",
+                  kFixed});
+  out->push_back({"sensors",
+                  "latency",
+                  "",
+                  "s",
+                  kLatencyRule,
+                  KANE_SIM_NUMBER(sensors.latency),
+                  false,
+                  "each reading reaches joint_states this much later (rounded to physics steps)",
+                  "",
+                  "",
+                  {},
+                  "",
+                  kFixed});
+  out->push_back({"sensors",
+                  "latency_jitter",
+                  "",
+                  "s",
+                  kLatencyRule,
+                  KANE_SIM_NUMBER(sensors.latency_jitter),
+                  false,
+                  "plus a delay uniform in [0, this] per reading; readings never overtake",
+                  "",
+                  "",
+                  {},
+                  "",
+                  kFixed});
+  out->push_back({"sensors",
+                  "command_latency",
+                  "",
+                  "s",
+                  kLatencyRule,
+                  KANE_SIM_NUMBER(sensors.command_latency),
+                  false,
+                  "a torque command is in force this much after it arrives (rounded to physics "
+                  "steps)",
+                  "",
+                  "",
+                  {},
+                  "",
+                  kFixed});
+  appendJointSensor<kCrankJoint>(out);
+  appendJointSensor<kCouplerJoint>(out);
+  appendJointSensor<kSlider3Joint>(out);
+  appendJointSensor<kSlider4Joint>(out);
+}
+
 std::vector<ParameterSpec> declareParameters() {
   ConfigField integrator;
   integrator.get_choice = [](const Config& c) { return static_cast<int>(c.simulation.integrator); };
@@ -71,7 +266,7 @@ std::vector<ParameterSpec> declareParameters() {
 
   // section, key, symbol, unit, rule, field, required, doc, cross_rule, default_text, choices,
   // choice_noun, reconfigure
-  return {
+  std::vector<ParameterSpec> parameters = {
       // ---- mechanism: the textbook's parameters --------------------------------------------
       {"mechanism",
        "rod_mass",
@@ -580,6 +775,8 @@ std::vector<ParameterSpec> declareParameters() {
        "",
        kFixed},
   };
+  appendSensorParameters(&parameters);
+  return parameters;
 }
 
 #undef KANE_SIM_NUMBER
@@ -624,8 +821,9 @@ const std::vector<ParameterSpec>& parameterSchema() {
 
 const std::vector<SectionSpec>& configSections() {
   static const std::vector<SectionSpec> sections = {
-      {"mechanism", true}, {"initial_state", true}, {"simulation", false}, {"command", false},
-      {"damping", false},  {"contact", false},      {"frames", false},     {"diagnostics", false}};
+      {"mechanism", true}, {"initial_state", true}, {"simulation", false},
+      {"command", false},  {"damping", false},      {"contact", false},
+      {"frames", false},   {"diagnostics", false},  {"sensors", false}};
   return sections;
 }
 

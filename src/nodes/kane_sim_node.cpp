@@ -98,7 +98,9 @@ void KaneSimNode::connect() {
   torque_stamped_sub_ =
       nh_.subscribe("torque_command_stamped", 10, &KaneSimNode::onTorqueCommandStamped, this,
                     ros::TransportHints().tcpNoDelay());
-  joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
+  joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>(kJointStatesTopic, 10);
+  if (driver_.sensorsEnabled())
+    joint_state_true_pub_ = nh_.advertise<sensor_msgs::JointState>(truthJointStatesTopic(true), 10);
   mechanism_state_pub_ = nh_.advertise<kane_sim::MechanismState>("mechanism_state", 10);
   marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("visualization_markers", 10);
   diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
@@ -133,8 +135,8 @@ void KaneSimNode::reconnect() {
   // (unregistering from a dead master fails quietly) and register everything again.
   torque_sub_.shutdown();
   torque_stamped_sub_.shutdown();
-  for (ros::Publisher* pub : {&joint_state_pub_, &mechanism_state_pub_, &marker_pub_,
-                              &diagnostics_pub_, &clock_pub_, &reset_event_pub_})
+  for (ros::Publisher* pub : {&joint_state_pub_, &joint_state_true_pub_, &mechanism_state_pub_,
+                              &marker_pub_, &diagnostics_pub_, &clock_pub_, &reset_event_pub_})
     pub->shutdown();
   for (ros::ServiceServer& service : services_) service.shutdown();
   tf_pub_.shutdown();
@@ -157,6 +159,7 @@ void KaneSimNode::run() {
   checkSimTimeSetting();
   publishRobotDescription();
   publishState();
+  publishDueSensorReadings();  // the reading at start, when it has no latency
   const auto now = SteadyClock::now();
   loop_.anchor();
   window_start_wall_ = last_publish_wall_ = now;
@@ -190,8 +193,7 @@ void KaneSimNode::runOneTick() {
     stopped_at_time_limit_ = paused_ = true;
     return;
   }
-  if (config_.simulation.lockstep && driver_.ticks() % ticks_per_publish_ == 0 &&
-      !lockstep_answered_) {
+  if (config_.simulation.lockstep && !lockstep_answered_) {
     if (!waitForLockstepAnswer()) return;
     loop_.anchor();  // waiting for the controller is not lateness
   }
@@ -204,6 +206,7 @@ void KaneSimNode::runOneTick() {
                       timing.skipped, config_.simulation.physics_rate);
   if (driver_.step()) {
     if (driver_.ticks() % ticks_per_publish_ == 0) publishState();
+    publishDueSensorReadings();
   } else if (publishDueByWallClock()) {
     publishState();  // refused steps: the last good state, freshly stamped, keeps flowing
   }
@@ -286,9 +289,32 @@ void KaneSimNode::checkSimTimeSetting() {
   if (!warning.empty()) ROS_WARN("kane_sim: %s", warning.c_str());
 }
 
+void KaneSimNode::publishJointStates(const sensor_msgs::JointState& msg) {
+  if (msg.header.stamp != last_joint_states_stamp_) lockstep_answered_ = false;
+  last_joint_states_stamp_ = msg.header.stamp;
+  joint_state_pub_.publish(msg);
+}
+
+void KaneSimNode::publishDueSensorReadings() {
+  SensorReading reading;
+  while (driver_.takeSensorReading(&reading)) {
+    const sensor_msgs::JointState msg = jointStateMessage(reading.joints, stamp());
+    const auto finite = [](const std::vector<double>& v) {
+      return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+    };
+    if (!finite(msg.position) || !finite(msg.velocity) || !finite(msg.effort)) {
+      ROS_ERROR_THROTTLE(1.0,
+                         "kane_sim: a sensor reading sampled at t = %.6f s is not finite; not "
+                         "published (please report this with the config)",
+                         reading.sample_time);
+      continue;
+    }
+    publishJointStates(msg);
+  }
+}
+
 void KaneSimNode::publishState() {
   const ros::Time now = stamp();
-  if (now != last_state_stamp_) lockstep_answered_ = false;  // a new state awaits its answer
   last_state_stamp_ = now;
   const auto wall_now = SteadyClock::now();
   const double wall_elapsed = wallSeconds(wall_now - last_publish_wall_);
@@ -313,7 +339,10 @@ void KaneSimNode::publishState() {
     return;
   }
   const PublishedMessages msgs = buildMessages(snapshot, robot_, achieved_real_time_factor_, now);
-  joint_state_pub_.publish(msgs.joint_state);
+  if (driver_.sensorsEnabled())
+    joint_state_true_pub_.publish(msgs.joint_state);
+  else
+    publishJointStates(msgs.joint_state);
   mechanism_state_pub_.publish(msgs.mechanism_state);
   marker_pub_.publish(msgs.markers);
   // Never two transforms of one frame with one stamp for a listener that has them (it would
@@ -350,7 +379,7 @@ void KaneSimNode::maybeReportLoopHealth() {
 }
 
 void KaneSimNode::onTorqueCommandStamped(const TorqueCommandStamped::ConstPtr& msg) {
-  const bool answers_last_state = msg->header.stamp == last_state_stamp_;
+  const bool answers_last_state = msg->header.stamp == last_joint_states_stamp_;
   // In lockstep a late answer (to a state already stepped past) is dropped: only the answer to
   // the state in force is applied, whatever the timing.
   if (config_.simulation.lockstep && !answers_last_state) {
@@ -393,7 +422,10 @@ bool KaneSimNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
   driver_.reset();
   ROS_INFO("kane_sim: reset to the initial state (sim time runs on at %.3f s)", driver_.time());
   publishState();
-  lockstep_answered_ = false;  // in /clock mode the moved state keeps the stamp: answer it anew
+  // In /clock mode the moved state keeps the stamp: answer it anew. (With sensors on,
+  // joint_states goes on with readings of the moved state, each answered as it comes.)
+  if (!driver_.sensorsEnabled()) lockstep_answered_ = false;
+  publishDueSensorReadings();
   announceReset("reset");
   return true;
 }
@@ -414,7 +446,8 @@ bool KaneSimNode::onSetState(SetState::Request& req, SetState::Response& res) {
   res.message = msg.str();
   ROS_INFO("kane_sim: %s", res.message.c_str());
   publishState();
-  lockstep_answered_ = false;
+  if (!driver_.sensorsEnabled()) lockstep_answered_ = false;
+  publishDueSensorReadings();
   announceReset("set_state");
   return true;
 }
@@ -469,6 +502,7 @@ bool KaneSimNode::onStep(std_srvs::Trigger::Request&, std_srvs::Trigger::Respons
     }
   }
   publishState();
+  publishDueSensorReadings();
   std::ostringstream msg;
   msg << "advanced " << ticks_per_publish_ << " physics steps to t = " << driver_.time() << " s";
   res.success = true;
@@ -499,6 +533,7 @@ bool KaneSimNode::onStepWithCommand(StepWithCommand::Request& req, StepWithComma
       driver_, commands, req.steps, req.steps, nullptr, [](const SimDriver&) {},
       [](const SimDriver&) {});
   publishState();
+  publishDueSensorReadings();
   const Snapshot snapshot = driver_.snapshot();
   res.time = snapshot.time;
   res.q1 = snapshot.state.q1;

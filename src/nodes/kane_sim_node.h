@@ -13,6 +13,7 @@
 #include <string>
 
 #include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
 #include <std_msgs/Float64.h>
 #include <std_srvs/Empty.h>
 #include <std_srvs/Trigger.h>
@@ -73,8 +74,11 @@ class KaneSimNode {
   bool publishDueByWallClock() const;   // a publish period of wall time since the last one
   void checkSimTimeSetting();           // warn once when /use_sim_time contradicts our stamps
   void publishState();                  // joint_states, tf, mechanism_state (+ /clock)
-  void maybeReportLoopHealth();         // /diagnostics once per window
-  ros::Time stamp();                    // StampClock's, warning when the system clock went back
+  void publishDueSensorReadings();      // sensors on: readings due by now on joint_states
+  // joint_states (sensor view or truth): in lockstep, a new stamp awaits its answer.
+  void publishJointStates(const sensor_msgs::JointState& msg);
+  void maybeReportLoopHealth();  // /diagnostics once per window
+  ros::Time stamp();             // StampClock's, warning when the system clock went back
 
   ros::NodeHandle nh_;
   ros::NodeHandle private_nh_;
@@ -92,6 +96,7 @@ class KaneSimNode {
   ros::Subscriber torque_sub_;
   ros::Subscriber torque_stamped_sub_;
   ros::Publisher joint_state_pub_;
+  ros::Publisher joint_state_true_pub_;  // sensors on: the truth beside the sensor view
   ros::Publisher mechanism_state_pub_;
   ros::Publisher marker_pub_;
   ros::Publisher clock_pub_;
@@ -103,9 +108,10 @@ class KaneSimNode {
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_broadcaster_;
   std::unique_ptr<RuntimeParameters> runtime_parameters_;
 
-  ros::Time last_tf_stamp_;         // never two transforms of one frame with one stamp
-  ros::Time last_state_stamp_;      // the stamp of the last published state
-  bool lockstep_answered_ = false;  // a stamped command answered last_state_stamp_
+  ros::Time last_tf_stamp_;            // never two transforms of one frame with one stamp
+  ros::Time last_state_stamp_;         // the stamp of the last published state
+  ros::Time last_joint_states_stamp_;  // the last joint_states' (what a controller answers)
+  bool lockstep_answered_ = false;     // a stamped command answered last_joint_states_stamp_
   bool stopped_at_time_limit_ = false;
   SteadyClock::time_point last_publish_wall_;
   double last_publish_sim_ = 0.0;

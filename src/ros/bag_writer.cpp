@@ -49,16 +49,22 @@ void BagWriter::writeStatic(const std::vector<geometry_msgs::TransformStamped>& 
   });
 }
 
-void BagWriter::write(const PublishedMessages& m, const ros::Time& stamp) {
+void BagWriter::write(const PublishedMessages& m, const ros::Time& stamp, bool sensors_enabled) {
   rosgraph_msgs::Clock clock;
   clock.clock = stamp;
+  const std::string joint_states = std::string("/") + truthJointStatesTopic(sensors_enabled);
   guarded([&](rosbag::Bag& bag) {
     bag.write("/clock", stamp, clock);
-    bag.write("/joint_states", stamp, m.joint_state);
+    bag.write(joint_states, stamp, m.joint_state);
     bag.write("/tf", stamp, m.tf);
     bag.write("/mechanism_state", stamp, m.mechanism_state);
     bag.write("/visualization_markers", stamp, m.markers);
   });
+}
+
+void BagWriter::writeSensorReading(const sensor_msgs::JointState& reading) {
+  const std::string topic = std::string("/") + kJointStatesTopic;
+  guarded([&](rosbag::Bag& bag) { bag.write(topic, reading.header.stamp, reading); });
 }
 
 void BagWriter::close() {

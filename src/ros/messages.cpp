@@ -37,8 +37,7 @@ std::vector<geometry_msgs::TransformStamped> transformMessages(const std::vector
 
 }  // namespace
 
-sensor_msgs::JointState jointStateMessage(const Snapshot& snapshot, const ros::Time& stamp) {
-  const JointValues& j = snapshot.joints;
+sensor_msgs::JointState jointStateMessage(const JointValues& j, const ros::Time& stamp) {
   sensor_msgs::JointState msg;
   msg.header.stamp = stamp;
   msg.name.assign(kJointNames.begin(), kJointNames.end());

@@ -59,4 +59,9 @@ Snapshot Simulator::snapshot() const {
   return snap;
 }
 
+JointValues Simulator::joints() const {
+  const MechanismKinematics k = model_.kinematics(state_);
+  return jointValues(k, state_, model_.loads(k, state_, torque_).motor.torque.z());
+}
+
 }  // namespace kane_sim

@@ -17,7 +17,16 @@ std::string format(const char* fmt, Args... args) {
 }  // namespace
 
 SimDriver::SimDriver(const Config& config, EventHandler on_event)
-    : config_(config), sim_(config), command_(config.command), on_event_(std::move(on_event)) {}
+    : config_(config),
+      sim_(config),
+      command_(config.command),
+      on_event_(std::move(on_event)),
+      sensors_(config.sensors, config.simulation.physics_rate, config.simulation.publish_rate),
+      command_latency_ticks_(config.sensors.enabled ? physicsTicks(config.sensors.command_latency,
+                                                                   config.simulation.physics_rate)
+                                                    : 0) {
+  sampleSensors();
+}
 
 void SimDriver::applyCommand() {
   bool timed_out_now = false;
@@ -35,6 +44,20 @@ void SimDriver::report(SimEvent::Kind kind, std::string message) const {
 }
 
 TorqueCommand::Verdict SimDriver::command(double torque) {
+  if (command_latency_ticks_ == 0 || !std::isfinite(torque)) return receive(torque);
+  delayed_commands_.push_back({sim_.ticks() + command_latency_ticks_, torque});
+  return std::abs(torque) > command_.torqueLimit() ? TorqueCommand::Verdict::kClamped
+                                                   : TorqueCommand::Verdict::kAccepted;
+}
+
+void SimDriver::deliverDelayedCommands() {
+  while (!delayed_commands_.empty() && delayed_commands_.front().due_tick <= sim_.ticks()) {
+    receive(delayed_commands_.front().torque);
+    delayed_commands_.pop_front();
+  }
+}
+
+TorqueCommand::Verdict SimDriver::receive(double torque) {
   std::string message;
   const TorqueCommand::Verdict verdict = command_.receive(torque, sim_.time(), &message);
   if (verdict == TorqueCommand::Verdict::kRejected)
@@ -68,18 +91,26 @@ bool SimDriver::step() {
                   config_.simulation.physics_rate));
   // The torque in force changes between commands only when the timeout lapses.
   if (command_.lapsesAt(sim_.time())) applyCommand();
+  deliverDelayedCommands();
+  sampleSensors();
   return true;
 }
 
 void SimDriver::reset() {
   sim_.reset();
   command_.reset();
+  delayed_commands_.clear();
   applyCommand();
+  sensors_.dropPending();
+  sampleSensors();
 }
 
 Status SimDriver::setState(const State& state) {
   const Status result = sim_.setState(state);
-  if (result.ok) applyCommand();
+  if (!result.ok) return result;
+  applyCommand();
+  sensors_.dropPending();
+  sampleSensors();
   return result;
 }
 

@@ -180,10 +180,14 @@ int run(const Options& options) {
   kane_sim::ProfileCommands commands(*options.profile, config.command.timeout);
   commands.update(driver);
   out.write(driver.snapshot());
+  const bool sensors = driver.sensorsEnabled();
+  if (sensors) out.writeDueSensorReadings(driver);
   long outputs = 1;
   const kane_sim::RunEnd end = kane_sim::runProfile(
       driver, commands, rows * steps_per_row, steps_per_row, &g_stop,
-      [](const kane_sim::SimDriver&) {},
+      [&](const kane_sim::SimDriver&) {
+        if (sensors) out.writeDueSensorReadings(driver);
+      },
       [&](const kane_sim::SimDriver& d) {
         out.write(d.snapshot());
         ++outputs;

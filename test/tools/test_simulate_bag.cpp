@@ -17,6 +17,8 @@
 #include <tf2_msgs/TFMessage.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <yaml-cpp/yaml.h>
+
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/ros/messages.h"
 #include "test_helpers.h"
@@ -132,6 +134,50 @@ TEST_F(SimulateBag, MarkersHaveStableIdsAndTheirLinksFrames) {
 
 // SIGINT during a long --bag run: the bag is closed properly (index written) and renamed into
 // place, so what was simulated reads back, every message in order; exit 130.
+// Sensors on (config/sensors.yaml over the default): /joint_states holds the readings, 100 Hz,
+// each stamped when it arrives (5..7 ms after its sample, so off the 10 ms output grid), within
+// noise, bias and half a count of the truth on /joint_states_true at the sample's instant.
+TEST(SimulateBagSensors, ReadingsOnJointStatesTruthOnJointStatesTrue) {
+  ros::Time::init();
+  YAML::Node root = YAML::LoadFile(test::configPath("mechanism.yaml"));
+  for (const auto& e : YAML::LoadFile(test::configPath("sensors.yaml"))["sensors"])
+    root["sensors"][e.first.Scalar()] = e.second;
+  const std::string config = ::testing::TempDir() + "/simulate_sensors.yaml";
+  std::ofstream(config) << root;
+  const std::string bag_file = ::testing::TempDir() + "/simulate_sensors.bag";
+  const std::string cmd = std::string(KANE_SIM_SIMULATE_EXE) + " --config " + config +
+                          " --duration 2 --torque 3 --bag " + bag_file + " 2>/dev/null";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << cmd;
+  rosbag::Bag bag(bag_file);
+  std::map<ros::Time, sensor_msgs::JointState> truth;
+  std::vector<sensor_msgs::JointState> readings;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    if (m.getTopic() == "/joint_states_true")
+      truth[m.getTime()] = *m.instantiate<sensor_msgs::JointState>();
+    if (m.getTopic() == "/joint_states")
+      readings.push_back(*m.instantiate<sensor_msgs::JointState>());
+  }
+  EXPECT_EQ(truth.size(), 201u);
+  ASSERT_EQ(readings.size(), 200u);  // sampled at 0 .. 1.99 s; the one sampled at 2 s is in flight
+  const double count = 2 * M_PI / 4096;
+  for (const sensor_msgs::JointState& r : readings) {
+    // The sample instant is the 10 ms grid point 5..7 ms before the stamp.
+    const double arrival = (r.header.stamp - simStamp(0)).toSec();
+    const double sampled = 0.01 * std::floor(arrival / 0.01 + 1e-6);
+    const double delay = arrival - sampled;
+    EXPECT_GE(delay, 0.005 - 1e-6);
+    EXPECT_LE(delay, 0.007 + 1e-6);
+    const auto at = truth.find(simStamp(sampled));
+    ASSERT_NE(at, truth.end()) << sampled;
+    // σ 0.002 rad, bias walk 0.0005 √2 rad, half a count: six σ of each at most.
+    EXPECT_NEAR(r.position[0], at->second.position[0],
+                6 * 0.002 + 6 * 0.0005 * std::sqrt(2.0) + count);
+    EXPECT_NEAR(std::remainder(r.position[0], count), 0.0, 1e-9);
+    EXPECT_EQ(r.effort[0], at->second.effort[0]);
+  }
+}
+
 TEST(SimulateBagInterrupted, TheBagOfAnInterruptedRunReadsBack) {
   ros::Time::init();
   const std::string path = ::testing::TempDir() + "/interrupted.bag";

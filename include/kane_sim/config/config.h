@@ -5,9 +5,11 @@
 #ifndef KANE_SIM_CONFIG_CONFIG_H
 #define KANE_SIM_CONFIG_CONFIG_H
 
+#include <array>
 #include <cmath>
 #include <string>
 
+#include "kane_sim/model/joint_names.h"
 #include "kane_sim/model/mechanism_model.h"
 #include "kane_sim/model/mechanism_parameters.h"
 #include "kane_sim/model/state.h"
@@ -69,6 +71,29 @@ struct DiagnosticsSettings {
   int late_windows = 3;            // WARN after this many consecutive late windows
 };
 
+// One joint's sensor as joint_states reports it (sensors.<joint>_*): the true value, plus a bias
+// that walks, plus white noise, rounded to the encoder's counts. Units are the joint's: rad for
+// crank and coupler, m for the sliders.
+struct JointSensorSettings {
+  double position_noise = 0.0;  // σ of the white noise on position [rad | m]
+  double velocity_noise = 0.0;  // σ of the white noise on velocity [rad/s | m/s]
+  double bias_walk = 0.0;       // position bias random walk: σ grows as this × √t [rad|m /√s]
+  double encoder_counts = 0.0;  // counts per turn (rad joints) or per metre (sliders); 0: exact
+};
+
+// What joint_states carries when the sensors are on: the joints as sensors see them, sampled at
+// `rate`, each message delayed as a whole by latency + U(0, latency_jitter) (never reordered).
+// The torque path gets command_latency. All seeded: one seed, one sequence. Off: the truth.
+struct SensorSettings {
+  bool enabled = false;
+  int seed = 1;
+  double rate = 0.0;             // [Hz] readings per second; 0: simulation.publish_rate
+  double latency = 0.0;          // [s] sample -> joint_states, rounded to physics steps
+  double latency_jitter = 0.0;   // [s] extra delay, uniform in [0, this], in physics steps
+  double command_latency = 0.0;  // [s] torque command -> in force, rounded to physics steps
+  std::array<JointSensorSettings, kNumJoints> joints{};  // joint_states' order
+};
+
 struct Config {
   MechanismParameters mechanism;
   State initial_state;  // q10, q20, u10, u20; the spring is unstretched at (q10, q20)
@@ -76,6 +101,7 @@ struct Config {
   CommandSettings command;
   FrameSettings frames;
   DiagnosticsSettings diagnostics;
+  SensorSettings sensors;
 };
 
 // The model a config describes: its parameters, the spring unstretched at the initial state.

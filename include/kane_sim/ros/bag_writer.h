@@ -21,8 +21,11 @@ class BagWriter {
 
   // /tf_static (latched, like tf2_ros' static broadcaster) with the fixed joints' transforms.
   void writeStatic(const std::vector<geometry_msgs::TransformStamped>& transforms);
-  // /clock, /joint_states, /tf, /mechanism_state, /visualization_markers at `stamp`.
-  void write(const PublishedMessages& messages, const ros::Time& stamp);
+  // /clock, /joint_states (/joint_states_true with sensors on), /tf, /mechanism_state,
+  // /visualization_markers at `stamp`.
+  void write(const PublishedMessages& messages, const ros::Time& stamp, bool sensors_enabled);
+  // A sensor reading on /joint_states, stamped when it is delivered.
+  void writeSensorReading(const sensor_msgs::JointState& reading);
   void close();
 
  private:

@@ -35,7 +35,17 @@ inline ros::Time simStamp(double sim_time) {
   return ros::Time(kSimEpochSeconds, 0) + ros::Duration(t);
 }
 
-sensor_msgs::JointState jointStateMessage(const Snapshot& snapshot, const ros::Time& stamp);
+// joint_states carries the joints as the sensors report them when sensors are on; the truth then
+// goes to joint_states_true (node and bags alike).
+constexpr const char* kJointStatesTopic = "joint_states";
+inline const char* truthJointStatesTopic(bool sensors_enabled) {
+  return sensors_enabled ? "joint_states_true" : kJointStatesTopic;
+}
+
+sensor_msgs::JointState jointStateMessage(const JointValues& joints, const ros::Time& stamp);
+inline sensor_msgs::JointState jointStateMessage(const Snapshot& snapshot, const ros::Time& stamp) {
+  return jointStateMessage(snapshot.joints, stamp);
+}
 
 // The tf tree of the robot description (description/robot_description.h), the same tree
 // robot_state_publisher computes from the URDF and joint_states.

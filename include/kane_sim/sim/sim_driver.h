@@ -4,10 +4,13 @@
 #ifndef KANE_SIM_SIM_SIM_DRIVER_H
 #define KANE_SIM_SIM_SIM_DRIVER_H
 
+#include <cstdint>
+#include <deque>
 #include <functional>
 #include <string>
 
 #include "kane_sim/config/config.h"
+#include "kane_sim/sensors/joint_sensors.h"
 #include "kane_sim/sim/simulator.h"
 #include "kane_sim/sim/snapshot.h"
 #include "kane_sim/sim/torque_command.h"
@@ -36,7 +39,8 @@ class SimDriver {
   SimDriver(const Config& config, EventHandler on_event);
 
   // A torque command [N m] arriving at the current sim time: in force from this instant on,
-  // i.e. held over the next step.
+  // i.e. held over the next step; with sensors.command_latency, that many steps later (a
+  // non-finite one is refused at once, a clamp is reported when it takes effect).
   TorqueCommand::Verdict command(double torque);
 
   // One physics step with the command in force (0 N m after a timeout). False when the step
@@ -44,7 +48,8 @@ class SimDriver {
   // new instant (the command may have timed out).
   bool step();
 
-  // Initial state, motor work 0, command forgotten; sim time runs on.
+  // Initial state, motor work 0, command forgotten (and any still delayed); sim time runs on.
+  // Sensor readings in flight are dropped: they show the state before.
   void reset();
 
   // A chosen state (Simulator::setState): the command in force is kept. Refused with the
@@ -58,18 +63,36 @@ class SimDriver {
 
   Snapshot snapshot() const;  // the physics of this instant and the command status
 
+  // Sensors (config sensors:): the oldest reading due by now, taken off the queue; false when
+  // none is due or the sensors are off. Readings are sampled at every step on their grid.
+  bool takeSensorReading(SensorReading* reading) { return sensors_.takeDue(ticks(), reading); }
+  bool sensorsEnabled() const { return sensors_.enabled(); }
+  const JointSensors& sensors() const { return sensors_; }
+
   const Simulator& simulator() const { return sim_; }
   double time() const { return sim_.time(); }
   std::uint64_t ticks() const { return sim_.ticks(); }
 
  private:
   void applyCommand();  // the command handling's torque at the current time -> the simulator
+  TorqueCommand::Verdict receive(double torque);  // a command reaching the drive now
+  void deliverDelayedCommands();                  // those whose command_latency has passed
+  void sampleSensors() {
+    sensors_.onTick(sim_.ticks(), sim_.time(), [this] { return sim_.joints(); });
+  }
   void report(SimEvent::Kind kind, std::string message) const;
 
   Config config_;
   Simulator sim_;
   TorqueCommand command_;
   EventHandler on_event_;
+  JointSensors sensors_;
+  struct DelayedCommand {
+    std::uint64_t due_tick;
+    double torque;
+  };
+  std::uint64_t command_latency_ticks_;
+  std::deque<DelayedCommand> delayed_commands_;  // in arrival order, so in due order
 };
 
 }  // namespace kane_sim

@@ -95,6 +95,8 @@ class Simulator {
 
   // The physics of this instant (command fields left at their defaults: see SimDriver).
   Snapshot snapshot() const;
+  // The joints alone (what a sensor samples): the snapshot's joint values, cheaper.
+  JointValues joints() const;
 
  private:
   class Integrator;

@@ -11,6 +11,7 @@
 #include "kane_sim/config/config.h"
 #include "kane_sim/description/robot_description.h"
 #include "kane_sim/ros/bag_writer.h"
+#include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/snapshot.h"
 #include "simulate/options.h"
 
@@ -86,7 +87,7 @@ class CsvOutput {
 class Outputs {
  public:
   Outputs(const Options& options, const kane_sim::Config& config)
-      : robot_(kane_sim::describeRobot(config)) {
+      : robot_(kane_sim::describeRobot(config)), sensors_enabled_(config.sensors.enabled) {
     // With a bag and no --csv, no CSV.
     if (!options.csv_path.empty() || options.bag_path.empty())
       csv_ = std::make_unique<CsvOutput>(options.csv_path);
@@ -112,7 +113,22 @@ class Outputs {
       const ros::Time stamp = kane_sim::simStamp(snapshot.time);
       try {
         // real_time_factor 0: offline, not paced against any wall clock.
-        bag_->write(kane_sim::buildMessages(snapshot, robot_, 0.0, stamp), stamp);
+        bag_->write(kane_sim::buildMessages(snapshot, robot_, 0.0, stamp), stamp, sensors_enabled_);
+      } catch (const std::exception& e) {
+        throw OutputError("writing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
+      }
+    }
+  }
+
+  // Sensor readings due by now (sensors on) -> /joint_states in the bag, stamped now, as the
+  // node publishes them. The CSV holds the truth only.
+  void writeDueSensorReadings(kane_sim::SimDriver& driver) {
+    kane_sim::SensorReading reading;
+    while (driver.takeSensorReading(&reading)) {
+      if (!bag_) continue;
+      try {
+        bag_->writeSensorReading(
+            kane_sim::jointStateMessage(reading.joints, kane_sim::simStamp(driver.time())));
       } catch (const std::exception& e) {
         throw OutputError("writing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
       }
@@ -134,6 +150,7 @@ class Outputs {
 
  private:
   kane_sim::RobotDescription robot_;  // the node's tf tree, the same in the bag
+  bool sensors_enabled_;
   std::unique_ptr<StagedPath> bag_file_;
   std::string bag_path_;
   std::unique_ptr<CsvOutput> csv_;
