@@ -257,6 +257,21 @@ std::vector<ParameterSpec> declareParameters() {
   lockstep_fallback.set_choice = [](Config& c, int i) {
     c.simulation.lockstep_fallback = static_cast<LockstepFallback>(i);
   };
+  ConfigField command_mode;
+  command_mode.get_choice = [](const Config& c) { return static_cast<int>(c.command.mode); };
+  command_mode.set_choice = [](Config& c, int i) { c.command.mode = static_cast<CommandMode>(i); };
+  ConfigField feedforward;
+  feedforward.get_choice = [](const Config& c) { return static_cast<int>(c.command.feedforward); };
+  feedforward.set_choice = [](Config& c, int i) {
+    c.command.feedforward = static_cast<Feedforward>(i);
+  };
+  const std::vector<std::string> command_modes = {commandModeName(CommandMode::kEffort),
+                                                  commandModeName(CommandMode::kVelocity),
+                                                  commandModeName(CommandMode::kPosition)};
+  const std::vector<std::string> feedforwards = {feedforwardName(Feedforward::kNone),
+                                                 feedforwardName(Feedforward::kHolding)};
+  // Gains up to 1e6: every servo term stays finite for any finite error the physics allows.
+  constexpr ValueRule kGainRule{ValueRule::kRange, 0.0, 1e6, ""};
   const std::vector<std::string> lockstep_fallbacks = {
       lockstepFallbackName(LockstepFallback::kHold), lockstepFallbackName(LockstepFallback::kZero)};
   const std::vector<std::string> integrators = {integratorName(IntegratorType::kRk4),
@@ -587,6 +602,81 @@ std::vector<ParameterSpec> declareParameters() {
        {},
        "",
        operational("command_timeout", 0.0, 3600.0)},
+      {"command", "mode", "", "", kChoice, command_mode, false,
+       "effort: torque_command is M_m; velocity / position: servo_setpoint [rad/s | rad] is held "
+       "by the drive's servo (gains below), whose torque goes through torque_limit and the motor "
+       "line",
+       "", "", command_modes, "an unknown command mode", kFixed},
+      {"command", "feedforward", "", "", kChoice, feedforward, false,
+       "servo modes: none, or holding: add the moment that balances gravity and the spring at "
+       "the present configuration (-F_1 at u = 0, from the model's equations)",
+       "", "", feedforwards, "an unknown feedforward", kFixed},
+      {"command",
+       "position_kp",
+       "",
+       "N m/rad",
+       kGainRule,
+       KANE_SIM_NUMBER(command.position_kp),
+       false,
+       "position servo: proportional gain",
+       "",
+       "",
+       {},
+       "",
+       operational("position_kp", 0.0, 1e4)},
+      {"command",
+       "position_ki",
+       "",
+       "N m/(rad s)",
+       kGainRule,
+       KANE_SIM_NUMBER(command.position_ki),
+       false,
+       "position servo: integral gain (the integral stops while the output saturates, cleared "
+       "on reset)",
+       "",
+       "",
+       {},
+       "",
+       operational("position_ki", 0.0, 1e4)},
+      {"command",
+       "position_kd",
+       "",
+       "N m s/rad",
+       kGainRule,
+       KANE_SIM_NUMBER(command.position_kd),
+       false,
+       "position servo: derivative gain, on the measured speed u1",
+       "",
+       "",
+       {},
+       "",
+       operational("position_kd", 0.0, 1e3)},
+      {"command",
+       "velocity_kp",
+       "",
+       "N m s/rad",
+       kGainRule,
+       KANE_SIM_NUMBER(command.velocity_kp),
+       false,
+       "velocity servo: proportional gain",
+       "",
+       "",
+       {},
+       "",
+       operational("velocity_kp", 0.0, 1e3)},
+      {"command",
+       "velocity_ki",
+       "",
+       "N m/rad",
+       kGainRule,
+       KANE_SIM_NUMBER(command.velocity_ki),
+       false,
+       "velocity servo: integral gain",
+       "",
+       "",
+       {},
+       "",
+       operational("velocity_ki", 0.0, 1e4)},
       {"command",
        "motor_no_load_speed",
        "ω0",

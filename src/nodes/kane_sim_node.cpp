@@ -82,6 +82,9 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
           wholeStepsPerPeriod(config_.simulation.physics_rate, config_.simulation.publish_rate))),
       paused_(config_.simulation.start_paused) {
   connect();
+  driver_.setInputHandler([this](const DriverInput& input) {
+    input_log_pub_.publish(inputLogMessage(input, stamp()));
+  });
   runtime_parameters_ = std::make_unique<RuntimeParameters>(
       private_nh_, parameter_tree_, config_, [this](const Config& c) { onReconfigure(c); });
 
@@ -98,6 +101,10 @@ void KaneSimNode::connect() {
   torque_stamped_sub_ =
       nh_.subscribe("torque_command_stamped", 10, &KaneSimNode::onTorqueCommandStamped, this,
                     ros::TransportHints().tcpNoDelay());
+  servo_setpoint_sub_ = nh_.subscribe("servo_setpoint", 10, &KaneSimNode::onServoSetpoint, this,
+                                      ros::TransportHints().tcpNoDelay());
+  if (driver_.servoMode())
+    servo_state_pub_ = nh_.advertise<kane_sim::ServoState>("servo_state", 10);
   joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>(kJointStatesTopic, 10);
   if (driver_.sensorsEnabled())
     joint_state_true_pub_ = nh_.advertise<sensor_msgs::JointState>(truthJointStatesTopic(true), 10);
@@ -105,6 +112,8 @@ void KaneSimNode::connect() {
   marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("visualization_markers", 10);
   diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
   reset_event_pub_ = private_nh_.advertise<kane_sim::ResetEvent>("reset_event", 10);
+  // A deep queue: a bag needs every input, and step_with_command can send bursts.
+  input_log_pub_ = private_nh_.advertise<kane_sim::InputLog>("input_log", 1000);
   if (config_.simulation.publish_clock)
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   // Private, as Gazebo's /gazebo/pause_physics: two sims (or turtlesim's /reset) never collide.
@@ -135,8 +144,10 @@ void KaneSimNode::reconnect() {
   // (unregistering from a dead master fails quietly) and register everything again.
   torque_sub_.shutdown();
   torque_stamped_sub_.shutdown();
-  for (ros::Publisher* pub : {&joint_state_pub_, &joint_state_true_pub_, &mechanism_state_pub_,
-                              &marker_pub_, &diagnostics_pub_, &clock_pub_, &reset_event_pub_})
+  servo_setpoint_sub_.shutdown();
+  for (ros::Publisher* pub :
+       {&joint_state_pub_, &joint_state_true_pub_, &mechanism_state_pub_, &marker_pub_,
+        &diagnostics_pub_, &clock_pub_, &reset_event_pub_, &servo_state_pub_, &input_log_pub_})
     pub->shutdown();
   for (ros::ServiceServer& service : services_) service.shutdown();
   tf_pub_.shutdown();
@@ -344,6 +355,8 @@ void KaneSimNode::publishState() {
   else
     publishJointStates(msgs.joint_state);
   mechanism_state_pub_.publish(msgs.mechanism_state);
+  if (servo_state_pub_)
+    servo_state_pub_.publish(servoStateMessage(snapshot, config_.command.mode, now));
   marker_pub_.publish(msgs.markers);
   // Never two transforms of one frame with one stamp for a listener that has them (it would
   // warn TF_REPEATED_DATA); a listener that joined since (paused in /clock mode, a late rviz)
@@ -412,6 +425,10 @@ bool KaneSimNode::waitForLockstepAnswer() {
     maybeReportLoopHealth();  // /diagnostics goes on while a slow controller thinks
   }
   return true;
+}
+
+void KaneSimNode::onServoSetpoint(const std_msgs::Float64::ConstPtr& msg) {
+  diagnostics_.commandReceived(driver_.setpoint(msg->data) != TorqueCommand::Verdict::kAccepted);
 }
 
 void KaneSimNode::onTorqueCommand(const std_msgs::Float64::ConstPtr& msg) {
@@ -518,6 +535,9 @@ bool KaneSimNode::onStepWithCommand(StepWithCommand::Request& req, StepWithComma
   };
   if (!paused_)
     return refuse("not paused: call ~pause first (step_with_command advances a paused simulation)");
+  if (driver_.servoMode())
+    return refuse(std::string("command.mode is ") + commandModeName(config_.command.mode) +
+                  ": the drive takes servo_setpoint, not a torque (publish it, then call ~step)");
   if (!std::isfinite(req.torque))
     return refuse("torque = " + formatNumber(req.torque) + " is not finite");
   if (req.steps < 1 || req.steps > kMaxStepsPerCall)

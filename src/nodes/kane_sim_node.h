@@ -50,6 +50,7 @@ class KaneSimNode {
 
   void onTorqueCommand(const std_msgs::Float64::ConstPtr& msg);
   void onTorqueCommandStamped(const TorqueCommandStamped::ConstPtr& msg);
+  void onServoSetpoint(const std_msgs::Float64::ConstPtr& msg);
   // Lockstep: serves callbacks until the last published state is answered (or the timeout's
   // fallback); false when interrupted (shutdown, pause).
   bool waitForLockstepAnswer();
@@ -95,6 +96,8 @@ class KaneSimNode {
 
   ros::Subscriber torque_sub_;
   ros::Subscriber torque_stamped_sub_;
+  ros::Subscriber servo_setpoint_sub_;
+  ros::Publisher servo_state_pub_;  // command.mode velocity | position
   ros::Publisher joint_state_pub_;
   ros::Publisher joint_state_true_pub_;  // sensors on: the truth beside the sensor view
   ros::Publisher mechanism_state_pub_;
@@ -102,6 +105,7 @@ class KaneSimNode {
   ros::Publisher clock_pub_;
   ros::Publisher diagnostics_pub_;
   ros::Publisher reset_event_pub_;
+  ros::Publisher input_log_pub_;  // every driver input, for simulate --replay
   std::vector<ros::ServiceServer> services_;
   ros::Publisher tf_pub_;        // /tf (empty with frames.publish_tf false)
   uint32_t tf_subscribers_ = 0;  // /tf's subscribers when the transforms were last sent

@@ -91,6 +91,49 @@ kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_ti
   return msg;
 }
 
+kane_sim::ServoState servoStateMessage(const Snapshot& s, CommandMode mode,
+                                       const ros::Time& stamp) {
+  kane_sim::ServoState msg;
+  msg.header.stamp = stamp;
+  msg.mode = commandModeName(mode);
+  msg.setpoint = s.servo.setpoint;
+  msg.measured = s.servo.measured;
+  msg.error = s.servo.error;
+  msg.p = s.servo.proportional;
+  msg.i = s.servo.integral;
+  msg.d = s.servo.derivative;
+  msg.feedforward = s.servo.feedforward;
+  msg.output = s.servo.output;
+  msg.command = s.servo.command;
+  msg.delivered = s.torque;
+  msg.saturated = s.servo.saturated;
+  return msg;
+}
+
+kane_sim::InputLog inputLogMessage(const DriverInput& input, const ros::Time& stamp) {
+  kane_sim::InputLog msg;
+  msg.header.stamp = stamp;
+  msg.tick = input.tick;
+  msg.kind = static_cast<std::uint8_t>(input.kind);
+  msg.value = input.value;
+  if (input.kind == DriverInput::Kind::kSetState)
+    msg.state = {input.state.q1, input.state.q2, input.state.u1, input.state.u2};
+  return msg;
+}
+
+std::optional<DriverInput> driverInput(const kane_sim::InputLog& msg) {
+  if (msg.kind > kane_sim::InputLog::SET_STATE) return std::nullopt;
+  DriverInput input;
+  input.kind = static_cast<DriverInput::Kind>(msg.kind);
+  input.tick = msg.tick;
+  input.value = msg.value;
+  if (input.kind == DriverInput::Kind::kSetState) {
+    if (msg.state.size() != 4) return std::nullopt;
+    input.state = State{msg.state[0], msg.state[1], msg.state[2], msg.state[3]};
+  }
+  return input;
+}
+
 PublishedMessages buildMessages(const Snapshot& snapshot, const RobotDescription& robot,
                                 double real_time_factor, const ros::Time& stamp) {
   PublishedMessages out;

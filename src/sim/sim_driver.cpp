@@ -14,6 +14,11 @@ std::string format(const char* fmt, Args... args) {
   return buffer;
 }
 
+// A position setpoint beyond a million turns is refused, like such a q1 in set_state.
+constexpr double kMaxCrankAngle = 2e6 * M_PI;  // [rad]
+// A speed setpoint the integrator cannot follow is refused: half of set_state's 1 rad per step.
+constexpr double kMaxServoTurnPerStep = 0.5;  // [rad]
+
 }  // namespace
 
 SimDriver::SimDriver(const Config& config, EventHandler on_event)
@@ -22,13 +27,59 @@ SimDriver::SimDriver(const Config& config, EventHandler on_event)
       command_(config.command),
       on_event_(std::move(on_event)),
       sensors_(config.sensors, config.simulation.physics_rate, config.simulation.publish_rate),
+      servo_(config.command),
+      setpoint_(initialSetpoint()),
       command_latency_ticks_(config.sensors.enabled ? physicsTicks(config.sensors.command_latency,
                                                                    config.simulation.physics_rate)
                                                     : 0) {
+  applyCommand();
   sampleSensors();
 }
 
+double SimDriver::initialSetpoint() const {
+  // Position: hold where it starts; velocity: stand still.
+  return config_.command.mode == CommandMode::kPosition ? config_.initial_state.q1 : 0.0;
+}
+
+void SimDriver::updateServo(double dt) {
+  const State& x = sim_.state();
+  const double holding =
+      config_.command.feedforward == Feedforward::kHolding ? sim_.model().holdingMoment(x) : 0.0;
+  sim_.setTorque(servo_.update(setpoint_, x.q1, x.u1, holding, dt).command);
+}
+
+TorqueCommand::Verdict SimDriver::setpoint(double value) {
+  record(DriverInput::Kind::kSetpoint, value);
+  const char* unit = config_.command.mode == CommandMode::kPosition ? "rad" : "rad/s";
+  std::string problem;
+  if (!servoMode())
+    problem =
+        "command.mode is effort: servo_setpoint is not used (send torque_command, or set "
+        "command.mode velocity or position)";
+  else if (!std::isfinite(value))
+    problem = format("servo_setpoint %g %s is not finite", value, unit);
+  else if (config_.command.mode == CommandMode::kPosition && std::abs(value) > kMaxCrankAngle)
+    problem = format("servo_setpoint %g rad is beyond a million turns", value);
+  else if (config_.command.mode == CommandMode::kVelocity &&
+           std::abs(value) * sim_.stepSize() > kMaxServoTurnPerStep)
+    problem = format(
+        "servo_setpoint %g rad/s would turn the crank more than %g rad per physics "
+        "step (at most %g rad/s at %g Hz)",
+        value, kMaxServoTurnPerStep, kMaxServoTurnPerStep / sim_.stepSize(),
+        config_.simulation.physics_rate);
+  if (!problem.empty()) {
+    report(SimEvent::Kind::kCommandRejected, problem + "; the last setpoint is kept");
+    return TorqueCommand::Verdict::kRejected;
+  }
+  setpoint_ = value;
+  updateServo(0.0);
+  return TorqueCommand::Verdict::kAccepted;
+}
 void SimDriver::applyCommand() {
+  if (servoMode()) {
+    updateServo(0.0);
+    return;
+  }
   bool timed_out_now = false;
   const double torque = command_.applied(sim_.time(), &timed_out_now);
   if (timed_out_now)
@@ -44,6 +95,15 @@ void SimDriver::report(SimEvent::Kind kind, std::string message) const {
 }
 
 TorqueCommand::Verdict SimDriver::command(double torque) {
+  record(DriverInput::Kind::kTorque, torque);
+  if (servoMode()) {
+    report(SimEvent::Kind::kCommandRejected,
+           format("command.mode is %s: torque_command %g N m is ignored (send servo_setpoint in "
+                  "%s)",
+                  commandModeName(config_.command.mode), torque,
+                  config_.command.mode == CommandMode::kPosition ? "rad" : "rad/s"));
+    return TorqueCommand::Verdict::kRejected;
+  }
   if (command_latency_ticks_ == 0 || !std::isfinite(torque)) return receive(torque);
   delayed_commands_.push_back({sim_.ticks() + command_latency_ticks_, torque});
   return std::abs(torque) > command_.torqueLimit() ? TorqueCommand::Verdict::kClamped
@@ -89,25 +149,34 @@ bool SimDriver::step() {
                   "once per start or reset)",
                   std::abs(sim_.state().u1) * sim_.stepSize(), sim_.state().u1,
                   config_.simulation.physics_rate));
-  // The torque in force changes between commands only when the timeout lapses.
-  if (command_.lapsesAt(sim_.time())) applyCommand();
+  if (servoMode()) {
+    updateServo(sim_.stepSize());  // the drive's servo, once per physics step
+  } else if (command_.lapsesAt(sim_.time())) {
+    // The torque in force changes between commands only when the timeout lapses.
+    applyCommand();
+  }
   deliverDelayedCommands();
   sampleSensors();
   return true;
 }
 
 void SimDriver::reset() {
+  record(DriverInput::Kind::kReset);
   sim_.reset();
   command_.reset();
   delayed_commands_.clear();
+  setpoint_ = initialSetpoint();
+  servo_.clearIntegral();
   applyCommand();
   sensors_.dropPending();
   sampleSensors();
 }
 
 Status SimDriver::setState(const State& state) {
+  record(DriverInput::Kind::kSetState, 0.0, state);
   const Status result = sim_.setState(state);
   if (!result.ok) return result;
+  servo_.clearIntegral();  // what it integrated belonged to the motion before
   applyCommand();
   sensors_.dropPending();
   sampleSensors();
@@ -121,7 +190,25 @@ void SimDriver::reconfigure(const Config& config) {
   config_.mechanism = next;
   config_.command = config.command;
   command_.setSettings(config.command);
+  servo_.setSettings(config.command);
   applyCommand();
+}
+
+void SimDriver::apply(const DriverInput& input) {
+  switch (input.kind) {
+    case DriverInput::Kind::kTorque:
+      command(input.value);
+      break;
+    case DriverInput::Kind::kSetpoint:
+      setpoint(input.value);
+      break;
+    case DriverInput::Kind::kReset:
+      reset();
+      break;
+    case DriverInput::Kind::kSetState:
+      setState(input.state);
+      break;
+  }
 }
 
 Snapshot SimDriver::snapshot() const {
@@ -129,6 +216,10 @@ Snapshot SimDriver::snapshot() const {
   snap.command.commanded = command_.commanded();
   snap.command.torque_limit = command_.torqueLimit();
   snap.command.timed_out = command_.timedOut();
+  if (servoMode()) {
+    snap.servo = servo_.status();
+    snap.command.commanded = snap.servo.output;  // the servo's, before the limit
+  }
   return snap;
 }
 

@@ -2,6 +2,7 @@
 //
 // Exit codes: 0 ok, 1 bad config, 2 bad command line, 3 the simulation refused a step (a sweep:
 // a case was not ok), 4 the output could not be written, 5 an unexpected internal failure,
+// 6 --replay differs from the bag beyond --tolerance (or cannot replay it),
 // 130 / 143 interrupted by SIGINT / SIGTERM (what was simulated until then is written).
 #include <algorithm>
 #include <atomic>
@@ -30,6 +31,7 @@
 #include "kane_sim/sim/torque_profile.h"
 #include "simulate/options.h"
 #include "simulate/outputs.h"
+#include "simulate/replay.h"
 
 using kane_sim::ConfigError;
 using simulate::CsvOutput;
@@ -47,8 +49,9 @@ constexpr int kExitConfig = 1;
 constexpr int kExitUsage = 2;
 constexpr int kExitStepRefused = 3;
 constexpr int kExitOutput = 4;
-constexpr int kExitInternal = 5;      // a bug: please report the message
-constexpr int kExitSignalBase = 128;  // + the signal's number, as a shell reports it
+constexpr int kExitInternal = 5;       // a bug: please report the message
+constexpr int kExitReplayDiffers = 6;  // --replay: the states differ beyond --tolerance
+constexpr int kExitSignalBase = 128;   // + the signal's number, as a shell reports it
 // More physics steps than this between two rows is no output grid (and would overflow a long).
 constexpr double kMaxStepsPerRow = 1e12;
 
@@ -149,6 +152,29 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
   return failed ? kExitStepRefused : 0;
 }
 
+int runReplay(const Options& options, const kane_sim::Config& config) {
+  simulate::ReplayResult r;
+  try {
+    r = simulate::replayBag(options.replay_bag, config);
+  } catch (const simulate::ReplayError& e) {
+    std::cerr << "error: --replay: " << e.what() << "\n";
+    return kExitReplayDiffers;
+  }
+  std::cout << "replayed " << r.inputs << " inputs of " << r.input_topic << "; compared "
+            << r.compared << " states of " << r.state_topic << " (" << r.skipped
+            << " skipped at a reset or set_state); largest difference " << num(r.largest);
+  if (r.largest > 0) std::cout << " (" << r.largest_of << " at t = " << num(r.largest_at) << " s)";
+  std::cout << "\n";
+  if (r.parameter_changes > 0)
+    std::cerr << "warning: the bag's run was reconfigured " << r.parameter_changes
+              << " times at run time; the replay runs the config as given\n";
+  if (r.compared == 0) {
+    std::cerr << "error: --replay: no state to compare\n";
+    return kExitReplayDiffers;
+  }
+  return r.largest <= options.replay_tolerance ? 0 : kExitReplayDiffers;
+}
+
 int run(const Options& options) {
   // --integrator goes into the tree before validation, so the stability check judges the
   // integrator that will run.
@@ -161,6 +187,7 @@ int run(const Options& options) {
   for (const std::string& warning : loaded.warnings) std::cerr << "warning: " << warning << "\n";
   if (options.sweep()) return runSweepMode(options, root);
   const kane_sim::Config& config = loaded.config;
+  if (!options.replay_bag.empty()) return runReplay(options, config);
 
   const long steps_per_row = stepsPerRow(config.simulation.physics_rate, options.output_rate);
   const long rows = rowCount(options.duration, options.output_rate);
@@ -177,7 +204,18 @@ int run(const Options& options) {
 
   Outputs out(options, config);
   const auto wall_start = std::chrono::steady_clock::now();
-  kane_sim::ProfileCommands commands(*options.profile, config.command.timeout);
+  // A servo (command.mode velocity | position) takes the profile as its setpoint; without one it
+  // holds its initial setpoint (the starting angle, or standing still).
+  const kane_sim::TorqueProfile profile =
+      driver.servoMode() && !options.profile_given
+          ? kane_sim::TorqueProfile::constant(driver.snapshot().servo.setpoint)
+          : *options.profile;
+  if (driver.servoMode())
+    std::cerr << "command.mode " << kane_sim::commandModeName(config.command.mode)
+              << ": the profile's values are the servo's setpoint ["
+              << (config.command.mode == kane_sim::CommandMode::kPosition ? "rad" : "rad/s")
+              << "]\n";
+  kane_sim::ProfileCommands commands(profile, config.command.timeout);
   commands.update(driver);
   out.write(driver.snapshot());
   const bool sensors = driver.sensorsEnabled();
@@ -206,9 +244,8 @@ int run(const Options& options) {
             << kane_sim::integratorName(config.simulation.integrator) << " at "
             << config.simulation.physics_rate << " Hz on the "
             << kane_sim::equationsName(config.simulation.equations) << " equations, torque "
-            << options.profile->describe() << "), " << rows + 1 << " outputs, wall time " << wall
-            << " s, " << (wall > 0 ? static_cast<double>(driver.ticks()) / wall : 0.0)
-            << " steps/s\n";
+            << profile.describe() << "), " << rows + 1 << " outputs, wall time " << wall << " s, "
+            << (wall > 0 ? static_cast<double>(driver.ticks()) / wall : 0.0) << " steps/s\n";
   return 0;
 }
 

@@ -51,9 +51,31 @@ struct SimulationSettings {
   int realtime_priority = 0;
 };
 
+// What the crank's drive is commanded in (ros_control's habits): a torque (torque_command), or a
+// speed or an angle (servo_setpoint) that a servo in the drive turns into torque at every physics
+// step — through the same torque limit and motor line, never by moving the state.
+enum class CommandMode { kEffort, kVelocity, kPosition };
+constexpr const char* commandModeName(CommandMode m) {
+  return m == CommandMode::kEffort     ? "effort"
+         : m == CommandMode::kVelocity ? "velocity"
+                                       : "position";
+}
+// none, or the moment that holds gravity and the spring at the present configuration.
+enum class Feedforward { kNone, kHolding };
+constexpr const char* feedforwardName(Feedforward f) {
+  return f == Feedforward::kNone ? "none" : "holding";
+}
+
 struct CommandSettings {
   double torque_limit = 50.0;  // [N m] |M_m| is clamped to this
   double timeout = 0.5;        // [s] no command for this long -> torque 0; 0 disables
+  CommandMode mode = CommandMode::kEffort;
+  Feedforward feedforward = Feedforward::kNone;
+  double position_kp = 500.0;  // [N m/rad]
+  double position_ki = 0.0;    // [N m/(rad s)]
+  double position_kd = 30.0;   // [N m s/rad], on the measured speed (no kick on a step)
+  double velocity_kp = 30.0;   // [N m s/rad]
+  double velocity_ki = 300.0;  // [N m/rad]
 };
 
 struct FrameSettings {

@@ -154,6 +154,13 @@ class MechanismModel {
                              const State& x);
   Equations equations(const State& x, double motor_command) const;
 
+  // The crank moment M_m that balances gravity and the spring at x's configuration: with
+  // u = 0 the active force F_1 (eq 16) of those loads plus M_m is zero, so M_m = -F_1. The
+  // servo's feedforward (command.feedforward).
+  double holdingMoment(const State& x) const {
+    return -equations(State{x.q1, x.q2, 0.0, 0.0}, 0.0).active_forces[0];
+  }
+
   // u' from F*_r + F_r = 0, eq (18).
   SpeedVector accelerations(const State& x, double motor_command) const {
     return equations(x, motor_command).solveAccelerations();

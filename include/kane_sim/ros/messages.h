@@ -5,6 +5,7 @@
 #define KANE_SIM_ROS_MESSAGES_H
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <geometry_msgs/TransformStamped.h>
@@ -13,9 +14,12 @@
 #include <tf2_msgs/TFMessage.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include "kane_sim/InputLog.h"
 #include "kane_sim/MechanismState.h"
+#include "kane_sim/ServoState.h"
 #include "kane_sim/config/config.h"
 #include "kane_sim/description/robot_description.h"
+#include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/snapshot.h"
 
 namespace kane_sim {
@@ -60,6 +64,15 @@ std::vector<geometry_msgs::TransformStamped> jointTransforms(const RobotDescript
 // real_time_factor: sim time per wall time achieved by whoever produced the snapshot (0 offline).
 kane_sim::MechanismState mechanismStateMessage(const Snapshot& snapshot, double real_time_factor,
                                                const ros::Time& stamp, const std::string& frame_id);
+
+// The servo's update in the snapshot (command.mode velocity | position).
+kane_sim::ServoState servoStateMessage(const Snapshot& snapshot, CommandMode mode,
+                                       const ros::Time& stamp);
+
+// ~input_log: a driver input and back (simulate --replay). The message's kind is checked: an
+// unknown one gives std::nullopt.
+kane_sim::InputLog inputLogMessage(const DriverInput& input, const ros::Time& stamp);
+std::optional<DriverInput> driverInput(const kane_sim::InputLog& msg);
 
 // Everything published at one publish instant, by the node or into a bag offline.
 struct PublishedMessages {

@@ -25,7 +25,11 @@ class ProfileCommands {
     const double now = driver.time();
     const double torque = first_ || !profile_.isConstant() ? profile_.at(now) : last_torque_;
     if (first_ || torque != last_torque_ || (refresh_ >= 0 && now - last_time_ >= refresh_)) {
-      driver.command(torque);
+      // A servo's setpoint (command.mode velocity | position), else a torque command.
+      if (driver.servoMode())
+        driver.setpoint(torque);
+      else
+        driver.command(torque);
       first_ = false;
       last_torque_ = torque;
       last_time_ = now;

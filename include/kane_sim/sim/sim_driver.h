@@ -10,6 +10,7 @@
 #include <string>
 
 #include "kane_sim/config/config.h"
+#include "kane_sim/control/crank_servo.h"
 #include "kane_sim/sensors/joint_sensors.h"
 #include "kane_sim/sim/simulator.h"
 #include "kane_sim/sim/snapshot.h"
@@ -31,9 +32,20 @@ struct SimEvent {
   std::string message;  // a full sentence naming the values and, where there is one, the fix
 };
 
+// An input as the driver received it (refused ones too), at the tick it arrived: what the node
+// publishes on ~input_log and `simulate --replay` feeds to a fresh driver (SimDriver::apply).
+struct DriverInput {
+  enum class Kind { kTorque = 0, kSetpoint = 1, kReset = 2, kSetState = 3 };
+  Kind kind = Kind::kTorque;
+  std::uint64_t tick = 0;
+  double value = 0.0;  // kTorque [N m], kSetpoint [rad | rad/s]
+  State state;         // kSetState: as requested
+};
+
 class SimDriver {
  public:
   using EventHandler = std::function<void(const SimEvent&)>;
+  using InputHandler = std::function<void(const DriverInput&)>;
 
   // on_event is called synchronously from command() and step(); it may be empty.
   SimDriver(const Config& config, EventHandler on_event);
@@ -42,6 +54,12 @@ class SimDriver {
   // i.e. held over the next step; with sensors.command_latency, that many steps later (a
   // non-finite one is refused at once, a clamp is reported when it takes effect).
   TorqueCommand::Verdict command(double torque);
+
+  // command.mode velocity | position: the servo's setpoint [rad/s | rad], in force at once (the
+  // servo runs in the drive at every step). Refused (kRejected, reported) when not finite, beyond
+  // what the integrator can follow, or in effort mode.
+  TorqueCommand::Verdict setpoint(double value);
+  bool servoMode() const { return config_.command.mode != CommandMode::kEffort; }
 
   // One physics step with the command in force (0 N m after a timeout). False when the step
   // was refused: the last good state is kept. Afterwards the torque in force is that of the
@@ -63,6 +81,11 @@ class SimDriver {
 
   Snapshot snapshot() const;  // the physics of this instant and the command status
 
+  // Called with every input, before it is applied (empty: none).
+  void setInputHandler(InputHandler on_input) { on_input_ = std::move(on_input); }
+  // The call that `input` records (its tick is the caller's to match).
+  void apply(const DriverInput& input);
+
   // Sensors (config sensors:): the oldest reading due by now, taken off the queue; false when
   // none is due or the sensors are off. Readings are sampled at every step on their grid.
   bool takeSensorReading(SensorReading* reading) { return sensors_.takeDue(ticks(), reading); }
@@ -77,16 +100,24 @@ class SimDriver {
   void applyCommand();  // the command handling's torque at the current time -> the simulator
   TorqueCommand::Verdict receive(double torque);  // a command reaching the drive now
   void deliverDelayedCommands();                  // those whose command_latency has passed
+  void updateServo(double dt);  // servo modes: the servo's command at this instant -> simulator
+  double initialSetpoint() const;
   void sampleSensors() {
     sensors_.onTick(sim_.ticks(), sim_.time(), [this] { return sim_.joints(); });
   }
   void report(SimEvent::Kind kind, std::string message) const;
+  void record(DriverInput::Kind kind, double value = 0.0, const State& state = State{}) const {
+    if (on_input_) on_input_(DriverInput{kind, sim_.ticks(), value, state});
+  }
 
   Config config_;
   Simulator sim_;
   TorqueCommand command_;
   EventHandler on_event_;
+  InputHandler on_input_;
   JointSensors sensors_;
+  CrankServo servo_;
+  double setpoint_;
   struct DelayedCommand {
     std::uint64_t due_tick;
     double torque;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "kane_sim/control/crank_servo.h"
 #include "kane_sim/description/joint_values.h"
 #include "kane_sim/model/mechanism_model.h"
 #include "kane_sim/model/state.h"
@@ -47,6 +48,7 @@ struct Snapshot {
   double contact_force = 0.0;          // N [N] then on slider 4 along +i (0 when apart)
   MechanismGeometry geometry;          // positions of O, A, B, C, C1, C2; rod angles
   JointValues joints;                  // crank, coupler, slider3, slider4
+  ServoStatus servo;                   // command.mode velocity | position: the servo's update
 
   // Every number finite: what the node and the tools check before anything is published or
   // written (a snapshot that fails it is withheld and reported, never sent).
@@ -64,7 +66,9 @@ struct Snapshot {
                              parameter_energy,
                              spring_elongation,
                              slider_separation,
-                             contact_force};
+                             contact_force,
+                             servo.output,
+                             servo.integral};
     for (double v : values)
       if (!std::isfinite(v)) return false;
     for (int i = 0; i < kNumJoints; ++i)

@@ -41,13 +41,22 @@ po::options_description describeOptions() {
       "                              a grid (the last varies fastest)\n"
       "  --sweep-file FILE           a CSV: a header of keys, one row of values per case\n"
       "  --jobs N                    threads, 1 to 4 per core (default: one per core)\n\n"
+      "Replay (a bag recorded from kane_sim_node with its ~input_log and mechanism_state):\n"
+      "  --replay BAG [--tolerance X]  feed the bag's inputs to the driver at their physics\n"
+      "                              ticks; print the largest difference from the bag's states;\n"
+      "                              exit 6 when it exceeds X (default 0: bit for bit). --config\n"
+      "                              must be the node's config.\n\n"
       "Files are written under FILE.partial and renamed when complete; SIGINT or SIGTERM stops\n"
       "the run and keeps what was simulated (every finished sweep case), exit 128 + signal.\n\n"
       "Options");
   desc.add_options()("help,h", "print this help and exit")(
       "config", po::value<std::string>(),
       "mechanism YAML (default: the package's config/mechanism.yaml)")(
-      "duration", po::value<double>()->required(), "simulated time [s], >= 0")(
+      "duration", po::value<double>(), "simulated time [s], >= 0 (required but with --replay)")(
+      "replay", po::value<std::string>(),
+      "re-run the inputs a bag's ~input_log holds, compare with its mechanism_state")(
+      "tolerance", po::value<double>(),
+      "--replay: largest |difference| in q, u counted as equal (default 0: bit for bit)")(
       "torque", po::value<double>(), "constant driver moment M_m [N m]")(
       "torque-step", po::value<std::string>(), "T,BEFORE,AFTER")(
       "torque-sine", po::value<std::string>(), "AMP,FREQ[,OFFSET]")(
@@ -144,9 +153,28 @@ bool parseOptions(int argc, char** argv, Options* options) {
     options->config_path = kane_sim::defaultConfigFile();
     options->default_config = true;
   }
-  options->duration = requireFinite("duration", vm["duration"].as<double>());
+  if (vm.count("replay")) {
+    options->replay_bag = vm["replay"].as<std::string>();
+    for (const char* flag : {"duration", "torque", "torque-step", "torque-sine", "torque-csv",
+                             "sweep", "sweep-file", "bag", "output-rate"})
+      if (vm.count(flag) && !vm[flag].defaulted())
+        throw UsageError(std::string("--replay takes the bag's inputs and times: no --") + flag);
+    if (vm.count("tolerance")) {
+      options->replay_tolerance = requireFinite("tolerance", vm["tolerance"].as<double>());
+      if (options->replay_tolerance < 0)
+        throw UsageError("--tolerance must be >= 0, got " + num(options->replay_tolerance));
+    }
+  } else if (vm.count("tolerance")) {
+    throw UsageError("--tolerance is for --replay");
+  } else if (!vm.count("duration")) {
+    throw UsageError("the option '--duration' is required but missing");
+  }
+  options->duration =
+      vm.count("duration") ? requireFinite("duration", vm["duration"].as<double>()) : 0.0;
   options->output_rate = requireFinite("output-rate", vm["output-rate"].as<double>());
   options->profile = parseProfile(vm);
+  for (const char* flag : {"torque", "torque-step", "torque-sine", "torque-csv"})
+    options->profile_given |= vm.count(flag) > 0;
   if (vm.count("integrator")) {
     options->integrator = vm["integrator"].as<std::string>();
     if (options->integrator != kane_sim::integratorName(kane_sim::IntegratorType::kRk4) &&

@@ -23,14 +23,17 @@ struct Options {
   double duration = 0.0;
   double output_rate = 100.0;
   std::optional<kane_sim::TorqueProfile> profile;  // resolved after parsing
-  std::string integrator;                          // empty: the config's
-  std::string csv_path;                            // empty: stdout (unless only a bag is asked for)
+  bool profile_given = false;  // a --torque* flag was given (else constant 0 N m)
+  std::string integrator;      // empty: the config's
+  std::string csv_path;        // empty: stdout (unless only a bag is asked for)
   std::string bag_path;
   // Sweep mode: many cases, one summary row each (kane_sim/sim/sweep.h).
   std::vector<std::string> sweep_axes;  // --sweep KEY=START:STOP:COUNT, repeatable (a grid)
   std::string sweep_file;               // --sweep-file CSV of parameter sets
   unsigned jobs = 0;                    // --jobs, 0 = one per core
   bool default_config = false;          // no --config: the package's config/mechanism.yaml
+  std::string replay_bag;               // --replay BAG: re-run the inputs logged in a bag
+  double replay_tolerance = 0.0;        // --tolerance: largest difference that counts as equal
   bool sweep() const { return !sweep_axes.empty() || !sweep_file.empty(); }
 };
 

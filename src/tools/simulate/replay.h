@@ -1,0 +1,37 @@
+// `simulate --replay BAG`: the inputs a node logged on ~input_log (torque commands, servo
+// setpoints, resets, set_state, each with the physics tick it arrived at) fed to a fresh driver of
+// the same config at the same ticks, and every mechanism_state of the bag compared with the
+// replayed state at its sim time. A bag of the node replays bit for bit: the node steps the same
+// driver, and what arrives between two ticks is applied before the second, in both.
+#ifndef KANE_SIM_TOOLS_SIMULATE_REPLAY_H
+#define KANE_SIM_TOOLS_SIMULATE_REPLAY_H
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include "kane_sim/config/config.h"
+
+namespace simulate {
+
+struct ReplayError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct ReplayResult {
+  std::uint64_t inputs = 0;     // inputs fed to the driver
+  std::uint64_t compared = 0;   // mechanism_state messages compared
+  std::uint64_t skipped = 0;    // at a tick with a reset or set_state (the bag holds both sides)
+  double largest = 0.0;         // largest |difference| of q1, q2, u1, u2
+  double largest_at = 0.0;      // [s] sim time of the first largest difference
+  const char* largest_of = "";  // which of q1, q2, u1, u2
+  std::uint64_t parameter_changes = 0;  // runtime reconfigurations in the bag (not replayed)
+  std::string input_topic, state_topic;
+};
+
+// Throws ReplayError naming what the bag lacks (no input log, no states, several sims).
+ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& config);
+
+}  // namespace simulate
+
+#endif  // KANE_SIM_TOOLS_SIMULATE_REPLAY_H

@@ -1,0 +1,103 @@
+// `simulate --replay` of a bag recorded from the node (test/node/replay.test): the node logs every
+// input with its physics tick on ~input_log; the replay feeds them to the same driver and must
+// find every recorded mechanism_state again, bit for bit. Without one of the inputs it must not.
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <std_srvs/Empty.h>
+#include <yaml-cpp/yaml.h>
+
+#include "kane_sim/InputLog.h"
+#include "kane_sim/SetState.h"
+#include "kane_sim/StepWithCommand.h"
+#include "kane_sim/ros/param_yaml.h"
+#include "node_test_utils.h"
+#include "test_helpers.h"
+
+namespace kane_sim {
+namespace {
+
+class Replay : public test::SimNodeTest {};
+
+using test::Recorder;
+using test::send;
+
+// A bag as rosbag record writes it: each message at its own stamp (sim time in /clock mode).
+void writeBag(const std::string& path, const std::vector<MechanismState>& states,
+              const std::vector<InputLog>& inputs, std::size_t leave_out = SIZE_MAX) {
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  for (const MechanismState& m : states) bag.write("/mechanism_state", m.header.stamp, m);
+  for (std::size_t i = 0; i < inputs.size(); ++i)
+    if (i != leave_out) bag.write("/kane_sim/input_log", inputs[i].header.stamp, inputs[i]);
+}
+
+TEST_F(Replay, ARecordedRunReplaysBitForBit) {
+  Recorder<InputLog> inputs(nh_, "kane_sim/input_log");
+  ASSERT_TRUE(test::waitFor([&] { return inputs.connected(); }, 10.0));
+  state_.clear();
+  // Drive it as a user would: commands at whatever wall times, a refused one, the services.
+  send(torque_, 5.0);
+  test::sleepWall(0.3);
+  send(torque_, -3.0);
+  send(torque_, std::nan(""));
+  test::sleepWall(0.2);
+  SetState set_state;
+  set_state.request.q1 = 1.0;
+  set_state.request.spring_at_rest = true;
+  ASSERT_TRUE(ros::service::call("kane_sim/set_state", set_state));
+  ASSERT_TRUE(set_state.response.success);
+  send(torque_, 8.0);
+  test::sleepWall(0.3);
+  std_srvs::Empty empty;
+  ASSERT_TRUE(ros::service::call("kane_sim/reset", empty));
+  send(torque_, 60.0);  // clamped to 50
+  test::sleepWall(0.2);
+  ASSERT_TRUE(ros::service::call("kane_sim/pause", empty));
+  StepWithCommand step;
+  step.request.torque = 2.0;
+  step.request.steps = 700;  // past half the command timeout: the held torque is re-sent
+  ASSERT_TRUE(ros::service::call("kane_sim/step_with_command", step));
+  ASSERT_TRUE(step.response.success);
+  ASSERT_TRUE(ros::service::call("kane_sim/unpause", empty));
+  test::sleepWall(1.0);  // the command times out (0.5 s): part of the run too
+  ASSERT_TRUE(ros::service::call("kane_sim/pause", empty));
+  test::sleepWall(0.3);  // the last messages in
+
+  const std::vector<InputLog> logged = inputs.messages();
+  ASSERT_GE(logged.size(), 9u);  // 6 torques, set_state, reset, >= 2 from step_with_command
+  const std::string dir = ::testing::TempDir();
+  const std::string bag = dir + "/replay_test.bag", cut = dir + "/replay_cut.bag";
+  writeBag(bag, state_.messages(), logged);
+  writeBag(cut, state_.messages(), logged, 0);  // without the first command
+  XmlRpc::XmlRpcValue params;
+  ASSERT_TRUE(ros::param::get("/kane_sim", params));
+  const std::string config = dir + "/replay_config.yaml";
+  std::ofstream(config) << yamlFromXmlRpc(params);
+
+  const std::string simulate = std::string(KANE_SIM_SIMULATE_EXE) + " --config " + config;
+  const test::CommandResult same = test::runCommand(simulate + " --replay " + bag);
+  EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
+  EXPECT_NE(same.out.find("largest difference 0\n"), std::string::npos) << same.out;
+  EXPECT_NE(same.out.find("replayed " + std::to_string(logged.size()) + " inputs"),
+            std::string::npos)
+      << same.out;
+  const test::CommandResult differs = test::runCommand(simulate + " --replay " + cut);
+  EXPECT_EQ(differs.exit_code, 6) << differs.out << differs.err;
+  // Hostile: not a bag, a bag without inputs, a negative tolerance.
+  const test::CommandResult not_bag = test::runCommand(simulate + " --replay " + config);
+  EXPECT_EQ(not_bag.exit_code, 6);
+  EXPECT_NE(not_bag.err.find("cannot read --replay"), std::string::npos) << not_bag.err;
+  writeBag(cut, state_.messages(), {});
+  const test::CommandResult no_inputs = test::runCommand(simulate + " --replay " + cut);
+  EXPECT_EQ(no_inputs.exit_code, 6);
+  EXPECT_NE(no_inputs.err.find("input_log"), std::string::npos) << no_inputs.err;
+  const test::CommandResult tolerance =
+      test::runCommand(simulate + " --replay " + bag + " --tolerance -1");
+  EXPECT_EQ(tolerance.exit_code, 2);
+}
+
+}  // namespace
+}  // namespace kane_sim
