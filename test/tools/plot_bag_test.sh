@@ -26,4 +26,21 @@ if /usr/bin/python3 "$here/../../scripts/plot_bag" "$work/empty.csv" -o "$work/e
 elif grep -q "cannot read" "$work/err"; then echo "ok   bad CSV refused: $(cat "$work/err")"
 else echo "FAIL unclear error: $(cat "$work/err")"; failures=$((failures + 1)); fi
 
-if [ "$failures" -eq 0 ]; then echo "3 passed, 0 failed"; else echo "$((3 - failures)) passed, $failures failed"; exit 1; fi
+# Sensors on: the readings are drawn over q1 (at their arrival), another run beside with
+# --compare; a --compare that cannot be read is refused naming it.
+/usr/bin/python3 - "$here/../../config" "$work/sensors.yaml" <<'PY'
+import sys, yaml
+base = yaml.safe_load(open(sys.argv[1] + "/mechanism.yaml"))
+base["sensors"].update(yaml.safe_load(open(sys.argv[1] + "/sensors.yaml"))["sensors"])
+yaml.safe_dump(base, open(sys.argv[2], "w"))
+PY
+"$simulate" --config "$work/sensors.yaml" --duration 2 --torque-sine 5,1 --bag "$work/sensors.bag" 2>/dev/null
+out=$(/usr/bin/python3 "$here/../../scripts/plot_bag" "$work/sensors.bag" --compare "$work/run.csv" -o "$work/sensors.png")
+if echo "$out" | grep -q "200 sensor readings, compared with"; then echo "ok   sensors + compare: $out"
+else echo "FAIL sensors + compare: $out"; failures=$((failures + 1)); fi
+if /usr/bin/python3 "$here/../../scripts/plot_bag" "$work/run.bag" --compare "$work/nothing.bag" -o "$work/x.png" 2>"$work/err"; then
+  echo "FAIL a missing --compare was accepted"; failures=$((failures + 1))
+elif grep -q "cannot read --compare" "$work/err"; then echo "ok   missing --compare refused"
+else echo "FAIL unclear error: $(cat "$work/err")"; failures=$((failures + 1)); fi
+
+if [ "$failures" -eq 0 ]; then echo "5 passed, 0 failed"; else echo "$((5 - failures)) passed, $failures failed"; exit 1; fi
