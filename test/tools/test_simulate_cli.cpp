@@ -123,6 +123,12 @@ TEST(SimulateCli, AbsurdValuesAndBadTorqueProfilesAreUsageErrors) {
       {" --duration 1 --torque-sine 1,x", "--torque-sine: 'x' is not a number"},
       {" --duration 1 --torque 1 --torque-sine 1,2", "give at most one of --torque"},
       {" --duration 1 --torque inf", "--torque must be finite"},
+      {" --replay x.bag --duration 1", "--replay takes the bag's inputs and times: no --duration"},
+      {" --replay x.bag --torque 2", "no --torque"},
+      {" --replay x.bag --tolerance nan", "--tolerance must be finite"},
+      {" --replay x.bag --tolerance -1", "--tolerance must be >= 0"},
+      {" --duration 1 --tolerance 1", "--tolerance is for --replay"},
+      {"", "the option '--duration' is required"},
   };
   for (const auto& c : cases) {
     const RunResult r = runSimulate(kConfig + c.args);
