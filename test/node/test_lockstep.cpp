@@ -14,15 +14,12 @@
 #include <gtest/gtest.h>
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Float64.h>
-#include <std_srvs/Empty.h>
 
+#include "controlled_run.h"
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/TorqueCommandStamped.h"
-#include "kane_sim/ros/param_yaml.h"
-#include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "node_test_utils.h"
-#include "pd_law.h"
 
 namespace kane_sim {
 namespace {
@@ -73,23 +70,15 @@ TEST(Lockstep, TheTrajectoryIsTheOfflineOneBitForBitWhateverTheLoad) {
   js.clear();
   CpuHog hog(hog_on);
   ASSERT_EQ(hog.size(), hog_on ? 2u : 0u);
-  std_srvs::Empty empty;
-  ASSERT_TRUE(ros::service::waitForService("kane_sim/unpause", ros::Duration(10.0)));
-  ASSERT_TRUE(ros::service::call("kane_sim/unpause", empty));
   constexpr size_t kPublishes = 300;  // 3 s of sim time at 100 Hz
-  ASSERT_TRUE(js.waitForCount(kPublishes + 2, 60.0)) << js.count();
-  ros::service::call("kane_sim/pause", empty);
+  ASSERT_TRUE(test::runUnpausedFor(js, kPublishes + 2));
 
   // Offline: the node's own config, the controller's gains, the law at every publish.
-  XmlRpc::XmlRpcValue params;
-  ASSERT_TRUE(ros::param::get("/kane_sim", params));
-  const Config config = loadSimulationConfig(yamlFromXmlRpc(params)).config;
-  PdGains gains;
-  double setpoint = 0.0;
-  ASSERT_TRUE(ros::param::get("/pd_controller/kp", gains.kp));
-  ASSERT_TRUE(ros::param::get("/pd_controller/kd", gains.kd));
-  ASSERT_TRUE(ros::param::get("/pd_controller/torque_limit", gains.torque_limit));
-  ASSERT_TRUE(ros::param::get("/pd_controller/setpoint", setpoint));
+  test::ControlledRun run;
+  ASSERT_TRUE(test::readControlledRun(&run));
+  const Config& config = run.config;
+  const PdGains& gains = run.gains;
+  const double setpoint = run.setpoint;
   SimDriver driver(config, {});
   // The paused state may be repeated (once a second) after the clear: not a stepped state.
   std::vector<sensor_msgs::JointState> recorded;

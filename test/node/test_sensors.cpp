@@ -9,15 +9,12 @@
 
 #include <gtest/gtest.h>
 #include <sensor_msgs/JointState.h>
-#include <std_srvs/Empty.h>
 
+#include "controlled_run.h"
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/ros/messages.h"
-#include "kane_sim/ros/param_yaml.h"
-#include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "node_test_utils.h"
-#include "pd_law.h"
 
 namespace kane_sim {
 namespace {
@@ -32,23 +29,15 @@ TEST(Sensors, ReadingsTruthAndTheControlledRunAreTheSeededOfflineOnes) {
   test::sleepWall(1.0);
   EXPECT_EQ(readings.count(), 0u);
   truth.clear();
-  std_srvs::Empty empty;
-  ASSERT_TRUE(ros::service::waitForService("kane_sim/unpause", ros::Duration(10.0)));
-  ASSERT_TRUE(ros::service::call("kane_sim/unpause", empty));
   constexpr size_t kReadings = 300;  // 3 s of sim time at 100 Hz
-  ASSERT_TRUE(readings.waitForCount(kReadings + 2, 60.0)) << readings.count();
-  ros::service::call("kane_sim/pause", empty);
+  ASSERT_TRUE(test::runUnpausedFor(readings, kReadings + 2));
 
-  XmlRpc::XmlRpcValue params;
-  ASSERT_TRUE(ros::param::get("/kane_sim", params));
-  const Config config = loadSimulationConfig(yamlFromXmlRpc(params)).config;
+  test::ControlledRun run;
+  ASSERT_TRUE(test::readControlledRun(&run));
+  const Config& config = run.config;
   ASSERT_TRUE(config.sensors.enabled);
-  PdGains gains;
-  double setpoint = 0.0;
-  ASSERT_TRUE(ros::param::get("/pd_controller/kp", gains.kp));
-  ASSERT_TRUE(ros::param::get("/pd_controller/kd", gains.kd));
-  ASSERT_TRUE(ros::param::get("/pd_controller/torque_limit", gains.torque_limit));
-  ASSERT_TRUE(ros::param::get("/pd_controller/setpoint", setpoint));
+  const PdGains& gains = run.gains;
+  const double setpoint = run.setpoint;
 
   // Offline: the node's loop without ROS. After each step the due readings are answered by the
   // law at once (lockstep holds the next step until the answer is in).
