@@ -31,6 +31,7 @@ kane_sim_unit_test(test_lagrange_crosscheck test/core/test_lagrange_crosscheck.c
 kane_sim_unit_test(test_generated_equations test/core/test_generated_equations.cpp)
 kane_sim_unit_test(test_energy test/core/test_energy.cpp)
 kane_sim_unit_test(test_physics_options test/core/test_physics_options.cpp)
+kane_sim_unit_test(test_constraint_forces test/core/test_constraint_forces.cpp)
 kane_sim_unit_test(test_linear_analysis test/core/test_linear_analysis.cpp)
 if(TARGET test_linear_analysis)
   target_link_libraries(test_linear_analysis kane_sim_analysis)

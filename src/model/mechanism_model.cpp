@@ -1,5 +1,7 @@
 #include "kane_sim/model/mechanism_model.h"
 
+#include "kane_sim/model/power_flow.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -118,13 +120,8 @@ MechanismLoads MechanismModel::loads(const MechanismKinematics& k, const State& 
 }
 
 PowerTerms MechanismModel::power(const MechanismLoads& l, const State& x) {
-  const SpeedVector u = x.speeds();
-  PowerTerms p;
-  p.motor = kane::power(l.motor, u);
-  p.dissipated = -(kane::power(l.crank_damper, u) + kane::power(l.coupler_damper_on_rod1, u) +
-                   kane::power(l.coupler_damper_on_rod2, u) + kane::power(l.slider3_damper, u) +
-                   kane::power(l.slider4_damper, u));
-  return p;
+  const LoadPowers each = loadPowers(l, x);
+  return {each.motor, -each.dampers()};
 }
 
 std::optional<SliderImpact> MechanismModel::sliderImpact(const State& x, double restitution) const {
@@ -214,11 +211,9 @@ OdeState MechanismModel::stateDerivative(const State& x, double motor_command) c
 }
 
 EnergyTerms MechanismModel::energy(const MechanismKinematics& k, const State& x) const {
-  const SpeedVector u = x.speeds();
   const double g = parameters_.gravity;
   EnergyTerms e;
-  e.kinetic = kane::kineticEnergy(k.rod1, u) + kane::kineticEnergy(k.rod2, u) +
-              kane::kineticEnergy(k.slider3, u) + kane::kineticEnergy(k.slider4, u);
+  for (double body : bodyKineticEnergies(k, x)) e.kinetic += body;
   for (const kane::Particle<kNumSpeeds>* p :
        {&k.rod1.mass_center, &k.rod2.mass_center, &k.slider3, &k.slider4})
     e.gravitational -= p->mass * g * p->position.dot(kI);

@@ -1,5 +1,6 @@
 #include "kane_sim/ros/messages.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -88,6 +89,26 @@ kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_ti
   msg.slider_separation = s.slider_separation;
   msg.slider_crossings = static_cast<std::uint32_t>(s.slider_crossings);
   msg.real_time_factor = real_time_factor;
+  const ConstraintForces& f = s.constraint_forces;
+  msg.pin_o_force = {f.pin_o.x(), f.pin_o.y()};
+  msg.pin_a_force = {f.pin_a.x(), f.pin_a.y()};
+  msg.pin_b_force = {f.pin_b.x(), f.pin_b.y()};
+  msg.rail_force_slider3 = f.rail_slider3;
+  msg.rail_force_slider4 = f.rail_slider4;
+  msg.spring_force = f.spring;
+  msg.reactions_determinate = f.determinate;
+  const LoadPowers& p = s.load_powers;
+  msg.gravity_power = p.gravity;
+  msg.spring_power = p.spring;
+  msg.motor_power = p.motor;
+  msg.crank_damper_power = p.crank_damper;
+  msg.coupler_damper_power = p.coupler_damper;
+  msg.slider3_damper_power = p.slider3_damper;
+  msg.slider4_damper_power = p.slider4_damper;
+  msg.contact_power = p.contact;
+  std::copy(s.body_kinetic_energy.begin(), s.body_kinetic_energy.end(),
+            msg.body_kinetic_energy.begin());
+  msg.impact_energy = s.impact_energy;
   return msg;
 }
 

@@ -39,6 +39,7 @@ void Simulator::touch(const Equations& equations, OdeState* x) {
     (*x)[2] = impact->after.u1;
     (*x)[3] = impact->after.u2;
     (*x)[5] += impact->energy_loss;  // D: the ledger books the impact's loss
+    step_impact_energy_ += impact->energy_loss;
     ++contact_impacts_;
   }
   if (rests) {

@@ -1,16 +1,11 @@
 #include "kane_sim/sim/csv_format.h"
 
 #include <charconv>
+#include <iterator>
 
 namespace kane_sim {
 
 namespace {
-
-// The columns, each named once beside the value it holds.
-struct CsvColumn {
-  const char* name;
-  double (*value)(const Snapshot&);
-};
 
 const CsvColumn kColumns[] = {
     {"t", [](const Snapshot& s) { return s.time; }},
@@ -35,9 +30,35 @@ const CsvColumn kColumns[] = {
     {"energy_balance", [](const Snapshot& s) { return s.energyBalance(); }},
     {"commanded_torque", [](const Snapshot& s) { return s.command.commanded; }},
     {"contact_impacts", [](const Snapshot& s) { return static_cast<double>(s.contact_impacts); }},
+    // Reaction forces (Kane's method with auxiliary speeds), frame (0) [N].
+    {"pin_o_x", [](const Snapshot& s) { return s.constraint_forces.pin_o.x(); }},
+    {"pin_o_y", [](const Snapshot& s) { return s.constraint_forces.pin_o.y(); }},
+    {"pin_a_x", [](const Snapshot& s) { return s.constraint_forces.pin_a.x(); }},
+    {"pin_a_y", [](const Snapshot& s) { return s.constraint_forces.pin_a.y(); }},
+    {"pin_b_x", [](const Snapshot& s) { return s.constraint_forces.pin_b.x(); }},
+    {"pin_b_y", [](const Snapshot& s) { return s.constraint_forces.pin_b.y(); }},
+    {"rail_slider3", [](const Snapshot& s) { return s.constraint_forces.rail_slider3; }},
+    {"rail_slider4", [](const Snapshot& s) { return s.constraint_forces.rail_slider4; }},
+    {"spring_force", [](const Snapshot& s) { return s.constraint_forces.spring; }},
+    // Power flow [W]: each load (their sum is dT/dt), then each body's kinetic energy [J].
+    {"power_gravity", [](const Snapshot& s) { return s.load_powers.gravity; }},
+    {"power_spring", [](const Snapshot& s) { return s.load_powers.spring; }},
+    {"power_crank_damper", [](const Snapshot& s) { return s.load_powers.crank_damper; }},
+    {"power_coupler_damper", [](const Snapshot& s) { return s.load_powers.coupler_damper; }},
+    {"power_slider3_damper", [](const Snapshot& s) { return s.load_powers.slider3_damper; }},
+    {"power_slider4_damper", [](const Snapshot& s) { return s.load_powers.slider4_damper; }},
+    {"power_contact", [](const Snapshot& s) { return s.load_powers.contact; }},
+    {"kinetic_rod1", [](const Snapshot& s) { return s.body_kinetic_energy[kRod1]; }},
+    {"kinetic_rod2", [](const Snapshot& s) { return s.body_kinetic_energy[kRod2]; }},
+    {"kinetic_slider3", [](const Snapshot& s) { return s.body_kinetic_energy[kSlider3]; }},
+    {"kinetic_slider4", [](const Snapshot& s) { return s.body_kinetic_energy[kSlider4]; }},
+    {"impact_energy", [](const Snapshot& s) { return s.impact_energy; }},
 };
 
 }  // namespace
+
+const CsvColumn* csvColumnsBegin() { return std::begin(kColumns); }
+const CsvColumn* csvColumnsEnd() { return std::end(kColumns); }
 
 void writeCsvHeader(std::ostream& out) {
   const char* separator = "";

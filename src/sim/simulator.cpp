@@ -62,6 +62,7 @@ double Simulator::lastInstantWhere(const System& system, const OdeState x, doubl
 template <class Equations>
 Status Simulator::stepWith(const Equations& equations) {
   OdeState x = toOdeState(state_, motor_work_, dissipated_energy_);
+  step_impact_energy_ = 0.0;
   const EquationsOfMotion<Equations> free{&equations, torque_};
   const RestingContactMotion<Equations> held{&model_, &equations, torque_};
   const SliderContact& contact = model_.parameters().contact;
@@ -141,6 +142,7 @@ Status Simulator::stepWith(const Equations& equations) {
   // same weights as q1' = u1, so W = M_m Δq1 to rounding, as exact as before.
   motor_work_ = x[4];
   dissipated_energy_ = x[5];
+  impact_energy_ += step_impact_energy_;
   const bool slider4_below = separationAtLeast(x, 0.0);
   if (slider4_below != slider4_below_) ++slider_crossings_;
   slider4_below_ = slider4_below;
@@ -164,6 +166,7 @@ Status Simulator::setState(const State& x) {
   state_ = x;
   motor_work_ = 0.0;
   dissipated_energy_ = 0.0;
+  impact_energy_ = 0.0;
   parameter_energy_ = 0.0;
   slider_crossings_ = 0;
   contact_impacts_ = 0;

@@ -74,6 +74,7 @@ class Simulator {
   double stepSize() const { return step_size_; }
   double motorWork() const { return motor_work_; }
   double dissipatedEnergy() const { return dissipated_energy_; }
+  double impactEnergy() const { return impact_energy_; }  // [J] the impacts' share of D
   std::uint64_t sliderCrossings() const { return slider_crossings_; }
   std::uint64_t contactImpacts() const { return contact_impacts_; }
   // With contact on, at most this many contact events (impacts, the start or the end of a
@@ -124,8 +125,10 @@ class Simulator {
   double step_size_;  // [s] 1 / physics_rate
   std::uint64_t ticks_ = 0;
   double torque_ = 0.0;
-  double motor_work_ = 0.0;         // W [J]
-  double dissipated_energy_ = 0.0;  // D [J]
+  double motor_work_ = 0.0;          // W [J]
+  double dissipated_energy_ = 0.0;   // D [J]
+  double impact_energy_ = 0.0;       // [J] the slider impacts' share of D
+  double step_impact_energy_ = 0.0;  // that of the step being taken (booked when it is accepted)
   std::uint64_t slider_crossings_ = 0;
   std::uint64_t contact_impacts_ = 0;
   bool step_too_coarse_ = false;

@@ -3,13 +3,16 @@
 #ifndef KANE_SIM_SIM_SNAPSHOT_H
 #define KANE_SIM_SIM_SNAPSHOT_H
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 
 #include "kane_sim/control/crank_servo.h"
 #include "kane_sim/description/joint_values.h"
+#include "kane_sim/model/constraint_forces.h"
 #include "kane_sim/model/mechanism_model.h"
+#include "kane_sim/model/power_flow.h"
 #include "kane_sim/model/state.h"
 
 namespace kane_sim {
@@ -46,9 +49,15 @@ struct Snapshot {
   std::uint64_t contact_impacts = 0;   // slider impacts since start or reset (contact on)
   bool resting_contact = false;        // the sliders rest on each other, held at contact.gap
   double contact_force = 0.0;          // N [N] then on slider 4 along +i (0 when apart)
-  MechanismGeometry geometry;          // positions of O, A, B, C, C1, C2; rod angles
-  JointValues joints;                  // crank, coupler, slider3, slider4
-  ServoStatus servo;                   // command.mode velocity | position: the servo's update
+  // What Kane's method shows beyond the motion: the pins' and rails' reaction forces (auxiliary
+  // speeds), each load's power (Σ = dT/dt) and each body's kinetic energy (Σ = T).
+  ConstraintForces constraint_forces;
+  LoadPowers load_powers;
+  std::array<double, kNumBodies> body_kinetic_energy{};
+  double impact_energy = 0.0;  // [J] lost in slider impacts since start or reset (part of D)
+  MechanismGeometry geometry;  // positions of O, A, B, C, C1, C2; rod angles
+  JointValues joints;          // crank, coupler, slider3, slider4
+  ServoStatus servo;           // command.mode velocity | position: the servo's update
 
   // Every number finite: what the node and the tools check before anything is published or
   // written (a snapshot that fails it is withheld and reported, never sent).
@@ -68,15 +77,20 @@ struct Snapshot {
                              slider_separation,
                              contact_force,
                              servo.output,
-                             servo.integral};
+                             servo.integral,
+                             load_powers.total(),
+                             impact_energy};
     for (double v : values)
       if (!std::isfinite(v)) return false;
     for (int i = 0; i < kNumJoints; ++i)
       if (!std::isfinite(joints.position[i]) || !std::isfinite(joints.velocity[i]) ||
           !std::isfinite(joints.effort[i]))
         return false;
+    for (double t : body_kinetic_energy)
+      if (!std::isfinite(t)) return false;
     return state.isFinite() && u_dot.allFinite() && active_forces.allFinite() &&
-           inertia_forces.allFinite() && std::isfinite(energyBalance());
+           constraint_forces.allFinite() && inertia_forces.allFinite() &&
+           std::isfinite(energyBalance());
   }
 
   // The energy ledger: E + D - W - parameter_energy, constant to the integrator's order [J].

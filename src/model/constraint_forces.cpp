@@ -1,0 +1,96 @@
+#include "kane_sim/model/constraint_forces.h"
+
+#include "kane_sim/kane/auxiliary_speeds.h"
+
+namespace kane_sim {
+namespace {
+
+// The reaction components λ_j, in the order of the auxiliary speeds that bring each one in.
+enum Reaction { kRailSlider4, kPinBx, kPinBy, kPinAx, kPinAy, kPinOx, kPinOy, kRailSlider3 };
+constexpr int kNumReactions = 8;  // pins O, A, B (2 each) and the two rails: 3n - mobility - 0
+using Aux = kane::AuxiliaryPartials<kNumReactions>;
+
+const Eigen::Vector3d kI = Eigen::Vector3d::UnitX();
+const Eigen::Vector3d kJ = Eigen::Vector3d::UnitY();
+const Eigen::Vector3d kK = Eigen::Vector3d::UnitZ();
+
+}  // namespace
+
+ConstraintForces constraintForces(const MechanismModel& model, const State& x,
+                                  const SpeedVector& u_dot, double motor_command,
+                                  double contact_force) {
+  const MechanismKinematics k = model.kinematics(x);
+  const MechanismLoads loads = model.loads(k, x, motor_command);
+  const MechanismGeometry& g = k.geometry;
+  const SpeedVector u = x.speeds();
+
+  // The auxiliary motions, each breaking one more constraint than those before it, so that
+  // C is triangular (each equation brings in one new reaction):
+  kane::AuxiliaryMotion<kNumReactions> rod1, rod2;   // bodies 1, 2
+  Aux slider3 = Aux::Zero(), slider4 = Aux::Zero();  // bodies 3, 4 (particles)
+  // ũ1: slider 4 leaves its rail along j: the rail's normal force N4.
+  slider4.col(0) = kJ;
+  // ũ2: slider 3 alone along i, rod 2 still: pin B opens along i (B_x).
+  slider3.col(1) = kI;
+  // ũ3: slider 3 alone along j: pin B along j (B_y) and slider 3's rail (N3).
+  slider3.col(2) = kJ;
+  // ũ4, ũ5: rod 2 and slider 3 translate along i, j: pin A opens (A_x; A_y and N3).
+  rod2.velocity.col(3) = slider3.col(3) = kI;
+  rod2.velocity.col(4) = slider3.col(4) = kJ;
+  // ũ6, ũ7: both rods and slider 3 translate along i, j: pin O opens (O_x; O_y and N3).
+  rod1.velocity.col(5) = rod2.velocity.col(5) = slider3.col(5) = kI;
+  rod1.velocity.col(6) = rod2.velocity.col(6) = slider3.col(6) = kJ;
+  // ũ8: rod 2 turns about A, carrying slider 3 with B: pins hold, slider 3 leaves its rail at
+  // (B - A) · i = 2 L cos q1 per unit (N3 alone).
+  rod2.angular_velocity.col(7) = kK;
+  rod2.velocity.col(7) = kK.cross(g.rod2_center - g.pin_a);
+  slider3.col(7) = kK.cross(g.pin_b - g.pin_a);
+
+  kane::AuxiliaryEquations<kNumReactions> eq;
+  // F̃*_s: every body's inertia force and torque under the auxiliary motions.
+  kane::addAuxiliaryInertiaForces(k.rod1, rod1, u, u_dot, &eq);
+  kane::addAuxiliaryInertiaForces(k.rod2, rod2, u, u_dot, &eq);
+  kane::addAuxiliaryInertiaForces(k.slider3, slider3, u_dot, &eq);
+  kane::addAuxiliaryInertiaForces(k.slider4, slider4, u_dot, &eq);
+  // F̃_s of the known loads: gravity at the mass centers (eq 14), the spring at B and C (eq 15),
+  // the motor and the dampers, the resting contact's force (+N on slider 4, -N on slider 3).
+  kane::addAuxiliaryActiveForces(loads.gravity[kRod1].force, rod1.velocity, &eq);
+  kane::addAuxiliaryActiveForces(loads.gravity[kRod2].force, rod2.velocity, &eq);
+  kane::addAuxiliaryActiveForces(loads.gravity[kSlider3].force, slider3, &eq);
+  kane::addAuxiliaryActiveForces(loads.gravity[kSlider4].force, slider4, &eq);
+  kane::addAuxiliaryActiveForces(loads.spring_on_slider3.force, slider3, &eq);
+  kane::addAuxiliaryActiveForces(loads.spring_on_slider4.force, slider4, &eq);
+  kane::addAuxiliaryActiveForces(loads.slider3_damper.force, slider3, &eq);
+  kane::addAuxiliaryActiveForces(loads.slider4_damper.force, slider4, &eq);
+  kane::addAuxiliaryActiveForces(Eigen::Vector3d(-contact_force * kI), slider3, &eq);
+  kane::addAuxiliaryActiveForces(Eigen::Vector3d(contact_force * kI), slider4, &eq);
+  kane::addAuxiliaryActiveForces(loads.motor.torque, rod1.angular_velocity, &eq);
+  kane::addAuxiliaryActiveForces(loads.crank_damper.torque, rod1.angular_velocity, &eq);
+  kane::addAuxiliaryActiveForces(loads.coupler_damper_on_rod1.torque, rod1.angular_velocity, &eq);
+  kane::addAuxiliaryActiveForces(loads.coupler_damper_on_rod2.torque, rod2.angular_velocity, &eq);
+  // The reactions, each on the second body from the first (the ground has no motion).
+  const Aux o_on_rod1 = rod1.atPoint(g.pivot_o - g.rod1_center);
+  const Aux a_rod2_from_rod1 =
+      rod2.atPoint(g.pin_a - g.rod2_center) - rod1.atPoint(g.pin_a - g.rod1_center);
+  const Aux b_slider3_from_rod2 = slider3 - rod2.atPoint(g.pin_b - g.rod2_center);
+  kane::addReaction(kPinOx, kI, o_on_rod1, &eq);
+  kane::addReaction(kPinOy, kJ, o_on_rod1, &eq);
+  kane::addReaction(kPinAx, kI, a_rod2_from_rod1, &eq);
+  kane::addReaction(kPinAy, kJ, a_rod2_from_rod1, &eq);
+  kane::addReaction(kPinBx, kI, b_slider3_from_rod2, &eq);
+  kane::addReaction(kPinBy, kJ, b_slider3_from_rod2, &eq);
+  kane::addReaction(kRailSlider3, kJ, slider3, &eq);
+  kane::addReaction(kRailSlider4, kJ, slider4, &eq);
+
+  ConstraintForces f;
+  const Eigen::Matrix<double, kNumReactions, 1> lambda = eq.solveReactions(&f.determinate);
+  f.pin_o = {lambda[kPinOx], lambda[kPinOy]};
+  f.pin_a = {lambda[kPinAx], lambda[kPinAy]};
+  f.pin_b = {lambda[kPinBx], lambda[kPinBy]};
+  f.rail_slider3 = lambda[kRailSlider3];
+  f.rail_slider4 = lambda[kRailSlider4];
+  f.spring = loads.spring_on_slider4.force.x();
+  return f;
+}
+
+}  // namespace kane_sim
