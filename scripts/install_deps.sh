@@ -20,6 +20,8 @@ PACKAGES=(
   rviz xvfb xauth imagemagick python3-matplotlib python3-numpy python3-rosgraph-msgs
   # the independent SymPy derivation test; tools the test scripts call
   python3-sympy python3-yaml python3-rosservice bc procps
+  # the Python module (pybind11) and its tests
+  pybind11-dev python3-pybind11 python3-pytest
 )
 
 missing=()

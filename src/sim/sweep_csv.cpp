@@ -1,17 +1,12 @@
 // A sweep's CSV: the case's keys and values, its status, then the result columns.
+#include <iterator>
+
 #include "kane_sim/sim/csv_format.h"
 #include "kane_sim/sim/sweep.h"
 
 namespace kane_sim {
 
 namespace {
-
-// The result columns of a sweep row, each named once beside its value; counts print as integers.
-struct SweepColumn {
-  const char* name;
-  double (*value)(const SweepResult&);
-  bool count;
-};
 
 const SweepColumn kSweepColumns[] = {
     {"t", [](const SweepResult& r) { return r.time; }, false},
@@ -31,6 +26,9 @@ const SweepColumn kSweepColumns[] = {
 };
 
 }  // namespace
+
+const SweepColumn* sweepColumnsBegin() { return std::begin(kSweepColumns); }
+const SweepColumn* sweepColumnsEnd() { return std::end(kSweepColumns); }
 
 void writeSweepCsvHeader(std::ostream& out, const SweepPlan& plan) {
   out << "case";

@@ -25,6 +25,7 @@
 #include "kane_sim/ros/bag_writer.h"
 #include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/csv_format.h"
+#include "kane_sim/sim/output_grid.h"
 #include "kane_sim/sim/profile_commands.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/sweep.h"
@@ -52,8 +53,6 @@ constexpr int kExitOutput = 4;
 constexpr int kExitInternal = 5;       // a bug: please report the message
 constexpr int kExitReplayDiffers = 6;  // --replay: the states differ beyond --tolerance
 constexpr int kExitSignalBase = 128;   // + the signal's number, as a shell reports it
-// More physics steps than this between two rows is no output grid (and would overflow a long).
-constexpr double kMaxStepsPerRow = 1e12;
 
 // Set by SIGINT / SIGTERM: the run stops at the next row, writes what it has and exits
 // 128 + the signal. (A lock-free atomic store is async-signal-safe.)
@@ -63,29 +62,6 @@ static_assert(std::atomic<bool>::is_always_lock_free, "stored from a signal hand
 extern "C" void onStopSignal(int signal) {
   g_signal.store(signal);
   g_stop.store(true);
-}
-
-// Physics steps per output row; the output grid must sit on the physics grid.
-long stepsPerRow(double physics_rate, double output_rate) {
-  const double whole = kane_sim::wholeStepsPerPeriod(physics_rate, output_rate);
-  if (!(whole >= 1 && whole <= kMaxStepsPerRow))
-    throw UsageError("--output-rate " + num(output_rate) +
-                     " Hz must divide simulation.physics_rate " + num(physics_rate) +
-                     " Hz into a whole number of physics steps");
-  return static_cast<long>(whole);
-}
-
-// The row count of a run; a duration off the output grid is refused rather than cut short.
-long rowCount(double duration, double output_rate) {
-  const double periods = duration * output_rate;
-  const double whole = std::round(periods);
-  if (std::abs(periods - whole) > 1e-9 * std::max(1.0, periods))
-    throw UsageError("--duration " + num(duration) +
-                     " s is not a whole number of output periods (" + num(1.0 / output_rate) +
-                     " s at --output-rate " + num(output_rate) + " Hz): use " +
-                     num(std::floor(periods) / output_rate) + " or " +
-                     num(std::ceil(periods) / output_rate) + " s");
-  return static_cast<long>(whole);
 }
 
 // Sweep mode: every case through the library's runSweep, one row each, in case order.
@@ -189,8 +165,15 @@ int run(const Options& options) {
   const kane_sim::Config& config = loaded.config;
   if (!options.replay_bag.empty()) return runReplay(options, config);
 
-  const long steps_per_row = stepsPerRow(config.simulation.physics_rate, options.output_rate);
-  const long rows = rowCount(options.duration, options.output_rate);
+  kane_sim::OutputGrid grid;
+  try {
+    grid = kane_sim::outputGrid(config.simulation.physics_rate, options.duration,
+                                options.output_rate, "--duration", "--output-rate");
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  const long steps_per_row = grid.steps_per_row;
+  const long rows = grid.rows;
 
   // The same driver as the node: the profile is a stream of commands, clamped alike; each
   // kind of event is printed once.

@@ -13,6 +13,12 @@
 
 namespace kane_sim {
 
+// A servo's setpoint (command.mode velocity | position), else a torque command: what a value
+// of an offline run's command stream is.
+inline TorqueCommand::Verdict sendCommand(SimDriver& driver, double value) {
+  return driver.servoMode() ? driver.setpoint(value) : driver.command(value);
+}
+
 class ProfileCommands {
  public:
   // timeout: command.timeout [s] of the driver's config (0 = none).
@@ -25,11 +31,7 @@ class ProfileCommands {
     const double now = driver.time();
     const double torque = first_ || !profile_.isConstant() ? profile_.at(now) : last_torque_;
     if (first_ || torque != last_torque_ || (refresh_ >= 0 && now - last_time_ >= refresh_)) {
-      // A servo's setpoint (command.mode velocity | position), else a torque command.
-      if (driver.servoMode())
-        driver.setpoint(torque);
-      else
-        driver.command(torque);
+      sendCommand(driver, torque);
       first_ = false;
       last_torque_ = torque;
       last_time_ = now;
@@ -46,14 +48,16 @@ class ProfileCommands {
 
 enum class RunEnd { kFinished, kStepRefused, kStopped };
 
-// The offline run, one loop for `simulate` and every sweep case: `steps` physics steps of
-// `driver` under `commands` (the caller updates them once at the start, before its first
-// output; then after each step, as the node's tick does), on_step(driver)
+// The offline run, one loop for `simulate`, every sweep case and the Python module's
+// Simulator.run: `steps` physics steps of `driver` under `commands` (anything with
+// update(SimDriver&): ProfileCommands, or the Python module's arrays and callables; the caller
+// updates them once at the start, before its first output; then after each step, as the node's
+// tick does), on_step(driver)
 // after every step and on_sample(driver) after every `steps_per_sample`-th and the last. Ends
 // early when a step is refused or `stop` is set (checked before each step). A template, so the
 // callbacks inline into the loop (simulate's speed bar is measured on it).
-template <typename OnStep, typename OnSample>
-RunEnd runProfile(SimDriver& driver, ProfileCommands& commands, long steps, long steps_per_sample,
+template <typename Commands, typename OnStep, typename OnSample>
+RunEnd runProfile(SimDriver& driver, Commands& commands, long steps, long steps_per_sample,
                   const std::atomic<bool>* stop, OnStep on_step, OnSample on_sample) {
   for (long i = 1; i <= steps; ++i) {
     if (stop && stop->load(std::memory_order_relaxed)) return RunEnd::kStopped;

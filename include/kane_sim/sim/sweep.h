@@ -94,6 +94,16 @@ using SweepSink = std::function<void(size_t index, const SweepResult& result)>;
 std::vector<SweepResult> runSweep(const YAML::Node& base, const SweepPlan& plan,
                                   const SweepSettings& settings, const SweepSink& sink = {});
 
+// The result columns of a sweep row, each named once beside its value; counts print as integers.
+// The CSV and the Python module's kane_sim.sweep use this one table.
+struct SweepColumn {
+  const char* name;
+  double (*value)(const SweepResult&);
+  bool count;
+};
+const SweepColumn* sweepColumnsBegin();
+const SweepColumn* sweepColumnsEnd();
+
 // One CSV row per case: case, the swept keys, then the result columns.
 void writeSweepCsvHeader(std::ostream& out, const SweepPlan& plan);
 void writeSweepCsvRow(std::ostream& out, const SweepPlan& plan, size_t index,

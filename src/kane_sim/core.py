@@ -1,0 +1,285 @@
+"""The mechanism as Python objects over kane_sim._core: Config (the one loader), Simulator (the
+one driver: SimDriver, stepped by simulate's loop), analyze (analyze --json), sweep (simulate
+--sweep). Errors keep the C++ messages: ConfigError (a ValueError) names the key and the value,
+ValueError a refused input, StepRefused (a RuntimeError) a refused step."""
+import json
+import os
+from collections.abc import Mapping
+
+import numpy as np
+import yaml
+
+from kane_sim import _core
+from kane_sim._core import ConfigError, StepRefused, TorqueProfile
+
+__all__ = ["Config", "ConfigError", "Result", "Simulator", "StepRefused", "TorqueProfile",
+           "analyze", "load_config", "sweep"]
+
+
+def _yaml_scalar(value):
+    """A Python value as the YAML a config file would hold (NaN as .nan: the loader names it)."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    if not isinstance(value, (bool, int, float, str)):
+        raise TypeError("a config value must be a number, a bool or a string, got %s"
+                        % type(value).__name__)
+    return yaml.safe_dump(value)
+
+
+class Config:
+    """A validated config. Config() is the package's config/mechanism.yaml; Config(path) a file;
+    Config(dict) the same sections and keys as a file. Values by config name:
+    cfg["mechanism.rod_mass"]; cfg["mechanism.rod_mass"] = 2.0 goes through the loader again
+    (a refused value raises ConfigError and changes nothing)."""
+
+    def __init__(self, source=None):
+        if isinstance(source, Config):
+            self._core = source._core
+        elif isinstance(source, _core.Config):
+            self._core = source
+        elif source is None:
+            self._core = _core.Config.from_file("")
+        elif isinstance(source, (str, os.PathLike)):
+            self._core = _core.Config.from_file(os.fspath(source))
+        elif isinstance(source, Mapping):
+            self._core = _core.Config.from_yaml(yaml.safe_dump(_plain(source)))
+        else:
+            raise TypeError("Config takes a file path, a dict or nothing, got %s"
+                            % type(source).__name__)
+
+    def __getitem__(self, name):
+        return self._core.get(name)
+
+    def __setitem__(self, name, value):
+        self._core = self._core.with_value(name, _yaml_scalar(value))
+
+    def replace(self, **_unused):
+        raise TypeError("use with_values({'section.key': value, ...})")
+
+    def with_values(self, values):
+        """A copy with {'section.key': value} set (validated as a whole)."""
+        out = Config(self)
+        for name, value in values.items():
+            out[name] = value
+        return out
+
+    @staticmethod
+    def names():
+        return list(_core.Config.names())
+
+    @property
+    def warnings(self):
+        return list(self._core.warnings)
+
+    @property
+    def source(self):
+        return self._core.source
+
+    def yaml(self):
+        """The config as YAML text: what `simulate --config` reads."""
+        return self._core.yaml()
+
+    def __repr__(self):
+        return "Config(%r)" % self.source
+
+
+def _plain(value):
+    """NumPy scalars and arrays in a dict as plain Python (what yaml.safe_dump writes)."""
+    if isinstance(value, Mapping):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def load_config(source=None):
+    """Config(source): a file path, a dict, or None for the package's config/mechanism.yaml."""
+    return Config(source)
+
+
+class Result(Mapping):
+    """A run's outputs: one NumPy array per column of simulate's CSV (result["pin_o_x"], ...,
+    `list(result)` names them), and the usual groups: t, q (N x 2), u, u_dot, torque,
+    energies, ledger, reactions, powers, kinetic_per_body."""
+
+    def __init__(self, columns):
+        self.columns = dict(columns)
+
+    def __getitem__(self, name):
+        return self.columns[name]
+
+    def __iter__(self):
+        return iter(self.columns)
+
+    def __len__(self):
+        return len(self.columns)
+
+    def _stack(self, *names):
+        return np.column_stack([self.columns[n] for n in names])
+
+    @property
+    def t(self):
+        return self.columns["t"]
+
+    @property
+    def q(self):
+        return self._stack("q1", "q2")
+
+    @property
+    def u(self):
+        return self._stack("u1", "u2")
+
+    @property
+    def u_dot(self):
+        return self._stack("u1dot", "u2dot")
+
+    @property
+    def torque(self):
+        return self.columns["torque"]
+
+    @property
+    def energies(self):
+        return {k: self.columns[k] for k in ("kinetic", "gravitational", "spring", "energy")}
+
+    @property
+    def ledger(self):
+        return {k: self.columns[k] for k in ("motor_work", "dissipated_energy", "energy_balance",
+                                             "impact_energy")}
+
+    @property
+    def reactions(self):
+        return {k: self.columns[k] for k in ("pin_o_x", "pin_o_y", "pin_a_x", "pin_a_y", "pin_b_x",
+                                             "pin_b_y", "rail_slider3", "rail_slider4",
+                                             "spring_force")}
+
+    @property
+    def powers(self):
+        names = ("gravity", "spring", "crank_damper", "coupler_damper", "slider3_damper",
+                 "slider4_damper", "contact")
+        out = {"motor": self.columns["motor_power"]}
+        out.update({n: self.columns["power_" + n] for n in names})
+        return out
+
+    @property
+    def kinetic_per_body(self):
+        return {b: self.columns["kinetic_" + b] for b in ("rod1", "rod2", "slider3", "slider4")}
+
+    def __repr__(self):
+        t = self.t
+        span = "t = %g .. %g s" % (t[0], t[-1]) if len(t) else "empty"
+        return "Result(%d rows, %s, %d columns)" % (len(t), span, len(self.columns))
+
+
+class Simulator:
+    """The mechanism stepped at simulation.physics_rate by the driver the node runs.
+
+    run(duration, torque=None, output_rate=None) -> Result: torque a number, a TorqueProfile,
+    an array of one value per physics step, or a callable f(t, state) -> float called before
+    every step (slow: a Python call per step); None holds the torque in force. In servo modes
+    (command.mode velocity | position) the values are setpoints. Long runs release the GIL and
+    stop at Ctrl-C (KeyboardInterrupt; the rows until then are in last_result)."""
+
+    def __init__(self, config=None):
+        self._config = config if isinstance(config, Config) else Config(config)
+        self._sim = _core.Simulator(self._config._core)
+
+    @property
+    def config(self):
+        """The config in force (runtime changes included)."""
+        return Config(self._sim.config)
+
+    @property
+    def state(self):
+        return self._sim.state
+
+    @property
+    def time(self):
+        return self._sim.time
+
+    @property
+    def ticks(self):
+        return self._sim.ticks
+
+    @property
+    def step_size(self):
+        return self._sim.step_size
+
+    @property
+    def torque(self):
+        return self._sim.torque
+
+    def set_state(self, state):
+        """(q1, q2, u1, u2); refused (ValueError, the driver's reason) like ~set_state."""
+        self._sim.set_state(np.asarray(state, dtype=float))
+
+    def reset(self):
+        self._sim.reset()
+
+    def set_torque(self, torque):
+        self._sim.set_torque(float(torque))
+
+    def step(self, n=1):
+        """n physics steps with the torque in force; returns the state."""
+        return self._sim.step(int(n))
+
+    def run(self, duration, torque=None, output_rate=None):
+        try:
+            return Result(self._sim.run(float(duration), torque, output_rate))
+        except BaseException:
+            raise
+
+    @property
+    def last_result(self):
+        """The last run's rows, also when it ended in an exception."""
+        r = self._sim.last_result
+        return None if r is None else Result(r)
+
+    def snapshot(self):
+        """This instant's values by CSV column name (plus resting_contact,
+        reactions_determinate)."""
+        return self._sim.snapshot()
+
+    def rates(self, states, torque=0.0):
+        """x' = (q1', q2', u1', u2') of each row of states (N x 4) at torque (a number or N)."""
+        return self._sim.rates(np.asarray(states, dtype=float), np.asarray(torque, dtype=float))
+
+    def __getitem__(self, name):
+        return self._sim.get(name)
+
+    def __setitem__(self, name, value):
+        """A runtime change (the parameters dynamic_reconfigure offers), at the current state."""
+        self._sim.set(name, _yaml_scalar(value))
+
+    def events(self):
+        """What the driver reported since the last call: [(t, message)]."""
+        return self._sim.take_events()
+
+
+def analyze(config=None, torque=0.0):
+    """`analyze --json` as a dict: the static equilibrium under a constant torque, the linear
+    model A, B, eigenvalues, natural frequencies, damping ratios, mode shapes, notes."""
+    cfg = config if isinstance(config, Config) else Config(config)
+    return json.loads(_core.analyze_json(cfg._core, float(torque)))
+
+
+def sweep(config=None, grid=None, cases=None, duration=10.0, torque=0.0, jobs=0):
+    """`simulate --sweep` as arrays: grid={'section.key': values, ...} (every combination, the
+    last key fastest) or cases={'section.key': values} (one case per index). Returns a dict:
+    the keys' values, 'status' and 'error' per case, then t, q1 ... wall_time (NaN where the
+    loader refused a case's config)."""
+    cfg = config if isinstance(config, Config) else Config(config)
+    if (grid is None) == (cases is None):
+        raise ValueError("sweep: give grid= or cases=, one of them")
+    if grid is not None:
+        keys, rows = _core.sweep_grid([(k, [float(v) for v in vs]) for k, vs in grid.items()])
+    else:
+        keys = list(cases)
+        columns = [np.asarray(cases[k], dtype=float).ravel() for k in keys]
+        if len({len(c) for c in columns}) > 1:
+            raise ValueError("sweep: every key of cases= needs as many values")
+        rows = [list(r) for r in zip(*columns)]
+    profile = torque if isinstance(torque, TorqueProfile) else TorqueProfile.constant(float(torque))
+    out = _core.sweep(cfg._core, list(keys), rows, float(duration), profile, int(jobs))
+    return {k: (np.asarray(v) if not isinstance(v, np.ndarray) else v) for k, v in out.items()}

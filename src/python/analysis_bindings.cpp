@@ -1,0 +1,152 @@
+// kane_sim._core's analysis, sweeps and torque profiles: the libraries `analyze` and
+// `simulate --sweep` run, results as JSON text (parsed in Python) and NumPy arrays.
+#include <atomic>
+#include <string>
+#include <vector>
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include "kane_sim/analysis/analysis_json.h"
+#include "kane_sim/analysis/linear_analysis.h"
+#include "kane_sim/format_number.h"
+#include "kane_sim/sim/sweep.h"
+#include "kane_sim/sim/torque_profile.h"
+#include "python_layer.h"
+
+namespace kane_sim {
+namespace python {
+namespace {
+
+// analyze --json's object, as text (kane_sim.analyze parses it). AnalysisError (no equilibrium)
+// is a ValueError with analyze's message.
+std::string analyze(const PythonConfig& config, double torque) {
+  if (!std::isfinite(torque))
+    throw py::value_error("analyze: torque must be finite, got " + formatNumber(torque));
+  py::gil_scoped_release release;
+  try {
+    const MechanismModel model = mechanismModel(config.config());
+    const LinearModel linear = linearize(model, staticEquilibrium(model, torque), torque);
+    return analysisJson(linear, modalAnalysis(linear));
+  } catch (const AnalysisError& e) {
+    py::gil_scoped_acquire acquire;
+    throw py::value_error(std::string("analyze: ") + e.what());
+  }
+}
+
+// The sweep of `keys` over `cases` (one row of values per case) from `config`, as columns:
+// the keys' values, status and error per case, and sweep CSV's result columns.
+py::dict sweep(const PythonConfig& config, const std::vector<std::string>& keys,
+               const std::vector<std::vector<double>>& cases, double duration,
+               const TorqueProfile& torque, unsigned jobs) {
+  SweepPlan plan{keys, cases};
+  for (size_t i = 0; i < cases.size(); ++i)
+    if (cases[i].size() != keys.size())
+      throw py::value_error("sweep: case " + std::to_string(i) + " has " +
+                            std::to_string(cases[i].size()) + " values for " +
+                            std::to_string(keys.size()) + " keys");
+  if (!(duration >= 0) || !std::isfinite(duration))
+    throw py::value_error("sweep: duration must be a finite number >= 0 [s], got " +
+                          formatNumber(duration));
+  try {
+    checkSweepKeys(plan);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(std::string("sweep: ") + e.what());
+  }
+  SweepSettings settings;
+  settings.duration = duration;
+  settings.torque = torque;
+  settings.jobs = jobs;
+  std::vector<SweepResult> results;
+  {
+    py::gil_scoped_release release;
+    results = runSweep(config.tree(), plan, settings);
+  }
+  py::dict out;
+  for (size_t k = 0; k < keys.size(); ++k) {
+    std::vector<double> values;
+    for (const auto& c : cases) values.push_back(c[k]);
+    out[keys[k].c_str()] = py::array_t<double>(values.size(), values.data());
+  }
+  std::vector<std::string> status, error;
+  for (const SweepResult& r : results) {
+    status.push_back(r.status);
+    error.push_back(r.error);
+  }
+  out["status"] = status;
+  out["error"] = error;
+  for (const SweepColumn* c = sweepColumnsBegin(); c != sweepColumnsEnd(); ++c) {
+    std::vector<double> values;
+    for (const SweepResult& r : results)
+      values.push_back(r.status == "config_refused" ? std::nan("") : c->value(r));
+    out[c->name] = py::array_t<double>(values.size(), values.data());
+  }
+  return out;
+}
+
+double finite(const char* name, double v) {
+  if (!std::isfinite(v))
+    throw py::value_error(std::string(name) + " must be finite, got " + formatNumber(v));
+  return v;
+}
+
+// The grid of several axes (simulate's --sweep): every combination, the last varying fastest.
+std::pair<std::vector<std::string>, std::vector<std::vector<double>>> grid(
+    const std::vector<std::pair<std::string, std::vector<double>>>& axes) {
+  std::vector<SweepAxis> sweep_axes;
+  for (const auto& [key, values] : axes) sweep_axes.push_back(SweepAxis{key, values});
+  const SweepPlan plan = sweepGrid(sweep_axes);
+  return {plan.keys, plan.cases};
+}
+
+// Profiles refuse what TorqueProfile refuses (std::invalid_argument -> ValueError).
+template <typename F>
+TorqueProfile checked(F make) {
+  try {
+    return make();
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+}  // namespace
+
+void bindAnalysis(py::module_& m) {
+  py::class_<TorqueProfile>(m, "TorqueProfile",
+                            "A torque over time, as simulate's --torque* options give it.")
+      .def_static("constant", [](double v) { return TorqueProfile::constant(finite("torque", v)); },
+                  py::arg("torque"))
+      .def_static("step",
+                  [](double t, double before, double after) {
+                    return TorqueProfile::step(finite("time", t), finite("before", before),
+                                               finite("after", after));
+                  },
+                  py::arg("time"), py::arg("before"), py::arg("after"))
+      .def_static("sine",
+                  [](double amplitude, double frequency, double offset) {
+                    return TorqueProfile::sine(finite("amplitude", amplitude),
+                                               finite("frequency", frequency),
+                                               finite("offset", offset));
+                  },
+                  py::arg("amplitude"), py::arg("frequency"), py::arg("offset") = 0.0)
+      .def_static("table",
+                  [](std::vector<std::pair<double, double>> points) {
+                    return checked([&] { return TorqueProfile::table(std::move(points)); });
+                  },
+                  py::arg("points"))
+      .def_static("from_csv",
+                  [](const std::string& path) {
+                    return checked([&] { return TorqueProfile::fromCsvFile(path); });
+                  },
+                  py::arg("path"))
+      .def("at", &TorqueProfile::at, py::arg("t"))
+      .def("__repr__", [](const TorqueProfile& p) { return "TorqueProfile(" + p.describe() + ")"; });
+  m.def("sweep_grid", &grid, py::arg("axes"));
+  m.def("analyze_json", &analyze, py::arg("config"), py::arg("torque") = 0.0);
+  m.def("sweep", &sweep, py::arg("config"), py::arg("keys"), py::arg("cases"),
+        py::arg("duration"), py::arg("torque") = TorqueProfile::constant(0.0),
+        py::arg("jobs") = 0u);
+}
+
+}  // namespace python
+}  // namespace kane_sim

@@ -1,0 +1,101 @@
+// kane_sim._core.Config: the one config loader, from Python.
+#include <sstream>
+
+#include <pybind11/stl.h>
+
+#include "kane_sim/config/parameter_schema.h"
+#include "kane_sim/sim/config_check.h"
+#include "python_layer.h"
+
+namespace kane_sim {
+namespace python {
+namespace {
+
+// "mechanism.rod_mass" -> its schema entry; ConfigError naming the name otherwise.
+const ParameterSpec& specOf(const std::string& name) {
+  const size_t dot = name.find('.');
+  const ParameterSpec* spec =
+      dot == std::string::npos ? nullptr
+                               : findParameter(name.substr(0, dot), name.substr(dot + 1));
+  if (!spec)
+    throw ConfigError(name,
+                      "is not a parameter: names are 'section.key' as in the config file "
+                      "(kane_sim.Config.names() lists them)");
+  return *spec;
+}
+
+}  // namespace
+
+PythonConfig::PythonConfig(YAML::Node tree, std::string source)
+    : tree_(std::move(tree)), loaded_(loadSimulationConfig(tree_)), source_(std::move(source)) {}
+
+PythonConfig PythonConfig::fromFile(const std::string& path) {
+  const std::string file = path.empty() ? defaultConfigFile() : path;
+  return PythonConfig(loadYamlFile(file), file);
+}
+
+PythonConfig PythonConfig::fromYaml(const std::string& text) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError("file", "is not valid YAML: " + std::string(e.what()));
+  }
+  return PythonConfig(root, "<dict>");
+}
+
+std::string PythonConfig::yaml() const {
+  YAML::Emitter out;
+  out << tree_;
+  return std::string(out.c_str()) + "\n";
+}
+
+py::object PythonConfig::get(const std::string& name) const {
+  const ParameterSpec& spec = specOf(name);
+  Config& config = const_cast<Config&>(loaded_.config);  // the accessors take Config&; read only
+  const ConfigField& f = spec.field;
+  if (f.number) return py::float_(f.number(config));
+  if (f.whole) return py::int_(f.whole(config));
+  if (f.flag) return py::bool_(f.flag(config));
+  if (f.text) return py::str(f.text(config));
+  return py::str(spec.choices.at(static_cast<size_t>(f.get_choice(config))));
+}
+
+PythonConfig PythonConfig::with(const std::string& name, const std::string& value_yaml) const {
+  const ParameterSpec& spec = specOf(name);
+  YAML::Node value;
+  try {
+    value = YAML::Load(value_yaml);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(name, "got a value that is not a YAML scalar: " + std::string(e.what()));
+  }
+  YAML::Node tree = YAML::Clone(tree_);
+  setConfigValue(tree, spec.section, spec.key, value);
+  return PythonConfig(tree, source_);
+}
+
+std::vector<std::string> PythonConfig::names() {
+  std::vector<std::string> out;
+  for (const ParameterSpec& spec : parameterSchema()) out.push_back(spec.path());
+  return out;
+}
+
+bool PythonConfig::reconfigurable(const std::string& name) { return specOf(name).reconfigurable(); }
+
+void bindConfig(py::module_& m) {
+  py::class_<PythonConfig>(m, "Config",
+                           "A validated config: the loader's checks, values by config name.")
+      .def_static("from_file", &PythonConfig::fromFile, py::arg("path") = "",
+                  "Load a config file ('' = the package's config/mechanism.yaml).")
+      .def_static("from_yaml", &PythonConfig::fromYaml, py::arg("text"), "Load YAML text.")
+      .def("get", &PythonConfig::get, py::arg("name"))
+      .def("with_value", &PythonConfig::with, py::arg("name"), py::arg("value_yaml"))
+      .def_static("names", &PythonConfig::names, "Every parameter's config name.")
+      .def_static("reconfigurable", &PythonConfig::reconfigurable, py::arg("name"))
+      .def_property_readonly("warnings", &PythonConfig::warnings)
+      .def_property_readonly("source", &PythonConfig::source)
+      .def("yaml", &PythonConfig::yaml, "The config as YAML text (a file for `simulate`).");
+}
+
+}  // namespace python
+}  // namespace kane_sim

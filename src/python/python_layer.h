@@ -1,0 +1,56 @@
+// The Python module kane_sim._core: a translation layer over the same libraries as the node and
+// `simulate` (the config loader, SimDriver, the analysis), like the ROS layer. Python-side
+// conveniences (dicts, Result, plots) live in python/kane_sim/.
+#ifndef KANE_SIM_PYTHON_PYTHON_LAYER_H
+#define KANE_SIM_PYTHON_PYTHON_LAYER_H
+
+#include <string>
+#include <vector>
+
+#include <pybind11/pybind11.h>
+#include <yaml-cpp/yaml.h>
+
+#include "kane_sim/config/load_config.h"
+
+namespace kane_sim {
+namespace python {
+
+namespace py = pybind11;
+
+// A config as the user gave it (a file or YAML text) and as the loader validated it. Values are
+// read and written by their config names ("mechanism.rod_mass"); every change goes through the
+// loader again, so a refused one (ConfigError, the loader's message) changes nothing.
+class PythonConfig {
+ public:
+  // "" loads the package's config/mechanism.yaml.
+  static PythonConfig fromFile(const std::string& path);
+  static PythonConfig fromYaml(const std::string& text);
+
+  const Config& config() const { return loaded_.config; }
+  const std::vector<std::string>& warnings() const { return loaded_.warnings; }
+  const std::string& source() const { return source_; }
+  // The YAML tree with every value set so far, as text (a config file for `simulate`).
+  std::string yaml() const;
+  const YAML::Node& tree() const { return tree_; }
+
+  py::object get(const std::string& name) const;
+  // A copy with `name` set to the YAML scalar `value_yaml` (Python's yaml.safe_dump of it).
+  PythonConfig with(const std::string& name, const std::string& value_yaml) const;
+  static std::vector<std::string> names();
+  static bool reconfigurable(const std::string& name);
+
+ private:
+  PythonConfig(YAML::Node tree, std::string source);
+  YAML::Node tree_;
+  LoadedConfig loaded_;
+  std::string source_;
+};
+
+void bindConfig(py::module_& m);
+void bindSimulator(py::module_& m);
+void bindAnalysis(py::module_& m);
+
+}  // namespace python
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_PYTHON_PYTHON_LAYER_H

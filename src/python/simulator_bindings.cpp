@@ -1,0 +1,425 @@
+// kane_sim._core.Simulator: the one driver (SimDriver) and the one offline loop (runProfile) that
+// `simulate` runs, with results as NumPy arrays named like simulate's CSV columns.
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <deque>
+#include <functional>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include "kane_sim/format_number.h"
+#include "kane_sim/model/generated_mechanism.h"
+#include "kane_sim/sim/csv_format.h"
+#include "kane_sim/sim/output_grid.h"
+#include "kane_sim/sim/profile_commands.h"
+#include "kane_sim/sim/sim_driver.h"
+#include "python_layer.h"
+
+namespace kane_sim {
+namespace python {
+namespace {
+
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// Python's signals are looked at (with the GIL) this often in a run without the GIL.
+constexpr long kSignalCheckSteps = 20000;
+// A result larger than this many values is refused before anything runs (16 GiB of doubles).
+constexpr double kMaxResultValues = 2.0 * 1024 * 1024 * 1024;
+// Events kept for Simulator.events() between two calls.
+constexpr size_t kMaxEvents = 1000;
+
+// A refused step, with the driver's message (a RuntimeError in Python).
+struct StepRefused : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+std::string num(double v) { return formatNumber(v); }
+
+// One value per physics step, from a NumPy array: value i is held over step i.
+class ArrayCommands {
+ public:
+  ArrayCommands(const double* values, long count, std::uint64_t first_tick)
+      : values_(values), count_(count), first_tick_(first_tick) {}
+  void update(SimDriver& driver) {
+    const long i = static_cast<long>(driver.ticks() - first_tick_);
+    if (i < count_) last_ = values_[i];
+    sendCommand(driver, last_);
+  }
+  double last() const { return last_; }
+
+ private:
+  const double* values_;
+  long count_;
+  std::uint64_t first_tick_;
+  double last_ = 0.0;
+};
+
+// A Python callable f(t, state) -> torque, called before every step with the GIL held.
+class CallableCommands {
+ public:
+  explicit CallableCommands(py::function f) : f_(std::move(f)) {}
+  void update(SimDriver& driver) {
+    const State& x = driver.simulator().state();
+    Array state(4);
+    double* s = state.mutable_data();
+    s[0] = x.q1, s[1] = x.q2, s[2] = x.u1, s[3] = x.u2;
+    const py::object out = f_(driver.time(), state);
+    double value;
+    try {
+      value = out.cast<double>();
+    } catch (const py::cast_error&) {
+      throw py::type_error("torque callable returned " +
+                           std::string(py::str(py::type::of(out).attr("__name__"))) +
+                           " at t = " + num(driver.time()) + " s, expected a float");
+    }
+    if (!std::isfinite(value))
+      throw py::value_error("torque callable returned " + num(value) + " at t = " +
+                            num(driver.time()) + " s: values must be finite");
+    last_ = value;
+    sendCommand(driver, value);
+  }
+  double last() const { return last_; }
+
+ private:
+  py::function f_;
+  double last_ = 0.0;
+};
+
+class PythonSimulator {
+ public:
+  explicit PythonSimulator(const PythonConfig& config)
+      : config_(config),
+        driver_(config.config(), [this](const SimEvent& e) { onEvent(e); }),
+        held_(driver_.servoMode() ? driver_.snapshot().servo.setpoint : 0.0) {}
+
+  const PythonConfig& config() const { return config_; }
+  double time() const { return driver_.time(); }
+  std::uint64_t ticks() const { return driver_.ticks(); }
+  double stepSize() const { return driver_.simulator().stepSize(); }
+  bool servoMode() const { return driver_.servoMode(); }
+
+  Array state() const {
+    const State& x = driver_.simulator().state();
+    Array out(4);
+    double* o = out.mutable_data();
+    o[0] = x.q1, o[1] = x.q2, o[2] = x.u1, o[3] = x.u2;
+    return out;
+  }
+
+  void setState(const Array& x) {
+    if (x.ndim() != 1 || x.shape(0) != 4)
+      throw py::value_error("set_state: state must be 4 numbers (q1, q2, u1, u2), got shape " +
+                            shapeText(x));
+    const double* v = x.data();
+    const Status status = driver_.setState(State{v[0], v[1], v[2], v[3]});
+    if (!status.ok) throw py::value_error("set_state: " + status.error);
+  }
+
+  void reset() {
+    driver_.reset();
+    held_ = driver_.servoMode() ? driver_.snapshot().servo.setpoint : 0.0;
+  }
+
+  // The torque [N m] (servo modes: the setpoint) held from now on.
+  void setTorque(double value) {
+    if (!std::isfinite(value))
+      throw py::value_error(std::string(servoMode() ? "setpoint" : "torque") + " must be finite, got " +
+                            num(value));
+    if (sendCommand(driver_, value) == TorqueCommand::Verdict::kRejected)
+      throw py::value_error(lastEventOr("the command " + num(value) + " was refused"));
+    held_ = value;
+  }
+  double heldTorque() const { return held_; }
+
+  // n steps with the held torque (re-sent, so command.timeout never lapses).
+  Array step(long n) {
+    if (n < 0) throw py::value_error("step: n must be >= 0, got " + std::to_string(n));
+    const TorqueProfile profile = TorqueProfile::constant(held_);
+    ProfileCommands commands(profile, config_.config().command.timeout);
+    commands.update(driver_);
+    RunEnd end;
+    {
+      py::gil_scoped_release release;
+      end = runProfile(driver_, commands, n, std::max(n, 1L), nullptr, [](const SimDriver&) {},
+                       [](const SimDriver&) {});
+    }
+    if (end == RunEnd::kStepRefused) throw StepRefused(lastEventOr("a step was refused"));
+    return state();
+  }
+
+  // The run: rows every 1/output_rate s (default: every physics step) from now to now +
+  // duration; every column of simulate's CSV, as arrays.
+  py::dict run(double duration, const py::object& torque, const py::object& output_rate_arg) {
+    const double physics_rate = config_.config().simulation.physics_rate;
+    const double output_rate =
+        output_rate_arg.is_none() ? physics_rate : output_rate_arg.cast<double>();
+    OutputGrid grid;
+    try {
+      grid = outputGrid(physics_rate, duration, output_rate, "duration", "output_rate");
+    } catch (const std::invalid_argument& e) {
+      throw py::value_error(std::string("run: ") + e.what());
+    }
+    const long columns = csvColumnsEnd() - csvColumnsBegin();
+    const long rows = grid.rows + 1;
+    if (static_cast<double>(rows) * columns > kMaxResultValues)
+      throw py::value_error("run: " + num(static_cast<double>(rows)) + " rows of " +
+                            std::to_string(columns) +
+                            " columns is more than 16 GiB: use a lower output_rate or a shorter "
+                            "duration");
+    Rows out(columns, rows);
+    const auto sample = [&out](const SimDriver& d) { out.add(d.snapshot()); };
+    RunEnd end = RunEnd::kFinished;
+    std::atomic<bool> stop{false};
+    bool interrupted = false;
+    const auto on_step = [&](const SimDriver& d) {
+      if (d.ticks() % kSignalCheckSteps != 0) return;
+      py::gil_scoped_acquire acquire;
+      if (PyErr_CheckSignals() != 0) {
+        interrupted = true;
+        stop = true;
+      }
+    };
+    try {
+      if (py::isinstance<py::function>(torque)) {
+        CallableCommands commands(torque.cast<py::function>());
+        commands.update(driver_);
+        sample(driver_);
+        end = runProfile(driver_, commands, grid.steps(), grid.steps_per_row, nullptr,
+                         [](const SimDriver&) {}, sample);
+        held_ = commands.last();
+      } else if (py::isinstance<py::array>(torque) || py::isinstance<py::list>(torque)) {
+        const Array values = Array::ensure(torque);
+        checkTorqueArray(values, grid.steps());
+        ArrayCommands commands(values.data(), grid.steps(), driver_.ticks());
+        commands.update(driver_);
+        sample(driver_);
+        {
+          py::gil_scoped_release release;
+          end = runProfile(driver_, commands, grid.steps(), grid.steps_per_row, &stop, on_step,
+                           sample);
+        }
+        held_ = commands.last();
+      } else {
+        const TorqueProfile profile = profileOf(torque);
+        ProfileCommands commands(profile, config_.config().command.timeout);
+        commands.update(driver_);
+        sample(driver_);
+        {
+          py::gil_scoped_release release;
+          end = runProfile(driver_, commands, grid.steps(), grid.steps_per_row, &stop, on_step,
+                           sample);
+        }
+        held_ = profile.at(driver_.time());
+      }
+    } catch (...) {
+      last_result_ = out.toDict();  // what was computed until the exception
+      throw;
+    }
+    py::dict result = out.toDict();
+    last_result_ = result;
+    if (interrupted) throw py::error_already_set();  // KeyboardInterrupt, as Python raised it
+    if (end == RunEnd::kStepRefused) throw StepRefused(lastEventOr("a step was refused"));
+    return result;
+  }
+
+  // The result of the last run, also when it ended with an exception (Ctrl-C, a refused step,
+  // the torque callable's error): the rows computed until then.
+  py::object lastResult() const { return last_result_; }
+
+  py::dict snapshot() const {
+    const Snapshot s = driver_.snapshot();
+    py::dict out;
+    for (const CsvColumn* c = csvColumnsBegin(); c != csvColumnsEnd(); ++c)
+      out[c->name] = c->value(s);
+    out["resting_contact"] = s.resting_contact;
+    out["reactions_determinate"] = s.constraint_forces.determinate;
+    return out;
+  }
+
+  // x' = (q1', q2', u1', u2') for each row of `states` (N x 4, or one state of 4) at the torque
+  // (a number, or one per state): the equations the simulator steps, without the GIL, on every
+  // core for large N.
+  Array rates(const Array& states, const Array& torque) const {
+    const bool single = states.ndim() == 1;
+    if (!(single ? states.shape(0) == 4 : states.ndim() == 2 && states.shape(1) == 4))
+      throw py::value_error("rates: states must have shape (N, 4) or (4,), got " +
+                            shapeText(states));
+    const long n = single ? 1 : states.shape(0);
+    if (!(torque.ndim() == 0 || (torque.ndim() == 1 && torque.shape(0) == n)))
+      throw py::value_error("rates: torque must be a number or have shape (" +
+                            std::to_string(n) + ",), got " + shapeText(torque));
+    const double* x = states.data();
+    const double* m = torque.data();
+    const bool per_state = torque.ndim() == 1;
+    for (long i = 0; i < n * 4; ++i)
+      if (!std::isfinite(x[i]))
+        throw py::value_error("rates: states[" + std::to_string(i / 4) + ", " +
+                              std::to_string(i % 4) + "] is " + num(x[i]) +
+                              ": states must be finite");
+    for (long i = 0; i < (per_state ? n : 1); ++i)
+      if (!std::isfinite(m[i]))
+        throw py::value_error("rates: torque" + (per_state ? "[" + std::to_string(i) + "]" : "") +
+                              " is " + num(m[i]) + ": torques must be finite");
+    Array out = single ? Array(4) : Array({n, 4L});
+    double* y = out.mutable_data();
+    const MechanismModel& model = driver_.simulator().model();
+    const GeneratedMechanism generated(model);
+    const bool use_generated = driver_.simulator().equations() == EquationsSource::kGenerated;
+    const auto range = [&](long begin, long end) {
+      for (long i = begin; i < end; ++i) {
+        const State s{x[4 * i], x[4 * i + 1], x[4 * i + 2], x[4 * i + 3]};
+        const double torque_i = per_state ? m[i] : m[0];
+        const OdeState d = use_generated ? generated.stateDerivative(s, torque_i)
+                                         : model.stateDerivative(s, torque_i);
+        std::copy(d.begin(), d.begin() + 4, y + 4 * i);
+      }
+    };
+    py::gil_scoped_release release;
+    const long kParallelFrom = 1 << 16;
+    const unsigned threads = n >= kParallelFrom ? std::max(1u, std::thread::hardware_concurrency()) : 1;
+    std::vector<std::thread> workers;
+    const long chunk = (n + threads - 1) / threads;
+    for (unsigned t = 1; t < threads; ++t)
+      workers.emplace_back(range, std::min(n, t * chunk), std::min(n, (t + 1) * chunk));
+    range(0, std::min(n, chunk));
+    for (std::thread& w : workers) w.join();
+    return out;
+  }
+
+  py::object get(const std::string& name) const { return config_.get(name); }
+
+  // A parameter changed at run time, as dynamic_reconfigure does in the node (at the current
+  // state; the energy jump booked as parameter_energy). Others are fixed once built.
+  void set(const std::string& name, const std::string& value_yaml) {
+    PythonConfig next = config_.with(name, value_yaml);  // ConfigError: nothing changes
+    if (!PythonConfig::reconfigurable(name))
+      throw py::value_error(name +
+                            " is fixed once a Simulator is built (the node does not reconfigure "
+                            "it either): set it on the Config and build a new Simulator");
+    driver_.reconfigure(next.config());
+    config_ = std::move(next);
+  }
+
+  std::vector<std::pair<double, std::string>> takeEvents() {
+    std::vector<std::pair<double, std::string>> out(events_.begin(), events_.end());
+    events_.clear();
+    return out;
+  }
+
+ private:
+  // Snapshot columns, column-major so that every column is one contiguous array.
+  class Rows {
+   public:
+    Rows(long columns, long capacity) : columns_(columns), capacity_(capacity) {
+      data_.resize(static_cast<size_t>(columns * capacity));
+    }
+    void add(const Snapshot& s) {
+      if (filled_ == capacity_) return;
+      long c = 0;
+      for (const CsvColumn* col = csvColumnsBegin(); col != csvColumnsEnd(); ++col, ++c)
+        data_[static_cast<size_t>(c * capacity_ + filled_)] = col->value(s);
+      ++filled_;
+    }
+    py::dict toDict() const {
+      py::dict out;
+      long c = 0;
+      for (const CsvColumn* col = csvColumnsBegin(); col != csvColumnsEnd(); ++col, ++c)
+        out[col->name] = Array(filled_, data_.data() + c * capacity_);
+      return out;
+    }
+
+   private:
+    long columns_, capacity_, filled_ = 0;
+    std::vector<double> data_;
+  };
+
+  static std::string shapeText(const py::array& a) {
+    std::string s = "(";
+    for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
+    return s + (a.ndim() == 1 ? ",)" : ")");
+  }
+
+  static void checkTorqueArray(const Array& values, long steps) {
+    if (values.ndim() != 1 || values.shape(0) != steps)
+      throw py::value_error("run: a torque array holds one value per physics step: shape (" +
+                            std::to_string(steps) + ",) for this duration, got " +
+                            shapeText(values));
+    for (long i = 0; i < steps; ++i)
+      if (!std::isfinite(values.data()[i]))
+        throw py::value_error("run: torque[" + std::to_string(i) + "] is " +
+                              num(values.data()[i]) + ": values must be finite");
+  }
+
+  TorqueProfile profileOf(const py::object& torque) const {
+    if (torque.is_none()) return TorqueProfile::constant(held_);
+    if (py::isinstance<TorqueProfile>(torque)) return torque.cast<TorqueProfile>();
+    double value;
+    try {
+      value = torque.cast<double>();
+    } catch (const py::cast_error&) {
+      throw py::type_error(
+          "run: torque must be a number, a TorqueProfile, an array of one value per step or a "
+          "callable f(t, state), got " +
+          std::string(py::str(py::type::of(torque).attr("__name__"))));
+    }
+    if (!std::isfinite(value)) throw py::value_error("run: torque must be finite, got " + num(value));
+    return TorqueProfile::constant(value);
+  }
+
+  void onEvent(const SimEvent& e) {
+    events_.emplace_back(e.time, e.message);
+    if (events_.size() > kMaxEvents) events_.pop_front();
+  }
+  std::string lastEventOr(const std::string& fallback) const {
+    return events_.empty() ? fallback : events_.back().second;
+  }
+
+  PythonConfig config_;
+  std::deque<std::pair<double, std::string>> events_;
+  SimDriver driver_;
+  double held_;  // the torque (or setpoint) in force, re-sent by step()
+  py::object last_result_ = py::none();
+};
+
+}  // namespace
+
+void bindSimulator(py::module_& m) {
+  static py::exception<StepRefused> step_refused(m, "StepRefused", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const StepRefused& e) {
+      PyErr_SetString(step_refused.ptr(), e.what());
+    }
+  });
+  py::class_<PythonSimulator>(m, "Simulator")
+      .def(py::init<const PythonConfig&>(), py::arg("config"))
+      .def_property_readonly("config", &PythonSimulator::config)
+      .def_property_readonly("time", &PythonSimulator::time)
+      .def_property_readonly("ticks", &PythonSimulator::ticks)
+      .def_property_readonly("step_size", &PythonSimulator::stepSize)
+      .def_property_readonly("servo_mode", &PythonSimulator::servoMode)
+      .def_property_readonly("state", &PythonSimulator::state)
+      .def("set_state", &PythonSimulator::setState, py::arg("state"))
+      .def("reset", &PythonSimulator::reset)
+      .def("set_torque", &PythonSimulator::setTorque, py::arg("torque"))
+      .def_property_readonly("torque", &PythonSimulator::heldTorque)
+      .def("step", &PythonSimulator::step, py::arg("n") = 1)
+      .def("run", &PythonSimulator::run, py::arg("duration"), py::arg("torque") = py::none(),
+           py::arg("output_rate") = py::none())
+      .def_property_readonly("last_result", &PythonSimulator::lastResult)
+      .def("snapshot", &PythonSimulator::snapshot)
+      .def("rates", &PythonSimulator::rates, py::arg("states"), py::arg("torque") = 0.0)
+      .def("get", &PythonSimulator::get, py::arg("name"))
+      .def("set", &PythonSimulator::set, py::arg("name"), py::arg("value_yaml"))
+      .def("take_events", &PythonSimulator::takeEvents);
+}
+
+}  // namespace python
+}  // namespace kane_sim
