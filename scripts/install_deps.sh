@@ -21,7 +21,8 @@ PACKAGES=(
   # the independent SymPy derivation test; tools the test scripts call
   python3-sympy python3-yaml python3-rosservice bc procps
   # the Python module (pybind11) and its tests
-  pybind11-dev python3-pybind11 python3-pytest
+  pybind11-dev python3-pybind11 python3-pytest python3-pil python3-nbconvert python3-nbformat
+  python3-ipykernel
 )
 
 missing=()

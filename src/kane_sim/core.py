@@ -104,8 +104,9 @@ class Result(Mapping):
     `list(result)` names them), and the usual groups: t, q (N x 2), u, u_dot, torque,
     energies, ledger, reactions, powers, kinetic_per_body."""
 
-    def __init__(self, columns):
+    def __init__(self, columns, config=None):
         self.columns = dict(columns)
+        self.config = config  # the Config of the run (kane_sim.animate reads L from it)
 
     def __getitem__(self, name):
         return self.columns[name]
@@ -225,16 +226,13 @@ class Simulator:
         return self._sim.step(int(n))
 
     def run(self, duration, torque=None, output_rate=None):
-        try:
-            return Result(self._sim.run(float(duration), torque, output_rate))
-        except BaseException:
-            raise
+        return Result(self._sim.run(float(duration), torque, output_rate), self.config)
 
     @property
     def last_result(self):
         """The last run's rows, also when it ended in an exception."""
         r = self._sim.last_result
-        return None if r is None else Result(r)
+        return None if r is None else Result(r, self.config)
 
     def snapshot(self):
         """This instant's values by CSV column name (plus resting_contact,

@@ -84,6 +84,32 @@ py::dict sweep(const PythonConfig& config, const std::vector<std::string>& keys,
   return out;
 }
 
+// O, A, B, C, C1, C2 (x, y) in frame (0) for each (q1, q2): the model's geometry, for drawing.
+py::dict mechanismPoints(double rod_half_length, const py::array_t<double>& q1_in,
+                         const py::array_t<double>& q2_in) {
+  const auto q1 = q1_in.unchecked<1>();
+  const auto q2 = q2_in.unchecked<1>();
+  if (q1.shape(0) != q2.shape(0))
+    throw py::value_error("mechanism_points: q1 and q2 differ in length");
+  const py::ssize_t n = q1.shape(0);
+  const char* names[] = {"O", "A", "B", "C", "C1", "C2"};
+  std::vector<py::array_t<double>> points;
+  for (int i = 0; i < 6; ++i) points.emplace_back(std::vector<py::ssize_t>{n, 2});
+  for (py::ssize_t k = 0; k < n; ++k) {
+    const MechanismGeometry g = mechanismGeometry(rod_half_length, q1(k), q2(k));
+    const Eigen::Vector3d* at[] = {&g.pivot_o, &g.pin_a, &g.pin_b, &g.point_c, &g.rod1_center,
+                                   &g.rod2_center};
+    for (int i = 0; i < 6; ++i) {
+      auto p = points[static_cast<size_t>(i)].mutable_unchecked<2>();
+      p(k, 0) = at[i]->x();
+      p(k, 1) = at[i]->y();
+    }
+  }
+  py::dict out;
+  for (int i = 0; i < 6; ++i) out[names[i]] = points[static_cast<size_t>(i)];
+  return out;
+}
+
 double finite(const char* name, double v) {
   if (!std::isfinite(v))
     throw py::value_error(std::string(name) + " must be finite, got " + formatNumber(v));
@@ -142,6 +168,8 @@ void bindAnalysis(py::module_& m) {
       .def("at", &TorqueProfile::at, py::arg("t"))
       .def("__repr__", [](const TorqueProfile& p) { return "TorqueProfile(" + p.describe() + ")"; });
   m.def("sweep_grid", &grid, py::arg("axes"));
+  m.def("mechanism_points", &mechanismPoints, py::arg("rod_half_length"), py::arg("q1"),
+        py::arg("q2"));
   m.def("analyze_json", &analyze, py::arg("config"), py::arg("torque") = 0.0);
   m.def("sweep", &sweep, py::arg("config"), py::arg("keys"), py::arg("cases"),
         py::arg("duration"), py::arg("torque") = TorqueProfile::constant(0.0),

@@ -1,0 +1,249 @@
+"""kane_sim's plots, one module for plot_bag (bags and simulate's CSVs) and for Python results
+(kane_sim.Result): the run (motion, torque, energies, the power of each load, the ledger) and
+the reaction forces Kane's method brings into evidence. Data are columns named as simulate's
+CSV: a dict of sequences, a Result, or what read_run returns."""
+import bisect
+import csv
+import os
+
+import matplotlib
+
+if not os.environ.get("DISPLAY") and "MPLBACKEND" not in os.environ:
+    matplotlib.use("Agg")  # headless: write files, no window
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+FIGURE_SIZE = (12, 10.5)  # inches
+DPI = 100                 # -> 1200 x 1050 pixels
+
+# What every run has (older CSVs and bags too), and what newer ones add.
+REQUIRED = ("t", "q1", "q2", "u1", "u2", "torque", "kinetic", "gravitational", "spring", "energy",
+            "motor_work", "dissipated_energy", "energy_balance")
+POWERS = (("motor_power", "motor M_m u1"), ("power_gravity", "gravity"),
+          ("power_spring", "spring"), ("power_crank_damper", "crank damper"),
+          ("power_coupler_damper", "coupler damper"), ("power_slider3_damper", "slider 3 damper"),
+          ("power_slider4_damper", "slider 4 damper"), ("power_contact", "contact"))
+REACTIONS = ("pin_o_x", "pin_o_y", "pin_a_x", "pin_a_y", "pin_b_x", "pin_b_y", "rail_slider3",
+             "rail_slider4", "spring_force")
+
+# /mechanism_state's fields as CSV columns: (column, field, index or None).
+_BAG_FIELDS = [("t", "sim_time", None), ("q1", "q", 0), ("q2", "q", 1), ("u1", "u", 0),
+               ("u2", "u", 1), ("torque", "applied_torque", None),
+               ("kinetic", "kinetic_energy", None), ("gravitational", "gravitational_energy", None),
+               ("spring", "spring_energy", None), ("energy", "total_energy", None),
+               ("motor_work", "motor_work", None), ("dissipated_energy", "dissipated_energy", None),
+               ("energy_balance", "energy_balance", None),
+               ("pin_o_x", "pin_o_force", 0), ("pin_o_y", "pin_o_force", 1),
+               ("pin_a_x", "pin_a_force", 0), ("pin_a_y", "pin_a_force", 1),
+               ("pin_b_x", "pin_b_force", 0), ("pin_b_y", "pin_b_force", 1),
+               ("rail_slider3", "rail_force_slider3", None),
+               ("rail_slider4", "rail_force_slider4", None), ("spring_force", "spring_force", None),
+               ("motor_power", "motor_power", None), ("power_gravity", "gravity_power", None),
+               ("power_spring", "spring_power", None),
+               ("power_crank_damper", "crank_damper_power", None),
+               ("power_coupler_damper", "coupler_damper_power", None),
+               ("power_slider3_damper", "slider3_damper_power", None),
+               ("power_slider4_damper", "slider4_damper_power", None),
+               ("power_contact", "contact_power", None)]
+
+
+def read_run(path):
+    """A bag (/mechanism_state, and the sensors' /joint_states) or a simulate CSV as columns."""
+    return read_csv(path) if path.endswith(".csv") else read_bag(path)
+
+
+def read_bag(path):
+    import rosbag
+    columns = {}
+    stamps = []  # header stamp -> sim time, for the sensor readings
+    readings = []
+    with rosbag.Bag(path) as bag:
+        topics = bag.get_type_and_topic_info().topics
+        sensors = "/joint_states_true" in topics
+        for topic, m, _ in bag.read_messages(topics=["/mechanism_state", "/joint_states"]):
+            if topic == "/joint_states":
+                if sensors:
+                    readings.append((m.header.stamp.to_sec(), m.position[0]))
+                continue
+            stamps.append((m.header.stamp.to_sec(), m.sim_time))
+            for column, field, index in _BAG_FIELDS:
+                value = getattr(m, field, None)  # bags recorded before a field existed lack it
+                if value is not None:
+                    columns.setdefault(column, []).append(value if index is None else value[index])
+    for key in REQUIRED:
+        columns.setdefault(key, [])
+    if readings and stamps:
+        # The sim time at each reading's arrival stamp (sim-clock bags: stamp - epoch; wall-clock
+        # bags: interpolated between the states' stamps).
+        stamps.sort()
+        wall = [w for w, _ in stamps]
+        sim = [t for _, t in stamps]
+        columns["sensor_t"] = [_interpolate(stamp, wall, sim) for stamp, _ in readings]
+        columns["sensor_q1"] = [q for _, q in readings]
+    return columns
+
+
+def _interpolate(x, xs, ys):
+    """ys at x, linear between the neighbours in xs (sorted), extended past the ends."""
+    if len(xs) == 1:
+        return ys[0] + (x - xs[0])
+    i = min(max(bisect.bisect_left(xs, x), 1), len(xs) - 1)
+    f = (x - xs[i - 1]) / max(xs[i] - xs[i - 1], 1e-12)
+    return ys[i - 1] + f * (ys[i] - ys[i - 1])
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        reader = csv.DictReader(f)
+        rows = list(reader)
+        header = reader.fieldnames or []
+    missing = [k for k in REQUIRED if k not in header]
+    if missing:
+        raise ValueError("CSV lacks columns %s" % ", ".join(missing))
+    return {k: [float(r[k]) for r in rows] for k in header}
+
+
+def _legend_outside(ax, handles=None, labels=None):
+    """The legend right of the panel, never over a curve."""
+    if handles is None:
+        handles, labels = ax.get_legend_handles_labels()
+    ax.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.08, 1.0), fontsize="small",
+              borderaxespad=0.0)
+
+
+def _has(data, keys):
+    return all(k in data and len(data[k]) for k in keys)
+
+
+def plot_run(data, out=None, title="", compare=None, compare_label=""):
+    """The run: q1, q2, u1/u2, torque, energies, each load's power (when the data have it), the
+    ledger's drift. Returns the figure; writes it to `out` when given."""
+    t = data["t"]
+    powers = _has(data, [k for k, _ in POWERS])
+    ratios = [1, 1, 1, 0.8, 1.3] + ([1.3] if powers else []) + [0.8]
+    fig, axes = plt.subplots(len(ratios), 1, figsize=FIGURE_SIZE, dpi=DPI, sharex=True,
+                             gridspec_kw={"height_ratios": ratios})
+    # Each quantity on an axis of its own unit: q1 [rad] and q2 [m] are not comparable numbers.
+    axes[0].plot(t, data["q1"], color="tab:blue", label="q1, crank angle")
+    if data.get("sensor_t"):
+        axes[0].plot(data["sensor_t"], data["sensor_q1"], ".", color="tab:green", markersize=2,
+                     label="q1 as the sensors report it\n(joint_states, at arrival)")
+    if compare:
+        axes[0].plot(compare["t"], compare["q1"], "--", color="tab:gray",
+                     label="q1, %s" % os.path.basename(compare_label))
+    axes[0].set_ylabel("q1 [rad]")
+    axes[1].plot(t, data["q2"], color="tab:orange", label="q2, slider 4")
+    axes[1].set_ylabel("q2 [m]")
+    ax = axes[2]
+    ax.plot(t, data["u1"], color="tab:blue", label="u1 [rad/s] (left)")
+    ax.set_ylabel("u1 [rad/s]", color="tab:blue")
+    speed2 = ax.twinx()
+    speed2.plot(t, data["u2"], color="tab:orange", label="u2 [m/s] (right)")
+    speed2.set_ylabel("u2 [m/s]", color="tab:orange")
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = speed2.get_legend_handles_labels()
+    _legend_outside(ax, h1 + h2, l1 + l2)
+    axes[3].plot(t, data["torque"], color="tab:red", label="applied M_m")
+    axes[3].set_ylabel("torque [N m]")
+    ax = axes[4]
+    for key, label in (("kinetic", "kinetic T"), ("gravitational", "gravitational V_g"),
+                       ("spring", "spring V_s"), ("energy", "total E"), ("motor_work", "motor work W"),
+                       ("dissipated_energy", "dissipated D")):
+        ax.plot(t, data[key], label=label)
+    ax.set_ylabel("energy [J]")
+    if powers:
+        ax = axes[5]
+        for key, label in POWERS:
+            values = np.asarray(data[key])
+            if np.any(values != 0):  # loads that are off (dampers, contact) stay out
+                ax.plot(t, values, label=label)
+        ax.plot(t, sum(np.asarray(data[k]) for k, _ in POWERS), "k:", linewidth=1,
+                label="sum = dT/dt")
+        ax.set_ylabel("power [W]")
+    # The ledger's drift is many decades smaller than the energies: a panel of its own, in a
+    # unit chosen for its size (no offset text to collide with anything).
+    ledger = data["energy_balance"]
+    drift = [v - ledger[0] for v in ledger]
+    largest = max((abs(v) for v in drift), default=0.0)
+    scale, unit = 1.0, "J"
+    for factor, name in ((1e-3, "mJ"), (1e-6, "µJ"), (1e-9, "nJ"), (1e-12, "pJ")):
+        if largest < 1000 * factor:
+            scale, unit = factor, name
+    axes[-1].plot(t, [v / scale for v in drift], color="black", label="E + D - W, drift")
+    axes[-1].set_ylabel("ledger drift\n[%s]" % unit)
+    axes[-1].set_xlabel("sim time [s]")
+    for a in axes:
+        a.grid(True, alpha=0.3)
+        a.ticklabel_format(axis="y", useOffset=False)
+        if a is not axes[2]:
+            _legend_outside(a)
+    speed2.ticklabel_format(axis="y", useOffset=False)
+    fig.suptitle(title)
+    fig.align_ylabels(axes)
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
+    if out:
+        fig.savefig(out)
+    return fig
+
+
+# Within this of q1 = ±90° (|cos q1| < TOGGLE_BAND) the reactions grow as 1/cos q1: the axes are
+# scaled to the forces outside it, and the band is shaded.
+TOGGLE_BAND = 0.1
+
+
+def plot_reactions(data, out=None, title="Reaction forces (Kane's method, auxiliary speeds)"):
+    """The pins' and the rails' forces and the spring's over the crank angle q1 (in degrees,
+    unwrapped as the run went), from the columns pin_o_x ... spring_force. Near q1 = ±90° (B
+    passing through O, rod 2 square to the rail: the linkage's toggle) the rail force and the
+    pin forces grow as 1/cos q1; those stretches are shaded and drawn off scale."""
+    if not _has(data, REACTIONS):
+        raise ValueError("the data have no reaction forces (columns %s)" % ", ".join(REACTIONS))
+    q1_rad = np.asarray(data["q1"])
+    q1 = np.degrees(q1_rad)
+    regular = np.abs(np.cos(q1_rad)) >= TOGGLE_BAND
+    fig, axes = plt.subplots(4, 1, figsize=(12, 9), dpi=DPI, sharex=True)
+    panels = [("pin O: ground on rod 1", (("pin_o_x", "x (down)"), ("pin_o_y", "y")))]
+    panels.append(("pin A: rod 1 on rod 2", (("pin_a_x", "x (down)"), ("pin_a_y", "y"))))
+    panels.append(("pin B: rod 2 on slider 3", (("pin_b_x", "x (down)"), ("pin_b_y", "y"))))
+    panels.append(("rails and spring", (("rail_slider3", "rail on slider 3 (y)"),
+                                        ("rail_slider4", "rail on slider 4 (y)"),
+                                        ("spring_force", "spring k e on slider 4 (x)"))))
+    for ax, (label, curves) in zip(axes, panels):
+        largest = 0.0
+        for key, name in curves:
+            values = np.asarray(data[key])
+            ax.plot(q1, values, label=name)
+            if np.any(regular):
+                largest = max(largest, np.max(np.abs(values[regular])))
+        if largest > 0:
+            ax.set_ylim(-1.3 * largest, 1.3 * largest)
+        ax.set_ylabel("[N]")
+        ax.set_title(label, fontsize="medium", loc="left")
+        ax.grid(True, alpha=0.3)
+        # the toggle's bands (|cos q1| < TOGGLE_BAND), where the forces leave the scale
+        lo, hi = q1.min(), q1.max()
+        half = np.degrees(np.arcsin(TOGGLE_BAND))
+        for k in range(int(np.floor(lo / 180)) - 1, int(np.ceil(hi / 180)) + 1):
+            centre = 90 + 180 * k
+            if centre + half >= lo and centre - half <= hi:
+                ax.axvspan(max(centre - half, lo), min(centre + half, hi), color="gray",
+                           alpha=0.15, label=None)
+        _legend_outside(ax)
+    axes[0].text(0.0, 1.18, "shaded: |cos q1| < %g, the toggle (B passes through O): forces grow "
+                 "as 1/cos q1, drawn off scale" % TOGGLE_BAND, transform=axes[0].transAxes,
+                 fontsize="small", color="dimgray")
+    axes[-1].set_xlabel("crank angle q1 [deg]")
+    fig.suptitle(title)
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
+    if out:
+        fig.savefig(out)
+    return fig
+
+
+def plot_result(result, out=None, kind="run", title=""):
+    """A kane_sim.Result (or any columns) as plot_run ('run') or plot_reactions ('reactions')."""
+    if kind == "reactions":
+        return plot_reactions(result, out, title or "Reaction forces (Kane's method, auxiliary speeds)")
+    if kind != "run":
+        raise ValueError("kind must be 'run' or 'reactions', got %r" % (kind,))
+    return plot_run(result, out, title)
