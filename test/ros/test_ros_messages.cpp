@@ -177,6 +177,21 @@ TEST_F(MessagesTest, MechanismStateCarriesTheSnapshot) {
                    msg.kinetic_energy + msg.gravitational_energy + msg.spring_energy);
   EXPECT_DOUBLE_EQ(msg.motor_work, s.motor_work);
   EXPECT_EQ(msg.real_time_factor, 0.97);
+  // What Kane's method shows: the reactions, each load's power, each body's kinetic energy.
+  EXPECT_EQ(msg.pin_o_force[0], s.constraint_forces.pin_o.x());
+  EXPECT_EQ(msg.pin_a_force[1], s.constraint_forces.pin_a.y());
+  EXPECT_EQ(msg.pin_b_force[0], s.constraint_forces.pin_b.x());
+  EXPECT_EQ(msg.rail_force_slider3, s.constraint_forces.rail_slider3);
+  EXPECT_EQ(msg.spring_force, s.constraint_forces.spring);
+  EXPECT_TRUE(msg.reactions_determinate);
+  EXPECT_NE(msg.pin_o_force[0], 0.0);  // the ground carries the weight
+  EXPECT_EQ(msg.motor_power, 3.0 * s.state.u1);
+  EXPECT_EQ(msg.gravity_power, s.load_powers.gravity);
+  EXPECT_EQ(msg.slider4_damper_power, s.load_powers.slider4_damper);
+  double kinetic = 0.0;
+  for (double t : msg.body_kinetic_energy) kinetic += t;
+  EXPECT_NEAR(kinetic, msg.kinetic_energy, 1e-12);
+  EXPECT_EQ(msg.impact_energy, 0.0);
 }
 
 visualization_msgs::Marker torqueArrow(const visualization_msgs::MarkerArray& array) {
