@@ -80,5 +80,4 @@ std::string analysisJson(const LinearModel& l, const ModalAnalysis& modal) {
   return out.str();
 }
 
-
 }  // namespace kane_sim

@@ -53,9 +53,6 @@ class Config:
     def __setitem__(self, name, value):
         self._core = self._core.with_value(name, _yaml_scalar(value))
 
-    def replace(self, **_unused):
-        raise TypeError("use with_values({'section.key': value, ...})")
-
     def with_values(self, values):
         """A copy with {'section.key': value} set (validated as a whole)."""
         out = Config(self)
@@ -278,6 +275,8 @@ def sweep(config=None, grid=None, cases=None, duration=10.0, torque=0.0, jobs=0)
         if len({len(c) for c in columns}) > 1:
             raise ValueError("sweep: every key of cases= needs as many values")
         rows = [list(r) for r in zip(*columns)]
+    if int(jobs) < 0:
+        raise ValueError("sweep: jobs must be >= 0 (0: one thread per core), got %r" % (jobs,))
     profile = torque if isinstance(torque, TorqueProfile) else TorqueProfile.constant(float(torque))
     out = _core.sweep(cfg._core, list(keys), rows, float(duration), profile, int(jobs))
-    return {k: (np.asarray(v) if not isinstance(v, np.ndarray) else v) for k, v in out.items()}
+    return {k: np.asarray(v) for k, v in out.items()}  # status and error as arrays of str too

@@ -97,8 +97,8 @@ py::dict mechanismPoints(double rod_half_length, const py::array_t<double>& q1_i
   for (int i = 0; i < 6; ++i) points.emplace_back(std::vector<py::ssize_t>{n, 2});
   for (py::ssize_t k = 0; k < n; ++k) {
     const MechanismGeometry g = mechanismGeometry(rod_half_length, q1(k), q2(k));
-    const Eigen::Vector3d* at[] = {&g.pivot_o, &g.pin_a, &g.pin_b, &g.point_c, &g.rod1_center,
-                                   &g.rod2_center};
+    const Eigen::Vector3d* at[] = {&g.pivot_o, &g.pin_a,       &g.pin_b,
+                                   &g.point_c, &g.rod1_center, &g.rod2_center};
     for (int i = 0; i < 6; ++i) {
       auto p = points[static_cast<size_t>(i)].mutable_unchecked<2>();
       p(k, 0) = at[i]->x();
@@ -140,40 +140,44 @@ TorqueProfile checked(F make) {
 void bindAnalysis(py::module_& m) {
   py::class_<TorqueProfile>(m, "TorqueProfile",
                             "A torque over time, as simulate's --torque* options give it.")
-      .def_static("constant", [](double v) { return TorqueProfile::constant(finite("torque", v)); },
-                  py::arg("torque"))
-      .def_static("step",
-                  [](double t, double before, double after) {
-                    return TorqueProfile::step(finite("time", t), finite("before", before),
-                                               finite("after", after));
-                  },
-                  py::arg("time"), py::arg("before"), py::arg("after"))
-      .def_static("sine",
-                  [](double amplitude, double frequency, double offset) {
-                    return TorqueProfile::sine(finite("amplitude", amplitude),
-                                               finite("frequency", frequency),
-                                               finite("offset", offset));
-                  },
-                  py::arg("amplitude"), py::arg("frequency"), py::arg("offset") = 0.0)
-      .def_static("table",
-                  [](std::vector<std::pair<double, double>> points) {
-                    return checked([&] { return TorqueProfile::table(std::move(points)); });
-                  },
-                  py::arg("points"))
-      .def_static("from_csv",
-                  [](const std::string& path) {
-                    return checked([&] { return TorqueProfile::fromCsvFile(path); });
-                  },
-                  py::arg("path"))
+      .def_static(
+          "constant", [](double v) { return TorqueProfile::constant(finite("torque", v)); },
+          py::arg("torque"))
+      .def_static(
+          "step",
+          [](double t, double before, double after) {
+            return TorqueProfile::step(finite("time", t), finite("before", before),
+                                       finite("after", after));
+          },
+          py::arg("time"), py::arg("before"), py::arg("after"))
+      .def_static(
+          "sine",
+          [](double amplitude, double frequency, double offset) {
+            return TorqueProfile::sine(finite("amplitude", amplitude),
+                                       finite("frequency", frequency), finite("offset", offset));
+          },
+          py::arg("amplitude"), py::arg("frequency"), py::arg("offset") = 0.0)
+      .def_static(
+          "table",
+          [](std::vector<std::pair<double, double>> points) {
+            return checked([&] { return TorqueProfile::table(std::move(points)); });
+          },
+          py::arg("points"))
+      .def_static(
+          "from_csv",
+          [](const std::string& path) {
+            return checked([&] { return TorqueProfile::fromCsvFile(path); });
+          },
+          py::arg("path"))
       .def("at", &TorqueProfile::at, py::arg("t"))
-      .def("__repr__", [](const TorqueProfile& p) { return "TorqueProfile(" + p.describe() + ")"; });
+      .def("__repr__",
+           [](const TorqueProfile& p) { return "TorqueProfile(" + p.describe() + ")"; });
   m.def("sweep_grid", &grid, py::arg("axes"));
   m.def("mechanism_points", &mechanismPoints, py::arg("rod_half_length"), py::arg("q1"),
         py::arg("q2"));
   m.def("analyze_json", &analyze, py::arg("config"), py::arg("torque") = 0.0);
-  m.def("sweep", &sweep, py::arg("config"), py::arg("keys"), py::arg("cases"),
-        py::arg("duration"), py::arg("torque") = TorqueProfile::constant(0.0),
-        py::arg("jobs") = 0u);
+  m.def("sweep", &sweep, py::arg("config"), py::arg("keys"), py::arg("cases"), py::arg("duration"),
+        py::arg("torque") = TorqueProfile::constant(0.0), py::arg("jobs") = 0u);
 }
 
 }  // namespace python

@@ -15,8 +15,7 @@ namespace {
 const ParameterSpec& specOf(const std::string& name) {
   const size_t dot = name.find('.');
   const ParameterSpec* spec =
-      dot == std::string::npos ? nullptr
-                               : findParameter(name.substr(0, dot), name.substr(dot + 1));
+      dot == std::string::npos ? nullptr : findParameter(name.substr(0, dot), name.substr(dot + 1));
   if (!spec)
     throw ConfigError(name,
                       "is not a parameter: names are 'section.key' as in the config file "

@@ -79,8 +79,8 @@ class CallableCommands {
                            " at t = " + num(driver.time()) + " s, expected a float");
     }
     if (!std::isfinite(value))
-      throw py::value_error("torque callable returned " + num(value) + " at t = " +
-                            num(driver.time()) + " s: values must be finite");
+      throw py::value_error("torque callable returned " + num(value) +
+                            " at t = " + num(driver.time()) + " s: values must be finite");
     last_ = value;
     sendCommand(driver, value);
   }
@@ -129,26 +129,22 @@ class PythonSimulator {
   // The torque [N m] (servo modes: the setpoint) held from now on.
   void setTorque(double value) {
     if (!std::isfinite(value))
-      throw py::value_error(std::string(servoMode() ? "setpoint" : "torque") + " must be finite, got " +
-                            num(value));
+      throw py::value_error(std::string(servoMode() ? "setpoint" : "torque") +
+                            " must be finite, got " + num(value));
     if (sendCommand(driver_, value) == TorqueCommand::Verdict::kRejected)
       throw py::value_error(lastEventOr("the command " + num(value) + " was refused"));
     held_ = value;
   }
   double heldTorque() const { return held_; }
 
-  // n steps with the held torque (re-sent, so command.timeout never lapses).
+  // n steps with the held torque (re-sent, so command.timeout never lapses); Ctrl-C stops them.
   Array step(long n) {
     if (n < 0) throw py::value_error("step: n must be >= 0, got " + std::to_string(n));
     const TorqueProfile profile = TorqueProfile::constant(held_);
     ProfileCommands commands(profile, config_.config().command.timeout);
     commands.update(driver_);
-    RunEnd end;
-    {
-      py::gil_scoped_release release;
-      end = runProfile(driver_, commands, n, std::max(n, 1L), nullptr, [](const SimDriver&) {},
-                       [](const SimDriver&) {});
-    }
+    const RunEnd end = runWithoutGil(commands, n, std::max(n, 1L), [](const SimDriver&) {});
+    if (end == RunEnd::kStopped) throw py::error_already_set();  // KeyboardInterrupt
     if (end == RunEnd::kStepRefused) throw StepRefused(lastEventOr("a step was refused"));
     return state();
   }
@@ -175,23 +171,14 @@ class PythonSimulator {
     Rows out(columns, rows);
     const auto sample = [&out](const SimDriver& d) { out.add(d.snapshot()); };
     RunEnd end = RunEnd::kFinished;
-    std::atomic<bool> stop{false};
-    bool interrupted = false;
-    const auto on_step = [&](const SimDriver& d) {
-      if (d.ticks() % kSignalCheckSteps != 0) return;
-      py::gil_scoped_acquire acquire;
-      if (PyErr_CheckSignals() != 0) {
-        interrupted = true;
-        stop = true;
-      }
-    };
     try {
       if (py::isinstance<py::function>(torque)) {
         CallableCommands commands(torque.cast<py::function>());
         commands.update(driver_);
         sample(driver_);
-        end = runProfile(driver_, commands, grid.steps(), grid.steps_per_row, nullptr,
-                         [](const SimDriver&) {}, sample);
+        end = runProfile(
+            driver_, commands, grid.steps(), grid.steps_per_row, nullptr, [](const SimDriver&) {},
+            sample);
         held_ = commands.last();
       } else if (py::isinstance<py::array>(torque) || py::isinstance<py::list>(torque)) {
         const Array values = Array::ensure(torque);
@@ -199,22 +186,14 @@ class PythonSimulator {
         ArrayCommands commands(values.data(), grid.steps(), driver_.ticks());
         commands.update(driver_);
         sample(driver_);
-        {
-          py::gil_scoped_release release;
-          end = runProfile(driver_, commands, grid.steps(), grid.steps_per_row, &stop, on_step,
-                           sample);
-        }
+        end = runWithoutGil(commands, grid.steps(), grid.steps_per_row, sample);
         held_ = commands.last();
       } else {
         const TorqueProfile profile = profileOf(torque);
         ProfileCommands commands(profile, config_.config().command.timeout);
         commands.update(driver_);
         sample(driver_);
-        {
-          py::gil_scoped_release release;
-          end = runProfile(driver_, commands, grid.steps(), grid.steps_per_row, &stop, on_step,
-                           sample);
-        }
+        end = runWithoutGil(commands, grid.steps(), grid.steps_per_row, sample);
         held_ = profile.at(driver_.time());
       }
     } catch (...) {
@@ -223,7 +202,7 @@ class PythonSimulator {
     }
     py::dict result = out.toDict();
     last_result_ = result;
-    if (interrupted) throw py::error_already_set();  // KeyboardInterrupt, as Python raised it
+    if (end == RunEnd::kStopped) throw py::error_already_set();  // KeyboardInterrupt, as raised
     if (end == RunEnd::kStepRefused) throw StepRefused(lastEventOr("a step was refused"));
     return result;
   }
@@ -252,8 +231,8 @@ class PythonSimulator {
                             shapeText(states));
     const long n = single ? 1 : states.shape(0);
     if (!(torque.ndim() == 0 || (torque.ndim() == 1 && torque.shape(0) == n)))
-      throw py::value_error("rates: torque must be a number or have shape (" +
-                            std::to_string(n) + ",), got " + shapeText(torque));
+      throw py::value_error("rates: torque must be a number or have shape (" + std::to_string(n) +
+                            ",), got " + shapeText(torque));
     const double* x = states.data();
     const double* m = torque.data();
     const bool per_state = torque.ndim() == 1;
@@ -282,7 +261,8 @@ class PythonSimulator {
     };
     py::gil_scoped_release release;
     const long kParallelFrom = 1 << 16;
-    const unsigned threads = n >= kParallelFrom ? std::max(1u, std::thread::hardware_concurrency()) : 1;
+    const unsigned threads =
+        n >= kParallelFrom ? std::max(1u, std::thread::hardware_concurrency()) : 1;
     std::vector<std::thread> workers;
     const long chunk = (n + threads - 1) / threads;
     for (unsigned t = 1; t < threads; ++t)
@@ -313,6 +293,20 @@ class PythonSimulator {
   }
 
  private:
+  // runProfile without the GIL (other Python threads run meanwhile), looking at Python's signals
+  // every kSignalCheckSteps steps: kStopped when one raised (its exception is pending then).
+  template <typename Commands, typename OnSample>
+  RunEnd runWithoutGil(Commands& commands, long steps, long steps_per_sample, OnSample on_sample) {
+    std::atomic<bool> stop{false};
+    const auto check_signals = [&stop](const SimDriver& d) {
+      if (d.ticks() % kSignalCheckSteps != 0) return;
+      py::gil_scoped_acquire acquire;
+      if (PyErr_CheckSignals() != 0) stop = true;
+    };
+    py::gil_scoped_release release;
+    return runProfile(driver_, commands, steps, steps_per_sample, &stop, check_signals, on_sample);
+  }
+
   // Snapshot columns, column-major so that every column is one contiguous array.
   class Rows {
    public:
@@ -352,8 +346,8 @@ class PythonSimulator {
                             shapeText(values));
     for (long i = 0; i < steps; ++i)
       if (!std::isfinite(values.data()[i]))
-        throw py::value_error("run: torque[" + std::to_string(i) + "] is " +
-                              num(values.data()[i]) + ": values must be finite");
+        throw py::value_error("run: torque[" + std::to_string(i) + "] is " + num(values.data()[i]) +
+                              ": values must be finite");
   }
 
   TorqueProfile profileOf(const py::object& torque) const {
@@ -368,7 +362,8 @@ class PythonSimulator {
           "callable f(t, state), got " +
           std::string(py::str(py::type::of(torque).attr("__name__"))));
     }
-    if (!std::isfinite(value)) throw py::value_error("run: torque must be finite, got " + num(value));
+    if (!std::isfinite(value))
+      throw py::value_error("run: torque must be finite, got " + num(value));
     return TorqueProfile::constant(value);
   }
 

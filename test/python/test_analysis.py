@@ -47,3 +47,8 @@ def test_sweep_refusals():
     assert "rod_mass" in r["error"][1] and math.isnan(r["q1"][1])
     with pytest.raises(ValueError, match="one of them"):
         kane_sim.sweep(duration=0.1)
+    with pytest.raises(ValueError, match="jobs"):
+        kane_sim.sweep(cases={"mechanism.rod_mass": [1.0]}, duration=0.1, jobs=-1)
+    for duration in (math.nan, -1.0, math.inf):
+        with pytest.raises(ValueError, match="duration"):
+            kane_sim.sweep(cases={"mechanism.rod_mass": [1.0]}, duration=duration)

@@ -159,6 +159,15 @@ def test_ctrl_c_stops_a_long_run_and_keeps_what_it_computed():
     assert sim.time >= kept.t[-1]
 
 
+def test_ctrl_c_stops_long_steps_where_they_are():
+    sim = kane_sim.Simulator(config_path())
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        sim.step(10 ** 10)  # months of sim time
+    assert 0 < sim.time < 1e7 and np.all(np.isfinite(sim.state))
+
+
 def test_steps_hold_the_torque_past_the_command_timeout(sim):
     sim.set_torque(2.0)
     sim.step(2000)  # 2 s, four command timeouts
