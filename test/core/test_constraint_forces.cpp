@@ -185,6 +185,15 @@ TEST(PowerFlow, LoadPowersSumToTheKineticEnergysRate) {
   }
 }
 
+// A load that is off reports 0 W, not -0 W (what `rostopic echo` would print as "-0.0").
+TEST(PowerFlow, LoadsThatAreOffReportPlusZero) {
+  const MechanismModel model = mechanismModel(test::defaultConfig());  // no dampers
+  const State x{0.5, 1.2, -3.0, -1.0};                                 // negative speeds
+  const LoadPowers p = loadPowers(model.loads(model.kinematics(x), x, 0.0), x);
+  for (double off : {p.motor, p.crank_damper, p.coupler_damper, p.slider3_damper, p.slider4_damper})
+    EXPECT_FALSE(std::signbit(off));
+}
+
 // The simulator's snapshot: contact on, no dampers: every joule dissipated is an impact's, and
 // impact_energy books exactly that (then 0 again after a reset); while resting, the contact
 // force does no work.
