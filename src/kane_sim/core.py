@@ -101,9 +101,13 @@ class Result(Mapping):
     `list(result)` names them), and the usual groups: t, q (N x 2), u, u_dot, torque,
     energies, ledger, reactions, powers, kinetic_per_body."""
 
-    def __init__(self, columns, config=None):
+    def __init__(self, columns, config=None, sensors=None):
         self.columns = dict(columns)
         self.config = config  # the Config of the run (kane_sim.animate reads L from it)
+        # With sensors on (config sensors:), the readings as they reached joint_states: "t"
+        # (arrival), "sample_t", "position" and "velocity" (N x 4: crank, coupler, slider 3,
+        # slider 4). Empty arrays with the sensors off.
+        self.sensors = sensors
 
     def __getitem__(self, name):
         return self.columns[name]
@@ -223,13 +227,18 @@ class Simulator:
         return self._sim.step(int(n))
 
     def run(self, duration, torque=None, output_rate=None):
-        return Result(self._sim.run(float(duration), torque, output_rate), self.config)
+        columns = self._sim.run(float(duration), torque, output_rate)
+        return Result(columns, self.config, self._sim.last_readings)
 
     @property
     def last_result(self):
         """The last run's rows, also when it ended in an exception."""
         r = self._sim.last_result
-        return None if r is None else Result(r, self.config)
+        return None if r is None else Result(r, self.config, self._sim.last_readings)
+
+    def take_readings(self):
+        """The sensor readings step() collected since the last call (as Result.sensors)."""
+        return self._sim.take_readings()
 
     def snapshot(self):
         """This instant's values by CSV column name (plus resting_contact,

@@ -91,6 +91,36 @@ class CallableCommands {
   double last_ = 0.0;
 };
 
+// Sensor readings (sensors.enabled) as they reach joint_states: taken off the driver after every
+// step, so that none piles up in a long run, and handed to Python as arrays.
+class Readings {
+ public:
+  void takeFrom(SimDriver& driver) {
+    SensorReading r;
+    while (driver.takeSensorReading(&r)) {
+      arrival_.push_back(driver.time());
+      sample_.push_back(r.sample_time);
+      position_.insert(position_.end(), r.joints.position.begin(), r.joints.position.end());
+      velocity_.insert(velocity_.end(), r.joints.velocity.begin(), r.joints.velocity.end());
+    }
+  }
+  // {"t": arrival [s], "sample_t" [s], "position": (N, 4), "velocity": (N, 4)}; joints in
+  // joint_states' order: crank, coupler, slider 3, slider 4.
+  py::dict toDict() const {
+    const py::ssize_t n = static_cast<py::ssize_t>(arrival_.size());
+    py::dict out;
+    out["t"] = Array(n, arrival_.data());
+    out["sample_t"] = Array(n, sample_.data());
+    out["position"] = Array({n, py::ssize_t{kNumJoints}}, position_.data());
+    out["velocity"] = Array({n, py::ssize_t{kNumJoints}}, velocity_.data());
+    return out;
+  }
+  void clear() { *this = Readings(); }
+
+ private:
+  std::vector<double> arrival_, sample_, position_, velocity_;
+};
+
 class PythonSimulator {
  public:
   explicit PythonSimulator(const PythonConfig& config)
@@ -143,7 +173,8 @@ class PythonSimulator {
     const TorqueProfile profile = TorqueProfile::constant(held_);
     ProfileCommands commands(profile, config_.config().command.timeout);
     commands.update(driver_);
-    const RunEnd end = runWithoutGil(commands, n, std::max(n, 1L), [](const SimDriver&) {});
+    const RunEnd end = runWithoutGil(
+        commands, n, std::max(n, 1L), [](const SimDriver&) {}, &pending_readings_);
     if (end == RunEnd::kStopped) throw py::error_already_set();  // KeyboardInterrupt
     if (end == RunEnd::kStepRefused) throw StepRefused(lastEventOr("a step was refused"));
     return state();
@@ -169,39 +200,47 @@ class PythonSimulator {
                             " columns is more than 16 GiB: use a lower output_rate or a shorter "
                             "duration");
     Rows out(columns, rows);
+    Readings readings;
     const auto sample = [&out](const SimDriver& d) { out.add(d.snapshot()); };
+    const auto finish = [&]() {
+      last_result_ = out.toDict();
+      last_readings_ = readings.toDict();
+    };
     RunEnd end = RunEnd::kFinished;
     try {
       if (py::isinstance<py::function>(torque)) {
         CallableCommands commands(torque.cast<py::function>());
         commands.update(driver_);
+        readings.takeFrom(driver_);
         sample(driver_);
         end = runProfile(
-            driver_, commands, grid.steps(), grid.steps_per_row, nullptr, [](const SimDriver&) {},
-            sample);
+            driver_, commands, grid.steps(), grid.steps_per_row, nullptr,
+            [this, &readings](const SimDriver&) { readings.takeFrom(driver_); }, sample);
         held_ = commands.last();
       } else if (py::isinstance<py::array>(torque) || py::isinstance<py::list>(torque)) {
         const Array values = Array::ensure(torque);
         checkTorqueArray(values, grid.steps());
         ArrayCommands commands(values.data(), grid.steps(), driver_.ticks());
         commands.update(driver_);
+        readings.takeFrom(driver_);
         sample(driver_);
-        end = runWithoutGil(commands, grid.steps(), grid.steps_per_row, sample);
+        end = runWithoutGil(commands, grid.steps(), grid.steps_per_row, sample, &readings);
         held_ = commands.last();
       } else {
         const TorqueProfile profile = profileOf(torque);
         ProfileCommands commands(profile, config_.config().command.timeout);
         commands.update(driver_);
+        readings.takeFrom(driver_);
         sample(driver_);
-        end = runWithoutGil(commands, grid.steps(), grid.steps_per_row, sample);
+        end = runWithoutGil(commands, grid.steps(), grid.steps_per_row, sample, &readings);
         held_ = profile.at(driver_.time());
       }
     } catch (...) {
-      last_result_ = out.toDict();  // what was computed until the exception
+      finish();  // what was computed until the exception
       throw;
     }
-    py::dict result = out.toDict();
-    last_result_ = result;
+    finish();
+    py::dict result = last_result_;
     if (end == RunEnd::kStopped) throw py::error_already_set();  // KeyboardInterrupt, as raised
     if (end == RunEnd::kStepRefused) throw StepRefused(lastEventOr("a step was refused"));
     return result;
@@ -210,6 +249,14 @@ class PythonSimulator {
   // The result of the last run, also when it ended with an exception (Ctrl-C, a refused step,
   // the torque callable's error): the rows computed until then.
   py::object lastResult() const { return last_result_; }
+  // The sensor readings of the last run (empty arrays with the sensors off).
+  py::object lastReadings() const { return last_readings_; }
+  // Those that step() collected since the last call.
+  py::dict takeReadings() {
+    py::dict out = pending_readings_.toDict();
+    pending_readings_.clear();
+    return out;
+  }
 
   py::dict snapshot() const {
     const Snapshot s = driver_.snapshot();
@@ -295,10 +342,14 @@ class PythonSimulator {
  private:
   // runProfile without the GIL (other Python threads run meanwhile), looking at Python's signals
   // every kSignalCheckSteps steps: kStopped when one raised (its exception is pending then).
+  // The sensor readings due after each step go to `readings`.
   template <typename Commands, typename OnSample>
-  RunEnd runWithoutGil(Commands& commands, long steps, long steps_per_sample, OnSample on_sample) {
+  RunEnd runWithoutGil(Commands& commands, long steps, long steps_per_sample, OnSample on_sample,
+                       Readings* readings) {
     std::atomic<bool> stop{false};
-    const auto check_signals = [&stop](const SimDriver& d) {
+    const bool sensors = driver_.sensorsEnabled();
+    const auto check_signals = [this, &stop, sensors, readings](const SimDriver& d) {
+      if (sensors) readings->takeFrom(driver_);
       if (d.ticks() % kSignalCheckSteps != 0) return;
       py::gil_scoped_acquire acquire;
       if (PyErr_CheckSignals() != 0) stop = true;
@@ -380,6 +431,8 @@ class PythonSimulator {
   SimDriver driver_;
   double held_;  // the torque (or setpoint) in force, re-sent by step()
   py::object last_result_ = py::none();
+  py::object last_readings_ = py::none();
+  Readings pending_readings_;
 };
 
 }  // namespace
@@ -409,6 +462,8 @@ void bindSimulator(py::module_& m) {
       .def("run", &PythonSimulator::run, py::arg("duration"), py::arg("torque") = py::none(),
            py::arg("output_rate") = py::none())
       .def_property_readonly("last_result", &PythonSimulator::lastResult)
+      .def_property_readonly("last_readings", &PythonSimulator::lastReadings)
+      .def("take_readings", &PythonSimulator::takeReadings)
       .def("snapshot", &PythonSimulator::snapshot)
       .def("rates", &PythonSimulator::rates, py::arg("states"), py::arg("torque") = 0.0)
       .def("get", &PythonSimulator::get, py::arg("name"))

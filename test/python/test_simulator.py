@@ -206,3 +206,37 @@ def test_a_refused_step_raises_step_refused_with_the_drivers_reason():
         sim.run(5.0, torque=1e6)
     assert np.all(np.isfinite(sim.state))
     assert np.all(np.isfinite(sim.last_result.q))
+
+
+def test_sensor_readings_come_back_with_the_run_and_are_the_simulates_bag_readings(tmp_path):
+    """With config/sensors.yaml's sensors: the readings Python gets are those `simulate --bag`
+    writes on /joint_states (same seed, same driver), none left behind in the driver."""
+    import rosbag
+    import yaml
+    with open(config_path()) as f:
+        tree = yaml.safe_load(f)
+    with open(config_path("sensors.yaml")) as f:
+        tree["sensors"].update(yaml.safe_load(f)["sensors"])
+    config_file = tmp_path / "sensors.yaml"
+    config_file.write_text(yaml.safe_dump(tree))
+    sim = kane_sim.Simulator(tree)
+    r = sim.run(1.0, torque=1.0, output_rate=100)
+    s = r.sensors
+    assert len(s["t"]) >= 95 and s["position"].shape == (len(s["t"]), 4)
+    assert np.all(s["t"] >= s["sample_t"]) and np.all(np.diff(s["t"]) >= 0)
+    truth = np.interp(s["sample_t"], r.t, r["q1"])
+    assert 0 < np.max(np.abs(s["position"][:, 0] - truth)) < 0.05  # noisy, not wrong
+    run_tool("simulate", "--config", config_file, "--duration", "1", "--torque", "1",
+             "--bag", tmp_path / "run.bag")
+    with rosbag.Bag(str(tmp_path / "run.bag")) as bag:
+        bagged = [m for _, m, _ in bag.read_messages(topics=["/joint_states"])]
+    np.testing.assert_array_equal(np.array([m.position for m in bagged]), s["position"])
+    np.testing.assert_array_equal(np.array([m.velocity for m in bagged]), s["velocity"])
+    epoch = bagged[0].header.stamp.to_sec() - s["t"][0]  # simulate stamps from a fixed epoch
+    np.testing.assert_allclose([m.header.stamp.to_sec() - epoch for m in bagged], s["t"],
+                               atol=1e-6)
+    sim.step(100)
+    assert len(sim.take_readings()["t"]) >= 9
+    assert len(sim.take_readings()["t"]) == 0
+    plain = kane_sim.Simulator(config_path()).run(0.1, torque=1.0)
+    assert len(plain.sensors["t"]) == 0
