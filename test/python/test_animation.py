@@ -73,3 +73,14 @@ def test_animate_refuses_what_it_cannot_draw():
         kane_sim.animate({"t": [0.0], "q1": [0.0], "q2": [1.0]}, rod_half_length=0.25)
     with pytest.raises(ValueError, match="kind"):
         kane_sim.plot_result(r, kind="energy")
+
+
+def test_the_readmes_python_example_runs_as_written(tmp_path):
+    readme = open(os.path.join(os.path.dirname(EXAMPLE), "..", "..", "README.md")).read()
+    block = readme.split("```python\n", 1)[1].split("```", 1)[0]
+    script = tmp_path / "example.py"
+    script.write_text(block)
+    r = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
+                       text=True, timeout=240)
+    assert r.returncode == 0, r.stderr
+    assert Image.open(tmp_path / "swing.gif").n_frames > 10
