@@ -121,6 +121,25 @@ class Readings {
   std::vector<double> arrival_, sample_, position_, velocity_;
 };
 
+// One call at a time into a simulator: a run releases the GIL (another Python thread may call
+// in meanwhile) and a torque callable runs inside one (it may call back); either would change the
+// driver in the middle of a step. The second call is refused (RuntimeError), nothing changes.
+class Exclusive {
+ public:
+  Exclusive(std::atomic<bool>& busy, const char* call) : busy_(busy) {
+    if (busy_.exchange(true))
+      throw std::runtime_error(std::string(call) +
+                               ": the Simulator is in a run or step (from another thread, or its "
+                               "torque callable calls it); one call at a time");
+  }
+  ~Exclusive() { busy_ = false; }
+  Exclusive(const Exclusive&) = delete;
+  Exclusive& operator=(const Exclusive&) = delete;
+
+ private:
+  std::atomic<bool>& busy_;
+};
+
 class PythonSimulator {
  public:
   explicit PythonSimulator(const PythonConfig& config)
@@ -135,14 +154,12 @@ class PythonSimulator {
   bool servoMode() const { return driver_.servoMode(); }
 
   Array state() const {
-    const State& x = driver_.simulator().state();
-    Array out(4);
-    double* o = out.mutable_data();
-    o[0] = x.q1, o[1] = x.q2, o[2] = x.u1, o[3] = x.u2;
-    return out;
+    const Exclusive exclusive(busy_, "state");
+    return stateArray();
   }
 
   void setState(const Array& x) {
+    const Exclusive exclusive(busy_, "set_state");
     if (x.ndim() != 1 || x.shape(0) != 4)
       throw py::value_error("set_state: state must be 4 numbers (q1, q2, u1, u2), got shape " +
                             shapeText(x));
@@ -152,12 +169,14 @@ class PythonSimulator {
   }
 
   void reset() {
+    const Exclusive exclusive(busy_, "reset");
     driver_.reset();
     held_ = driver_.servoMode() ? driver_.snapshot().servo.setpoint : 0.0;
   }
 
   // The torque [N m] (servo modes: the setpoint) held from now on.
   void setTorque(double value) {
+    const Exclusive exclusive(busy_, "set_torque");
     if (!std::isfinite(value))
       throw py::value_error(std::string(servoMode() ? "setpoint" : "torque") +
                             " must be finite, got " + num(value));
@@ -169,6 +188,7 @@ class PythonSimulator {
 
   // n steps with the held torque (re-sent, so command.timeout never lapses); Ctrl-C stops them.
   Array step(long n) {
+    const Exclusive exclusive(busy_, "step");
     if (n < 0) throw py::value_error("step: n must be >= 0, got " + std::to_string(n));
     const TorqueProfile profile = TorqueProfile::constant(held_);
     ProfileCommands commands(profile, config_.config().command.timeout);
@@ -177,12 +197,13 @@ class PythonSimulator {
         commands, n, std::max(n, 1L), [](const SimDriver&) {}, &pending_readings_);
     if (end == RunEnd::kStopped) throw py::error_already_set();  // KeyboardInterrupt
     if (end == RunEnd::kStepRefused) throw StepRefused(lastEventOr("a step was refused"));
-    return state();
+    return stateArray();
   }
 
   // The run: rows every 1/output_rate s (default: every physics step) from now to now +
   // duration; every column of simulate's CSV, as arrays.
   py::dict run(double duration, const py::object& torque, const py::object& output_rate_arg) {
+    const Exclusive exclusive(busy_, "run");
     const double physics_rate = config_.config().simulation.physics_rate;
     const double output_rate =
         output_rate_arg.is_none() ? physics_rate : output_rate_arg.cast<double>();
@@ -253,12 +274,14 @@ class PythonSimulator {
   py::object lastReadings() const { return last_readings_; }
   // Those that step() collected since the last call.
   py::dict takeReadings() {
+    const Exclusive exclusive(busy_, "take_readings");
     py::dict out = pending_readings_.toDict();
     pending_readings_.clear();
     return out;
   }
 
   py::dict snapshot() const {
+    const Exclusive exclusive(busy_, "snapshot");
     const Snapshot s = driver_.snapshot();
     py::dict out;
     for (const CsvColumn* c = csvColumnsBegin(); c != csvColumnsEnd(); ++c)
@@ -272,6 +295,7 @@ class PythonSimulator {
   // (a number, or one per state): the equations the simulator steps, without the GIL, on every
   // core for large N.
   Array rates(const Array& states, const Array& torque) const {
+    const Exclusive exclusive(busy_, "rates");
     const bool single = states.ndim() == 1;
     if (!(single ? states.shape(0) == 4 : states.ndim() == 2 && states.shape(1) == 4))
       throw py::value_error("rates: states must have shape (N, 4) or (4,), got " +
@@ -324,6 +348,7 @@ class PythonSimulator {
   // A parameter changed at run time, as dynamic_reconfigure does in the node (at the current
   // state; the energy jump booked as parameter_energy). Others are fixed once built.
   void set(const std::string& name, const std::string& value_yaml) {
+    const Exclusive exclusive(busy_, "set");
     PythonConfig next = config_.with(name, value_yaml);  // ConfigError: nothing changes
     if (!PythonConfig::reconfigurable(name))
       throw py::value_error(name +
@@ -334,12 +359,21 @@ class PythonSimulator {
   }
 
   std::vector<std::pair<double, std::string>> takeEvents() {
+    const Exclusive exclusive(busy_, "events");
     std::vector<std::pair<double, std::string>> out(events_.begin(), events_.end());
     events_.clear();
     return out;
   }
 
  private:
+  Array stateArray() const {
+    const State& x = driver_.simulator().state();
+    Array out(4);
+    double* o = out.mutable_data();
+    o[0] = x.q1, o[1] = x.q2, o[2] = x.u1, o[3] = x.u2;
+    return out;
+  }
+
   // runProfile without the GIL (other Python threads run meanwhile), looking at Python's signals
   // every kSignalCheckSteps steps: kStopped when one raised (its exception is pending then).
   // The sensor readings due after each step go to `readings`.
@@ -429,7 +463,8 @@ class PythonSimulator {
   PythonConfig config_;
   std::deque<std::pair<double, std::string>> events_;
   SimDriver driver_;
-  double held_;  // the torque (or setpoint) in force, re-sent by step()
+  double held_;                            // the torque (or setpoint) in force, re-sent by step()
+  mutable std::atomic<bool> busy_{false};  // a call is in progress (Exclusive)
   py::object last_result_ = py::none();
   py::object last_readings_ = py::none();
   Readings pending_readings_;

@@ -240,3 +240,36 @@ def test_sensor_readings_come_back_with_the_run_and_are_the_simulates_bag_readin
     assert len(sim.take_readings()["t"]) == 0
     plain = kane_sim.Simulator(config_path()).run(0.1, torque=1.0)
     assert len(plain.sensors["t"]) == 0
+
+
+def test_one_call_at_a_time():
+    """A torque callable that calls its own simulator (or a thread that calls in during a run)
+    is refused, and the run it interrupted keeps its rows."""
+    sim = kane_sim.Simulator(config_path())
+
+    def law(t, x):
+        if t > 0.01:
+            sim.set_state([0.1, 1.2, 0.0, 0.0])
+        return 0.0
+    with pytest.raises(RuntimeError, match="one call at a time"):
+        sim.run(0.1, torque=law)
+    assert sim.last_result.t[-1] == pytest.approx(0.01)
+    sim.run(0.1)  # free again
+    errors = []
+
+    def other_thread():
+        try:
+            sim.snapshot()
+        except RuntimeError as e:
+            errors.append(str(e))
+    started = threading.Event()
+
+    def slow_law(t, x):
+        if not started.is_set():
+            started.set()
+            worker = threading.Thread(target=other_thread)
+            worker.start()
+            worker.join()
+        return 0.0
+    sim.run(0.01, torque=slow_law)
+    assert errors and "one call at a time" in errors[0]
