@@ -205,8 +205,15 @@ class PythonSimulator {
   py::dict run(double duration, const py::object& torque, const py::object& output_rate_arg) {
     const Exclusive exclusive(busy_, "run");
     const double physics_rate = config_.config().simulation.physics_rate;
-    const double output_rate =
-        output_rate_arg.is_none() ? physics_rate : output_rate_arg.cast<double>();
+    double output_rate = physics_rate;
+    if (!output_rate_arg.is_none()) {
+      try {
+        output_rate = output_rate_arg.cast<double>();
+      } catch (const py::cast_error&) {
+        throw py::type_error("run: output_rate must be a number [Hz] or None, got " +
+                             typeName(output_rate_arg));
+      }
+    }
     OutputGrid grid;
     try {
       grid = outputGrid(physics_rate, duration, output_rate, "duration", "output_rate");
@@ -240,6 +247,8 @@ class PythonSimulator {
         held_ = commands.last();
       } else if (py::isinstance<py::array>(torque) || py::isinstance<py::list>(torque)) {
         const Array values = Array::ensure(torque);
+        if (!values)  // not convertible to numbers (NumPy's error is cleared by ensure)
+          throw py::type_error("run: a torque array must hold numbers, got " + typeName(torque));
         checkTorqueArray(values, grid.steps());
         ArrayCommands commands(values.data(), grid.steps(), driver_.ticks());
         commands.update(driver_);
@@ -417,6 +426,10 @@ class PythonSimulator {
     long columns_, capacity_, filled_ = 0;
     std::vector<double> data_;
   };
+
+  static std::string typeName(const py::handle& h) {
+    return std::string(py::str(py::type::of(h).attr("__name__")));
+  }
 
   static std::string shapeText(const py::array& a) {
     std::string s = "(";

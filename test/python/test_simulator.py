@@ -134,6 +134,12 @@ def test_wrong_types_raise_type_errors(sim):
         sim.run(0.01, torque="fast")
     with pytest.raises(TypeError, match="expected a float"):
         sim.run(0.01, torque=lambda t, x: "fast")
+    with pytest.raises(TypeError, match="output_rate"):
+        sim.run(0.01, output_rate="fast")
+    with pytest.raises(TypeError, match="must hold numbers"):
+        sim.run(0.01, torque=["fast"] * 10)
+    with pytest.raises(TypeError, match="must hold numbers"):
+        sim.run(0.01, torque=np.array(["fast"] * 10, dtype=object))
 
 
 def test_a_callables_exception_propagates_and_keeps_the_rows_until_then(sim):
