@@ -9,7 +9,7 @@ from collections.abc import Mapping
 import numpy as np
 import yaml
 
-from kane_sim import _core
+from kane_sim import _core, columns
 from kane_sim._core import ConfigError, StepRefused, TorqueProfile
 
 __all__ = ["Config", "ConfigError", "Result", "Simulator", "StepRefused", "TorqueProfile",
@@ -141,32 +141,28 @@ class Result(Mapping):
     def torque(self):
         return self.columns["torque"]
 
+    def _group(self, names):
+        return {name: self.columns[name] for name in names}
+
     @property
     def energies(self):
-        return {k: self.columns[k] for k in ("kinetic", "gravitational", "spring", "energy")}
+        return self._group(columns.ENERGIES)
 
     @property
     def ledger(self):
-        return {k: self.columns[k] for k in ("motor_work", "dissipated_energy", "energy_balance",
-                                             "impact_energy")}
+        return self._group(columns.LEDGER)
 
     @property
     def reactions(self):
-        return {k: self.columns[k] for k in ("pin_o_x", "pin_o_y", "pin_a_x", "pin_a_y", "pin_b_x",
-                                             "pin_b_y", "rail_slider3", "rail_slider4",
-                                             "spring_force")}
+        return self._group(columns.REACTIONS)
 
     @property
     def powers(self):
-        names = ("gravity", "spring", "crank_damper", "coupler_damper", "slider3_damper",
-                 "slider4_damper", "contact")
-        out = {"motor": self.columns["motor_power"]}
-        out.update({n: self.columns["power_" + n] for n in names})
-        return out
+        return {short: self.columns[name] for short, name in columns.POWERS}
 
     @property
     def kinetic_per_body(self):
-        return {b: self.columns["kinetic_" + b] for b in ("rod1", "rod2", "slider3", "slider4")}
+        return {body: self.columns[name] for body, name in columns.KINETIC_PER_BODY}
 
     def __repr__(self):
         t = self.t

@@ -13,18 +13,17 @@ if not os.environ.get("DISPLAY") and "MPLBACKEND" not in os.environ:
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from kane_sim import columns  # noqa: E402
+
 FIGURE_SIZE = (12, 10.5)  # inches
 DPI = 100                 # -> 1200 x 1050 pixels
 
 # What every run has (older CSVs and bags too), and what newer ones add.
 REQUIRED = ("t", "q1", "q2", "u1", "u2", "torque", "kinetic", "gravitational", "spring", "energy",
             "motor_work", "dissipated_energy", "energy_balance")
-POWERS = (("motor_power", "motor M_m u1"), ("power_gravity", "gravity"),
-          ("power_spring", "spring"), ("power_crank_damper", "crank damper"),
-          ("power_coupler_damper", "coupler damper"), ("power_slider3_damper", "slider 3 damper"),
-          ("power_slider4_damper", "slider 4 damper"), ("power_contact", "contact"))
-REACTIONS = ("pin_o_x", "pin_o_y", "pin_a_x", "pin_a_y", "pin_b_x", "pin_b_y", "rail_slider3",
-             "rail_slider4", "spring_force")
+POWERS = tuple((name, "motor M_m u1" if short == "motor" else short.replace("_", " "))
+               for short, name in columns.POWERS)  # (column, legend label)
+REACTIONS = columns.REACTIONS
 
 # /mechanism_state's fields as CSV columns: (column, field, index or None).
 _BAG_FIELDS = [("t", "sim_time", None), ("q1", "q", 0), ("q2", "q", 1), ("u1", "u", 0),

@@ -20,7 +20,11 @@ ConstraintForces constraintForces(const MechanismModel& model, const State& x,
                                   const SpeedVector& u_dot, double motor_command,
                                   double contact_force) {
   const MechanismKinematics k = model.kinematics(x);
-  const MechanismLoads loads = model.loads(k, x, motor_command);
+  return constraintForces(k, model.loads(k, x, motor_command), x, u_dot, contact_force);
+}
+
+ConstraintForces constraintForces(const MechanismKinematics& k, const MechanismLoads& loads,
+                                  const State& x, const SpeedVector& u_dot, double contact_force) {
   const MechanismGeometry& g = k.geometry;
   const SpeedVector u = x.speeds();
 

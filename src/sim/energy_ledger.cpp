@@ -54,8 +54,7 @@ Snapshot Simulator::snapshot() const {
   snap.spring_elongation = model_.springElongation(k.geometry);
   snap.slider_separation = k.geometry.sliderSeparation();
   snap.slider_crossings = slider_crossings_;
-  snap.constraint_forces =
-      constraintForces(model_, state_, snap.u_dot, torque_, snap.contact_force);
+  snap.constraint_forces = constraintForces(k, loads, state_, snap.u_dot, snap.contact_force);
   snap.load_powers = loadPowers(loads, state_);
   snap.load_powers.contact = contactPower(k, state_, snap.contact_force);
   snap.body_kinetic_energy = bodyKineticEnergies(k, state_);
