@@ -3,7 +3,9 @@
 #include <algorithm>
 
 #include "kane_sim/config/frame_names.h"
+#include "kane_sim/config/input_file.h"
 #include "kane_sim/config/parameter_schema.h"
+#include "kane_sim/format_number.h"
 
 #include <cctype>
 #include <cmath>
@@ -262,15 +264,36 @@ void checkSimulation(const Section& s, const SimulationSettings& sim) {
                           formatValue(sim.publish_rate));
 }
 
-void checkSensors(const Section& s, const SensorSettings& sensors, const SimulationSettings& sim) {
-  if (sensors.rate == 0.0) return;  // publish_rate's, checked above
-  requireRange(s.keyPath("rate"), sensors.rate, sim.physics_rate / kMaxStepsPerPublish,
-               sim.physics_rate, "Hz (0 = simulation.publish_rate)");
-  if (wholeStepsPerPeriod(sim.physics_rate, sensors.rate) == 0.0)
-    throw ConfigError(s.keyPath("rate"), "must divide simulation.physics_rate (" +
-                                             formatValue(sim.physics_rate) +
-                                             " Hz) into a whole number of physics steps, got " +
-                                             formatValue(sensors.rate));
+void checkSensors(const Section& s, const Config& config, std::vector<std::string>* warnings) {
+  const SensorSettings& sensors = config.sensors;
+  const SimulationSettings& sim = config.simulation;
+  if (sensors.rate != 0.0) {  // 0: publish_rate's, checked above
+    requireRange(s.keyPath("rate"), sensors.rate, sim.physics_rate / kMaxStepsPerPublish,
+                 sim.physics_rate, "Hz (0 = simulation.publish_rate)");
+    if (wholeStepsPerPeriod(sim.physics_rate, sensors.rate) == 0.0)
+      throw ConfigError(s.keyPath("rate"), "must divide simulation.physics_rate (" +
+                                               formatValue(sim.physics_rate) +
+                                               " Hz) into a whole number of physics steps, got " +
+                                               formatValue(sensors.rate));
+  }
+  const double rate = sensors.rate > 0 ? sensors.rate : sim.publish_rate;
+  const double in_flight = (sensors.latency + sensors.latency_jitter) * rate;
+  if (in_flight > kMaxReadingsInFlight)
+    throw ConfigError(s.keyPath("latency"),
+                      formatNumber(sensors.latency) + " s (+ latency_jitter " +
+                          formatNumber(sensors.latency_jitter) + " s) at " + formatNumber(rate) +
+                          " readings per second keeps " +
+                          std::to_string(std::llround(std::min(in_flight, 1e18))) +
+                          " readings in flight, more than " +
+                          std::to_string(std::llround(kMaxReadingsInFlight)) +
+                          ": lower sensors.latency, latency_jitter or rate");
+  // Readings never overtake one another: a jitter longer than the reading period makes many
+  // arrive at the same tick, under one stamp with different values.
+  if (sensors.enabled && sensors.latency_jitter * rate > 1.0)
+    warnings->push_back(s.keyPath("latency_jitter") + " " + formatNumber(sensors.latency_jitter) +
+                        " s is longer than the reading " + "period " + formatNumber(1.0 / rate) +
+                        " s: readings bunch up and several arrive under one stamp; keep the "
+                        "jitter below the period");
 }
 
 void checkFrames(const Section& s, const FrameSettings& f) {
@@ -330,7 +353,7 @@ LoadedConfig loadConfig(const YAML::Node& root) {
     if (s.name() == "mechanism") checkMechanism(s, &config.mechanism);
     if (s.name() == "simulation") checkSimulation(s, config.simulation);
     if (s.name() == "frames") checkFrames(s, config.frames);
-    if (s.name() == "sensors") checkSensors(s, config.sensors, config.simulation);
+    if (s.name() == "sensors") checkSensors(s, config, &loaded.warnings);
   }
   config.mechanism.motor.torque_limit = config.command.torque_limit;  // the line's stall torque
 
@@ -346,12 +369,70 @@ LoadedConfig loadConfig(const YAML::Node& root) {
   return loaded;
 }
 
+namespace {
+
+// YAML's merge key, as PyYAML (and so rosparam) reads it: `<<: *anchor` (or a list of them) puts
+// the anchored map's entries into this map where it has no entry of its own. yaml-cpp keeps "<<"
+// as a plain key, which would make the node and the offline tools read one file as two configs.
+bool isMergeKey(const YAML::Node& key) {
+  return key.IsScalar() && key.Scalar() == "<<" && key.Tag() != "!";  // not the quoted "<<"
+}
+
+bool hasMergeKey(const YAML::Node& node) {
+  if (node.IsSequence())
+    return std::any_of(node.begin(), node.end(),
+                       [](const YAML::Node& n) { return hasMergeKey(n); });
+  if (!node.IsMap()) return false;
+  for (const auto& entry : node)
+    if (isMergeKey(entry.first) || hasMergeKey(entry.second)) return true;
+  return false;
+}
+
+// Duplicate keys are kept (force_insert) for the loader to name.
+YAML::Node expandMergeKeys(const YAML::Node& node) {
+  if (node.IsSequence()) {
+    YAML::Node out(YAML::NodeType::Sequence);
+    for (const YAML::Node& item : node) out.push_back(expandMergeKeys(item));
+    return out;
+  }
+  if (!node.IsMap()) return YAML::Clone(node);
+  YAML::Node out(YAML::NodeType::Map);
+  YAML::Node merged;
+  bool has_merge = false;
+  for (const auto& entry : node) {
+    if (isMergeKey(entry.first)) {
+      merged.reset(entry.second);
+      has_merge = true;
+    } else {
+      out.force_insert(YAML::Clone(entry.first), expandMergeKeys(entry.second));
+    }
+  }
+  if (!has_merge) return out;
+  std::vector<YAML::Node> sources;
+  if (merged.IsSequence())
+    for (const YAML::Node& item : merged) sources.push_back(item);
+  else
+    sources.push_back(merged);
+  for (const YAML::Node& source : sources) {
+    if (!source.IsMap())
+      throw ConfigError(
+          "file", "a merge key '<<' must name a map (or a list of maps), got " + describe(source));
+    const YAML::Node& own = out;                       // const: looking a key up adds nothing
+    for (const auto& entry : expandMergeKeys(source))  // earlier sources win, as in PyYAML
+      if (!own[entry.first.Scalar()]) out.force_insert(entry.first, entry.second);
+  }
+  return out;
+}
+
+}  // namespace
+
 YAML::Node loadYamlFile(const std::string& path) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error))
-    throw ConfigError("file", "cannot open '" + path + "' (not a readable file)");
-  std::ifstream file(path);
-  if (!file) throw ConfigError("file", "cannot open '" + path + "'");
+  std::ifstream file;
+  try {
+    file = openInputFile(path, "config", kMaxConfigBytes);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError("file", e.what());
+  }
   std::vector<YAML::Node> documents;
   try {
     documents = YAML::LoadAll(file);
@@ -370,7 +451,8 @@ YAML::Node loadYamlFile(const std::string& path) {
     throw ConfigError("file", "'" + path + "' holds " + std::to_string(documents.size()) +
                                   " YAML documents; a config is one document (no '---' between "
                                   "sections)");
-  return documents.empty() ? YAML::Node() : documents.front();
+  if (documents.empty()) return YAML::Node();
+  return hasMergeKey(documents.front()) ? expandMergeKeys(documents.front()) : documents.front();
 }
 
 LoadedConfig loadConfigFile(const std::string& path) { return loadConfig(loadYamlFile(path)); }

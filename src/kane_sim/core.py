@@ -264,11 +264,17 @@ def analyze(config=None, torque=0.0):
     return json.loads(_core.analyze_json(cfg._core, float(torque)))
 
 
-def sweep(config=None, grid=None, cases=None, duration=10.0, torque=0.0, jobs=0):
+def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0):
     """`simulate --sweep` as arrays: grid={'section.key': values, ...} (every combination, the
     last key fastest) or cases={'section.key': values} (one case per index). Returns a dict:
     the keys' values, 'status' and 'error' per case, then t, q1 ... wall_time (NaN where the
-    loader refused a case's config)."""
+    loader refused a case's config).
+
+    torque: a number or a TorqueProfile (a servo's setpoint in command.mode velocity |
+    position); None holds each case's start (0 N m, or the servo's initial setpoint), as a
+    single run does. duration: [0, 1e7] s. jobs: threads, 0 = one per core, at most 4 per core.
+    Ctrl-C stops the sweep: the KeyboardInterrupt raised carries the dict as `.result`, with the
+    finished cases and the others marked 'interrupted'."""
     cfg = config if isinstance(config, Config) else Config(config)
     if (grid is None) == (cases is None):
         raise ValueError("sweep: give grid= or cases=, one of them")
@@ -280,8 +286,15 @@ def sweep(config=None, grid=None, cases=None, duration=10.0, torque=0.0, jobs=0)
         if len({len(c) for c in columns}) > 1:
             raise ValueError("sweep: every key of cases= needs as many values")
         rows = [list(r) for r in zip(*columns)]
-    if int(jobs) < 0:
-        raise ValueError("sweep: jobs must be >= 0 (0: one thread per core), got %r" % (jobs,))
-    profile = torque if isinstance(torque, TorqueProfile) else TorqueProfile.constant(float(torque))
-    out = _core.sweep(cfg._core, list(keys), rows, float(duration), profile, int(jobs))
+    if torque is None or isinstance(torque, TorqueProfile):
+        profile = torque
+    else:
+        profile = TorqueProfile.constant(float(torque))
+    try:
+        out = _core.sweep(cfg._core, list(keys), rows, float(duration), profile, int(jobs))
+    except KeyboardInterrupt as interrupted:
+        partial = getattr(interrupted, "result", None)
+        if partial is not None:
+            interrupted.result = {k: np.asarray(v) for k, v in partial.items()}
+        raise
     return {k: np.asarray(v) for k, v in out.items()}  # status and error as arrays of str too

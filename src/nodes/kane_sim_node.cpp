@@ -57,7 +57,8 @@ YAML::Node KaneSimNode::readParameterTree(const ros::NodeHandle& private_nh) {
                                 ": load config/mechanism.yaml into the node's private namespace "
                                 "(launch/sim.launch does)");
   YAML::Node tree = yamlFromXmlRpc(params);
-  RuntimeParameters::removeServerKeys(&tree);
+  for (const std::string& ignored : RuntimeParameters::removeServerKeys(&tree))
+    ROS_WARN("kane_sim: %s", ignored.c_str());
   return tree;
 }
 
@@ -86,7 +87,8 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
     input_log_pub_.publish(inputLogMessage(input, stamp()));
   });
   runtime_parameters_ = std::make_unique<RuntimeParameters>(
-      private_nh_, parameter_tree_, config_, [this](const Config& c) { onReconfigure(c); });
+      private_nh_, parameter_tree_, config_, [this](const Config& c) { onReconfigure(c); },
+      [this](const Config& c) { return reconfigureVeto(c); });
 
   const SimulationSettings& s = config_.simulation;
   ROS_INFO("kane_sim: %s at %g Hz, publishing every %lu steps (%g Hz), real_time_factor %g%s%s",
@@ -235,6 +237,7 @@ void KaneSimNode::applyRealtimePriority() {
     return;
   }
   const RealtimeResult r = makeRealtime(priority);
+  realtime_scheduled_ = r.scheduled;
   if (r.problem.empty())
     ROS_INFO("kane_sim: physics loop at SCHED_FIFO priority %d, memory locked", priority);
   else
@@ -478,6 +481,15 @@ void KaneSimNode::announceReset(const std::string& cause) {
   event.q = {x.q1, x.q2};
   event.u = {x.u1, x.u2};
   reset_event_pub_.publish(event);
+}
+
+std::string KaneSimNode::reconfigureVeto(const Config& config) const {
+  if (realtime_scheduled_ && config.simulation.real_time_factor == 0.0)
+    return "real_time_factor 0 while the physics loop runs at SCHED_FIFO priority " +
+           std::to_string(config_.simulation.realtime_priority) +
+           ": a loop that never sleeps would hold a core at real-time priority; start the node "
+           "with real_time_factor 0 instead (realtime_priority is then ignored)";
+  return "";
 }
 
 void KaneSimNode::onReconfigure(const Config& config) {

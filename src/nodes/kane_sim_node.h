@@ -60,7 +60,8 @@ class KaneSimNode {
   bool onStep(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
   bool onSetState(SetState::Request& req, SetState::Response& res);
   bool onStepWithCommand(StepWithCommand::Request& req, StepWithCommand::Response& res);
-  void onReconfigure(const Config& config);  // an accepted runtime parameter change
+  void onReconfigure(const Config& config);                 // an accepted runtime parameter change
+  std::string reconfigureVeto(const Config& config) const;  // "" or why the node refuses it
   // ~reset_event after the moved state is published, with its stamp: controllers clear their
   // state, and tf at that stamp is the new pose.
   void announceReset(const std::string& cause);
@@ -93,6 +94,7 @@ class KaneSimNode {
   StampClock stamp_clock_;
   std::uint64_t ticks_per_publish_;
   bool paused_;
+  bool realtime_scheduled_ = false;  // the physics loop's thread runs SCHED_FIFO
 
   ros::Subscriber torque_sub_;
   ros::Subscriber torque_stamped_sub_;

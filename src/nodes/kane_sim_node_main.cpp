@@ -16,10 +16,16 @@ constexpr const char* kUsage =
     "Usage: rosrun kane_sim kane_sim_node [ROS remappings, e.g. __ns:=robot_a]\n"
     "       roslaunch kane_sim sim.launch [config:=FILE] [ns:=NAME] ... (the usual way)\n\n"
     "The virtual robot of the textbook example (Kane equations - Example 1): integrates the\n"
-    "mechanism at simulation/physics_rate, subscribes to torque_command (std_msgs/Float64) and\n"
-    "publishes joint_states, tf, mechanism_state and visualization_markers. Its parameters are\n"
-    "config/mechanism.yaml loaded into its private namespace (sim.launch does that); services\n"
-    "~reset, ~pause, ~unpause, ~step, ~set_state; dynamic_reconfigure on ~set_parameters.\n"
+    "mechanism at simulation/physics_rate. Its parameters are config/mechanism.yaml loaded into\n"
+    "its private namespace (sim.launch does that).\n\n"
+    "Subscribes: torque_command (std_msgs/Float64), torque_command_stamped\n"
+    "  (kane_sim/TorqueCommandStamped, lockstep), servo_setpoint (std_msgs/Float64,\n"
+    "  command.mode velocity | position)\n"
+    "Publishes:  joint_states, joint_states_true (sensors on), tf, mechanism_state,\n"
+    "  visualization_markers, servo_state (servo modes), /clock (publish_clock), /diagnostics,\n"
+    "  ~reset_event, ~input_log (for simulate --replay), robot_description\n"
+    "Services:   ~reset, ~pause, ~unpause, ~step, ~step_with_command, ~set_state;\n"
+    "  dynamic_reconfigure on ~set_parameters\n\n"
     "See the README, section \"The node\".\n";
 }  // namespace
 

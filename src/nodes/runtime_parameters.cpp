@@ -68,12 +68,13 @@ dynamic_reconfigure::ConfigDescription descriptionMessage(const Config& start) {
 }  // namespace
 
 RuntimeParameters::RuntimeParameters(const ros::NodeHandle& private_nh, const YAML::Node& tree,
-                                     const Config& config, Apply apply)
+                                     const Config& config, Apply apply, Veto veto)
     : private_nh_(private_nh),
       tree_(YAML::Clone(tree)),
       start_(config),
       config_(config),
-      apply_(std::move(apply)) {
+      apply_(std::move(apply)),
+      veto_(std::move(veto)) {
   advertise();
 }
 
@@ -87,9 +88,20 @@ void RuntimeParameters::advertise() {
   updates_pub_.publish(configMessage(numericValue, config_));
 }
 
-void RuntimeParameters::removeServerKeys(YAML::Node* tree) {
-  if (!tree->IsMap()) return;
-  for (const ParameterSpec* p : reconfigurableParameters()) tree->remove(p->reconfigure.name);
+std::vector<std::string> RuntimeParameters::removeServerKeys(YAML::Node* tree) {
+  std::vector<std::string> removed;
+  if (!tree->IsMap()) return removed;
+  for (const ParameterSpec* p : reconfigurableParameters()) {
+    const YAML::Node& view = *tree;  // const: looking a key up adds nothing
+    const YAML::Node value = view[p->reconfigure.name];
+    if (!value) continue;
+    removed.push_back("private parameter ~" + std::string(p->reconfigure.name) + " = " +
+                      (value.IsScalar() ? value.Scalar() : std::string("(not a number)")) +
+                      " is not read: the config key is ~" + p->section + "/" + p->key +
+                      " (to change it at run time: rosrun dynamic_reconfigure dynparam set)");
+    tree->remove(p->reconfigure.name);
+  }
+  return removed;
 }
 
 std::string RuntimeParameters::change(const std::vector<std::pair<std::string, double>>& changes) {
@@ -109,6 +121,8 @@ std::string RuntimeParameters::change(const std::vector<std::pair<std::string, d
   if (changed.empty()) return "";
   try {
     LoadedConfig loaded = loadSimulationConfig(tree);
+    const std::string vetoed = veto_ ? veto_(loaded.config) : "";
+    if (!vetoed.empty()) return vetoed;
     tree_ = tree;
     config_ = loaded.config;
   } catch (const ConfigError& e) {

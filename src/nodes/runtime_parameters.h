@@ -16,6 +16,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <dynamic_reconfigure/Reconfigure.h>
 #include <ros/ros.h>
@@ -28,10 +29,14 @@ namespace kane_sim {
 class RuntimeParameters {
  public:
   using Apply = std::function<void(const Config&)>;
+  // Why the node cannot take `config` now ("" when it can): rules of the running node that a
+  // config file cannot know (e.g. real_time_factor 0 under SCHED_FIFO).
+  using Veto = std::function<std::string(const Config&)>;
 
-  // `tree`: the YAML the node's config was loaded from; `apply` receives each accepted config.
+  // `tree`: the YAML the node's config was loaded from; `apply` receives each accepted config
+  // that `veto` (when given) does not refuse.
   RuntimeParameters(const ros::NodeHandle& private_nh, const YAML::Node& tree, const Config& config,
-                    Apply apply);
+                    Apply apply, Veto veto = {});
 
   // Offers the service and the latched topics (again, after a master restart).
   void advertise();
@@ -42,8 +47,9 @@ class RuntimeParameters {
 
   // Names the node's parameter namespace may hold that are not config keys: what older
   // kane_sim versions (and dynamic_reconfigure::Server) mirrored there. A config read from that
-  // namespace leaves them out.
-  static void removeServerKeys(YAML::Node* tree);
+  // namespace leaves them out; returned, one line each, for a warning (a user who sets
+  // ~spring_stiffness meant ~mechanism/spring_stiffness).
+  static std::vector<std::string> removeServerKeys(YAML::Node* tree);
 
   // The reconfigurable values of `config`, for the log: "torque_limit 50 N m, ...".
   static std::string summary(const Config& config);
@@ -57,6 +63,7 @@ class RuntimeParameters {
   Config start_;   // the description's defaults
   Config config_;  // in force
   Apply apply_;
+  Veto veto_;
   ros::ServiceServer set_service_;
   ros::Publisher descriptions_pub_;
   ros::Publisher updates_pub_;

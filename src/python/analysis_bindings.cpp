@@ -1,6 +1,11 @@
 // kane_sim._core's analysis, sweeps and torque profiles: the libraries `analyze` and
 // `simulate --sweep` run, results as JSON text (parsed in Python) and NumPy arrays.
 #include <atomic>
+#include <chrono>
+#include <exception>
+#include <future>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,6 +15,7 @@
 #include "kane_sim/analysis/analysis_json.h"
 #include "kane_sim/analysis/linear_analysis.h"
 #include "kane_sim/format_number.h"
+#include "kane_sim/sim/output_grid.h"
 #include "kane_sim/sim/sweep.h"
 #include "kane_sim/sim/torque_profile.h"
 #include "python_layer.h"
@@ -34,21 +40,55 @@ std::string analyze(const PythonConfig& config, double torque) {
   }
 }
 
+// runSweep on a thread of its own while this one, without the GIL, looks at Python's signals
+// every 50 ms: a handler that raises (Ctrl-C) stops the running cases and starts no new one;
+// that exception is handed back in `raised`.
+std::vector<SweepResult> runSweepStoppable(const PythonConfig& config, const SweepPlan& plan,
+                                           SweepSettings settings,
+                                           std::unique_ptr<py::error_already_set>* raised) {
+  std::atomic<bool> stop{false};
+  settings.stop = &stop;
+  std::vector<SweepResult> results;
+  std::exception_ptr failure;
+  py::gil_scoped_release release;
+  std::future<void> done = std::async(std::launch::async, [&] {
+    try {
+      results = runSweep(config.tree(), plan, settings);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  });
+  while (done.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+    if (stop) continue;
+    py::gil_scoped_acquire acquire;
+    if (PyErr_CheckSignals() != 0) {
+      *raised = std::make_unique<py::error_already_set>();
+      stop = true;
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+  return results;
+}
+
 // The sweep of `keys` over `cases` (one row of values per case) from `config`, as columns:
-// the keys' values, status and error per case, and sweep CSV's result columns.
+// the keys' values, status and error per case, and sweep CSV's result columns. torque: none
+// holds each case's start (0 N m, a servo's initial setpoint). Ctrl-C: the exception raised
+// carries the finished cases as `result` (unfinished ones "interrupted", NaN).
 py::dict sweep(const PythonConfig& config, const std::vector<std::string>& keys,
                const std::vector<std::vector<double>>& cases, double duration,
-               const TorqueProfile& torque, unsigned jobs) {
+               const std::optional<TorqueProfile>& torque, long long jobs) {
   SweepPlan plan{keys, cases};
   for (size_t i = 0; i < cases.size(); ++i)
     if (cases[i].size() != keys.size())
       throw py::value_error("sweep: case " + std::to_string(i) + " has " +
                             std::to_string(cases[i].size()) + " values for " +
                             std::to_string(keys.size()) + " keys");
-  if (!(duration >= 0) || !std::isfinite(duration))
-    throw py::value_error("sweep: duration must be a finite number >= 0 [s], got " +
-                          formatNumber(duration));
+  if (jobs < 0 || jobs > static_cast<long long>(maxSweepJobs()))
+    throw py::value_error("sweep: jobs must be in [0, " + std::to_string(maxSweepJobs()) +
+                          "] (0: one thread per core; at most 4 per core), got " +
+                          std::to_string(jobs));
   try {
+    checkRunDuration(duration, "duration");
     checkSweepKeys(plan);
   } catch (const std::invalid_argument& e) {
     throw py::value_error(std::string("sweep: ") + e.what());
@@ -56,12 +96,9 @@ py::dict sweep(const PythonConfig& config, const std::vector<std::string>& keys,
   SweepSettings settings;
   settings.duration = duration;
   settings.torque = torque;
-  settings.jobs = jobs;
-  std::vector<SweepResult> results;
-  {
-    py::gil_scoped_release release;
-    results = runSweep(config.tree(), plan, settings);
-  }
+  settings.jobs = static_cast<unsigned>(jobs);
+  std::unique_ptr<py::error_already_set> raised;
+  const std::vector<SweepResult> results = runSweepStoppable(config, plan, settings, &raised);
   py::dict out;
   for (size_t k = 0; k < keys.size(); ++k) {
     std::vector<double> values;
@@ -78,8 +115,13 @@ py::dict sweep(const PythonConfig& config, const std::vector<std::string>& keys,
   for (const SweepColumn* c = sweepColumnsBegin(); c != sweepColumnsEnd(); ++c) {
     std::vector<double> values;
     for (const SweepResult& r : results)
-      values.push_back(r.status == "config_refused" ? std::nan("") : c->value(r));
+      values.push_back(r.status == "config_refused" || r.status == "interrupted" ? std::nan("")
+                                                                                 : c->value(r));
     out[c->name] = py::array_t<double>(values.size(), values.data());
+  }
+  if (raised) {
+    raised->value().attr("result") = out;
+    throw *raised;
   }
   return out;
 }
@@ -177,7 +219,7 @@ void bindAnalysis(py::module_& m) {
         py::arg("q2"));
   m.def("analyze_json", &analyze, py::arg("config"), py::arg("torque") = 0.0);
   m.def("sweep", &sweep, py::arg("config"), py::arg("keys"), py::arg("cases"), py::arg("duration"),
-        py::arg("torque") = TorqueProfile::constant(0.0), py::arg("jobs") = 0u);
+        py::arg("torque") = py::none(), py::arg("jobs") = 0);
 }
 
 }  // namespace python

@@ -95,6 +95,7 @@ class CallableCommands {
 // step, so that none piles up in a long run, and handed to Python as arrays.
 class Readings {
  public:
+  static constexpr long kValuesPerReading = 2 + 2 * kNumJoints;
   void takeFrom(SimDriver& driver) {
     SensorReading r;
     while (driver.takeSensorReading(&r)) {
@@ -222,11 +223,14 @@ class PythonSimulator {
     }
     const long columns = csvColumnsEnd() - csvColumnsBegin();
     const long rows = grid.rows + 1;
-    if (static_cast<double>(rows) * columns > kMaxResultValues)
+    // The sensor readings come back too: arrival and sample time, 4 positions, 4 speeds each.
+    const double readings_count = duration * sensorReadingRate(config_.config());
+    if (static_cast<double>(rows) * columns + readings_count * Readings::kValuesPerReading >
+        kMaxResultValues)
       throw py::value_error("run: " + num(static_cast<double>(rows)) + " rows of " +
-                            std::to_string(columns) +
-                            " columns is more than 16 GiB: use a lower output_rate or a shorter "
-                            "duration");
+                            std::to_string(columns) + " columns and " + num(readings_count) +
+                            " sensor readings are more than 16 GiB: use a lower output_rate, "
+                            "sensors.rate or a shorter duration");
     Rows out(columns, rows);
     Readings readings;
     const auto sample = [&out](const SimDriver& d) { out.add(d.snapshot()); };
@@ -321,10 +325,13 @@ class PythonSimulator {
         throw py::value_error("rates: states[" + std::to_string(i / 4) + ", " +
                               std::to_string(i % 4) + "] is " + num(x[i]) +
                               ": states must be finite");
+    // The drive never delivers more than command.torque_limit (commands are clamped to it).
+    const double limit = config_.config().command.torque_limit;
     for (long i = 0; i < (per_state ? n : 1); ++i)
-      if (!std::isfinite(m[i]))
+      if (!std::isfinite(m[i]) || std::abs(m[i]) > limit)
         throw py::value_error("rates: torque" + (per_state ? "[" + std::to_string(i) + "]" : "") +
-                              " is " + num(m[i]) + ": torques must be finite");
+                              " is " + num(m[i]) + ": torques must be finite and within " +
+                              "command.torque_limit " + num(limit) + " N m");
     Array out = single ? Array(4) : Array({n, 4L});
     double* y = out.mutable_data();
     const MechanismModel& model = driver_.simulator().model();
@@ -349,6 +356,18 @@ class PythonSimulator {
       workers.emplace_back(range, std::min(n, t * chunk), std::min(n, (t + 1) * chunk));
     range(0, std::min(n, chunk));
     for (std::thread& w : workers) w.join();
+    // A state whose rates are not finite is refused by row, in set_state's words (beyond the
+    // mechanism's scale, a non-finite energy or u').
+    for (long i = 0; i < n; ++i) {
+      if (std::all_of(y + 4 * i, y + 4 * i + 4, [](double v) { return std::isfinite(v); }))
+        continue;
+      const State s{x[4 * i], x[4 * i + 1], x[4 * i + 2], x[4 * i + 3]};
+      const Status usable = driver_.simulator().checkUsable(s);
+      py::gil_scoped_acquire acquire;
+      throw py::value_error(
+          "rates: states[" + std::to_string(i) +
+          "]: " + (usable.ok ? Simulator::stateText(s) + " gives non-finite rates" : usable.error));
+    }
     return out;
   }
 

@@ -16,15 +16,19 @@ constexpr double kMaxRows = 1e15;
 
 }  // namespace
 
+void checkRunDuration(double duration, const std::string& name) {
+  if (!(duration >= 0 && duration <= kMaxRunDuration))
+    throw std::invalid_argument(name + " must be in [0, " + formatNumber(kMaxRunDuration) +
+                                "] s, got " + formatNumber(duration));
+}
+
 OutputGrid outputGrid(double physics_rate, double duration, double output_rate,
                       const std::string& duration_name, const std::string& rate_name) {
   const auto num = [](double v) { return formatNumber(v); };
   if (!(output_rate > 0) || !std::isfinite(output_rate))
     throw std::invalid_argument(rate_name + " must be a finite number > 0 [Hz], got " +
                                 num(output_rate));
-  if (!(duration >= 0) || !std::isfinite(duration))
-    throw std::invalid_argument(duration_name + " must be a finite number >= 0 [s], got " +
-                                num(duration));
+  checkRunDuration(duration, duration_name);
   // The output grid must sit on the physics grid.
   const double whole_steps = wholeStepsPerPeriod(physics_rate, output_rate);
   if (!(whole_steps >= 1 && whole_steps <= kMaxStepsPerRow))

@@ -14,6 +14,8 @@
 
 namespace kane_sim {
 
+unsigned maxSweepJobs() { return 4 * std::max(1u, std::thread::hardware_concurrency()); }
+
 SweepResult runSweepCase(const Config& config, const SweepSettings& settings) {
   const auto wall_start = std::chrono::steady_clock::now();
   SweepResult r;
@@ -25,7 +27,8 @@ SweepResult runSweepCase(const Config& config, const SweepSettings& settings) {
   const long steps_per_sample =
       std::max(1L, std::lround(config.simulation.physics_rate / settings.ledger_rate));
   const double start_balance = driver.snapshot().energyBalance();
-  ProfileCommands commands(settings.torque, config.command.timeout);
+  const TorqueProfile profile = profileOrHold(driver, settings.torque);
+  ProfileCommands commands(profile, config.command.timeout);
   commands.update(driver);
   const RunEnd end = runProfile(
       driver, commands, steps, steps_per_sample, settings.stop,

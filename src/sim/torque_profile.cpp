@@ -6,6 +6,10 @@
 #include <fstream>
 #include <sstream>
 
+#include "kane_sim/config/input_file.h"
+#include "kane_sim/format_number.h"
+#include "kane_sim/sim/output_grid.h"
+
 namespace kane_sim {
 namespace {
 
@@ -50,6 +54,15 @@ TorqueProfile TorqueProfile::step(double time, double before, double after) {
 }
 
 TorqueProfile TorqueProfile::sine(double amplitude, double frequency, double offset) {
+  // Every value the sine can take must be a number: 2 pi f t finite over the longest run, and
+  // offset +- amplitude finite (else every row would be a refused command, torque 0).
+  if (!std::isfinite(2 * M_PI * frequency * kMaxRunDuration))
+    throw std::invalid_argument("sine frequency " + formatNumber(frequency) +
+                                " Hz cannot be evaluated (2 pi f t overflows within " +
+                                formatNumber(kMaxRunDuration) + " s)");
+  if (!std::isfinite(std::abs(offset) + std::abs(amplitude)))
+    throw std::invalid_argument("sine amplitude " + formatNumber(amplitude) + " and offset " +
+                                formatNumber(offset) + ": offset + amplitude overflows");
   return TorqueProfile(Kind::kSine, amplitude, frequency, offset);
 }
 
@@ -67,8 +80,7 @@ TorqueProfile TorqueProfile::table(std::vector<std::pair<double, double>> points
 }
 
 TorqueProfile TorqueProfile::fromCsvFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument("torque CSV '" + path + "' cannot be read");
+  std::ifstream in = openInputFile(path, "torque CSV", kMaxTableBytes);
   std::vector<std::pair<double, double>> points;
   std::string line;
   int number = 0;
@@ -117,17 +129,17 @@ double TorqueProfile::at(double t) const {
   return 0.0;
 }
 
-std::string TorqueProfile::describe() const {
+std::string TorqueProfile::describe(const std::string& unit) const {
   std::ostringstream out;
   switch (kind_) {
     case Kind::kConstant:
-      out << "constant " << a_ << " N m";
+      out << "constant " << a_ << " " << unit;
       break;
     case Kind::kStep:
-      out << "step at " << a_ << " s from " << b_ << " to " << c_ << " N m";
+      out << "step at " << a_ << " s from " << b_ << " to " << c_ << " " << unit;
       break;
     case Kind::kSine:
-      out << c_ << " + " << a_ << " sin(2 pi " << b_ << " Hz t) N m";
+      out << c_ << " + " << a_ << " sin(2 pi " << b_ << " Hz t) " << unit;
       break;
     case Kind::kTable:
       out << "table of " << points_.size() << " points";

@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
     if (command == "use_sim_time") {
       if (args.size() != 2) return usage("use_sim_time takes only FILE");
       const kane_sim::LoadedConfig loaded = kane_sim::loadConfig(tree);
-      std::cout << (loaded.config.simulation.publish_clock ? "true" : "false");
+      std::cout << (loaded.config.simulation.publish_clock ? "true" : "false") << "\n";
       return 0;
     }
     return usage("unknown command '" + command + "' (urdf, use_sim_time or parameters)");

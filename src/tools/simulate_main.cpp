@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "kane_sim/config/input_file.h"
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/ros/bag_writer.h"
 #include "kane_sim/sim/config_check.h"
@@ -69,8 +70,8 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
   kane_sim::SweepPlan plan;
   try {
     if (!options.sweep_file.empty()) {
-      std::ifstream in(options.sweep_file);
-      if (!in) throw UsageError("cannot read --sweep-file '" + options.sweep_file + "'");
+      std::ifstream in =
+          kane_sim::openInputFile(options.sweep_file, "sweep file", kane_sim::kMaxTableBytes);
       plan = kane_sim::sweepFromCsv(in);
     } else {
       std::vector<kane_sim::SweepAxis> axes;
@@ -90,7 +91,7 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
   }
   kane_sim::SweepSettings settings;
   settings.duration = options.duration;
-  settings.torque = *options.profile;
+  if (options.profile_given) settings.torque = options.profile;
   settings.jobs = options.jobs;
   settings.stop = &g_stop;
   settings.on_warning = [](const std::string& text) { std::cerr << "warning: " << text << "\n"; };
@@ -188,16 +189,15 @@ int run(const Options& options) {
   Outputs out(options, config);
   const auto wall_start = std::chrono::steady_clock::now();
   // A servo (command.mode velocity | position) takes the profile as its setpoint; without one it
-  // holds its initial setpoint (the starting angle, or standing still).
+  // holds its initial setpoint (the starting angle, or standing still), as every sweep case does.
   const kane_sim::TorqueProfile profile =
-      driver.servoMode() && !options.profile_given
-          ? kane_sim::TorqueProfile::constant(driver.snapshot().servo.setpoint)
-          : *options.profile;
+      kane_sim::profileOrHold(driver, options.profile_given ? options.profile : std::nullopt);
+  const std::string unit = config.command.mode == kane_sim::CommandMode::kPosition   ? "rad"
+                           : config.command.mode == kane_sim::CommandMode::kVelocity ? "rad/s"
+                                                                                     : "N m";
   if (driver.servoMode())
     std::cerr << "command.mode " << kane_sim::commandModeName(config.command.mode)
-              << ": the profile's values are the servo's setpoint ["
-              << (config.command.mode == kane_sim::CommandMode::kPosition ? "rad" : "rad/s")
-              << "]\n";
+              << ": the profile's values are the servo's setpoint [" << unit << "]\n";
   kane_sim::ProfileCommands commands(profile, config.command.timeout);
   commands.update(driver);
   out.write(driver.snapshot());
@@ -226,8 +226,9 @@ int run(const Options& options) {
   std::cerr << "simulated " << driver.time() << " s in " << driver.ticks() << " physics steps ("
             << kane_sim::integratorName(config.simulation.integrator) << " at "
             << config.simulation.physics_rate << " Hz on the "
-            << kane_sim::equationsName(config.simulation.equations) << " equations, torque "
-            << profile.describe() << "), " << rows + 1 << " outputs, wall time " << wall << " s, "
+            << kane_sim::equationsName(config.simulation.equations) << " equations, "
+            << (driver.servoMode() ? "setpoint " : "torque ") << profile.describe(unit) << "), "
+            << rows + 1 << " outputs, wall time " << wall << " s, "
             << (wall > 0 ? static_cast<double>(driver.ticks()) / wall : 0.0) << " steps/s\n";
   return 0;
 }

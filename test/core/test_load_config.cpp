@@ -233,6 +233,36 @@ TEST(LoadConfig, DiagnosticsThresholdsAreCheckedByName) {
   EXPECT_EQ(c.diagnostics.late_windows, 3);
 }
 
+// Readings in flight are bounded: 1 MHz readings 10 s late once grew simulate to 1.24 GB.
+TEST(LoadConfig, SensorReadingsInFlightAreBounded) {
+  YAML::Node root = defaultYaml();
+  root["simulation"]["physics_rate"] = 1e6;
+  root["sensors"]["enabled"] = true;
+  root["sensors"]["rate"] = 1e6;
+  root["sensors"]["latency"] = 10.0;
+  expectError(root, "sensors.latency", "keeps 10000000 readings in flight, more than 100000");
+  root["sensors"]["latency"] = 0.05;  // 50000 in flight: accepted
+  EXPECT_NO_THROW(loadConfig(root));
+  root["sensors"]["latency_jitter"] = 0.06;  // 110000 with the jitter
+  expectError(root, "sensors.latency", "latency_jitter 0.06 s");
+}
+
+// A jitter longer than the reading period bunches readings under one stamp: said at start-up.
+TEST(LoadConfig, AJitterLongerThanTheReadingPeriodIsAWarning) {
+  YAML::Node root = defaultYaml();
+  root["sensors"]["enabled"] = true;
+  root["sensors"]["rate"] = 100.0;
+  root["sensors"]["latency_jitter"] = 0.005;  // half the 10 ms period: fine
+  EXPECT_TRUE(loadConfig(root).warnings.empty());
+  root["sensors"]["latency_jitter"] = 0.05;  // five periods
+  const LoadedConfig loaded = loadConfig(root);
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_NE(loaded.warnings[0].find("sensors.latency_jitter 0.05 s is longer than the reading "
+                                    "period 0.01 s"),
+            std::string::npos)
+      << loaded.warnings[0];
+}
+
 TEST(LoadConfig, UnknownIntegratorListsTheValidOnes) {
   YAML::Node root = defaultYaml();
   root["simulation"]["integrator"] = "euler";
@@ -279,6 +309,29 @@ TEST(LoadConfig, UnreadableOrMalformedFile) {
                   "mechanism: " + std::string(5000, '[') + std::string(5000, ']') + "\n",
                   "nested too deeply at line 1");
   expectFileError("two.yaml", "mechanism: {}\n---\nmechanism: {}\n", "holds 2 YAML documents");
+  expectFileError("/dev/zero", "", "not a regular file");
+  expectFileError("merge_scalar.yaml", "damping: {<<: 3}\n", "a merge key '<<' must name a map");
+}
+
+// A merge key reads as rosparam (PyYAML) reads it: the node and the offline tools see one
+// config (simulate used to warn "unknown key 'damping.<<'" and run undamped).
+TEST(LoadConfig, MergeKeysAreExpandedAsRosparamExpandsThem) {
+  std::ifstream in(test::configPath("mechanism.yaml"));
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const size_t damping = text.find("damping:");
+  const size_t contact = text.find("contact:");
+  ASSERT_NE(damping, std::string::npos);
+  text.replace(damping, contact - damping,
+               "base_damping: &bd {crank_joint: 0.5, slider3_joint: 2.0}\n"
+               "damping: {<<: *bd, slider3_joint: 3.0}\n");
+  const std::string path = ::testing::TempDir() + "/merge.yaml";
+  std::ofstream(path) << text;
+  const LoadedConfig loaded = loadConfigFile(path);
+  EXPECT_EQ(loaded.config.mechanism.damping.crank, 0.5);    // from the anchor
+  EXPECT_EQ(loaded.config.mechanism.damping.slider3, 3.0);  // its own entry wins
+  EXPECT_EQ(loaded.config.mechanism.damping.coupler, 0.0);  // in neither: the default
+  ASSERT_EQ(loaded.warnings.size(), 1u);  // the anchor's own section is an unknown key
+  EXPECT_NE(loaded.warnings[0].find("'base_damping'"), std::string::npos) << loaded.warnings[0];
 }
 
 }  // namespace

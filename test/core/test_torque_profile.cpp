@@ -19,6 +19,21 @@ TEST(TorqueProfile, ConstantStepSine) {
   EXPECT_NEAR(sine.at(1.0), 1.0, 1e-12);
 }
 
+// A sine whose value overflows somewhere within the longest run is refused by name; the largest
+// one that does not is evaluated to finite values all the way.
+TEST(TorqueProfile, SinesThatCannotBeEvaluatedAreRefused) {
+  EXPECT_THROW(TorqueProfile::sine(1.0, 1e308, 0.0), std::invalid_argument);
+  EXPECT_THROW(TorqueProfile::sine(1.0, -1e308, 0.0), std::invalid_argument);
+  EXPECT_THROW(TorqueProfile::sine(1e308, 1.0, 1e308), std::invalid_argument);
+  const auto fast = TorqueProfile::sine(1.0, 1e300, 0.0);
+  for (const double t : {0.0, 1e-3, 1.0, 1e7}) EXPECT_TRUE(std::isfinite(fast.at(t))) << t;
+  try {
+    TorqueProfile::sine(1.0, 1e308, 0.0);
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("sine frequency 1e+308 Hz"), std::string::npos);
+  }
+}
+
 TEST(TorqueProfile, TableHoldsEachValueFromItsTime) {
   const auto t = TorqueProfile::table({{0.5, 1.0}, {1.0, -2.0}, {1.0, 4.0}, {2.0, 0.0}});
   EXPECT_EQ(t.at(0.0), 0.0);  // before the first entry
@@ -80,7 +95,8 @@ TEST(TorqueProfile, MalformedCsvNamesLineAndValue) {
     TorqueProfile::fromCsvFile("/nonexistent.csv");
     ADD_FAILURE();
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("cannot be read"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("'/nonexistent.csv' is not a readable file"),
+              std::string::npos);
   }
 }
 

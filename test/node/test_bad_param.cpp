@@ -73,7 +73,17 @@ TEST(BadParam, AbsurdRatesAndStiffnessStopTheNodeNamingTheLimit) {
       {"slow_clock", "simulation.physics_rate' must be in [1, 1000000] Hz"},
       {"tiny_factor", "simulation.real_time_factor' must be in [0.001, 1000000]"},
       {"stiff_spring", "use simulation.integrator dopri5 or a physics_rate of at least 18362 Hz"},
+      {"tiny_rod_mass", "gives equations of motion that are not finite"},
   });
+}
+
+// A flat private parameter (dynamic_reconfigure's name) is not read as the config key: said.
+TEST(BadParam, AFlatPrivateParameterIsNamedAsNotRead) {
+  const Outcome out = runNode("flat_param");
+  EXPECT_NE(out.output.find("private parameter ~spring_stiffness = 400 is not read: the config "
+                            "key is ~mechanism/spring_stiffness"),
+            std::string::npos)
+      << out.output;
 }
 
 TEST(BadParam, NoParametersAtAllSaysWhatToLoad) {

@@ -1,6 +1,10 @@
 """kane_sim.analyze and kane_sim.sweep return what `analyze --json` and `simulate --sweep` write."""
 import json
 import math
+import os
+import signal
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -49,6 +53,27 @@ def test_sweep_refusals():
         kane_sim.sweep(duration=0.1)
     with pytest.raises(ValueError, match="jobs"):
         kane_sim.sweep(cases={"mechanism.rod_mass": [1.0]}, duration=0.1, jobs=-1)
-    for duration in (math.nan, -1.0, math.inf):
-        with pytest.raises(ValueError, match="duration"):
+    # simulate's duration rule: [0, 1e7] s (1e16 used to return status ok at t = 0)
+    for duration in (math.nan, -1.0, math.inf, 1e16, 1.1e7):
+        with pytest.raises(ValueError, match=r"duration must be in \[0, 1e\+07\] s"):
             kane_sim.sweep(cases={"mechanism.rod_mass": [1.0]}, duration=duration)
+    with pytest.raises(ValueError, match=r"jobs must be in \[0, \d+\]"):
+        kane_sim.sweep(cases={"mechanism.rod_mass": [1.0]}, duration=0.1, jobs=10 ** 6)
+
+
+def test_ctrl_c_stops_a_sweep_and_keeps_the_finished_cases():
+    """Each case 2 h of sim time (seconds of wall time): Ctrl-C after 0.5 s ends the sweep
+    within a second, the running cases unfinished, nothing new started."""
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    cases = {"initial_state.u1": [0.0] + [0.1] * 7}
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt) as raised:
+        kane_sim.sweep(cases=cases, duration=7200.0, jobs=2)
+    assert time.monotonic() - start < 3.0
+    kept = raised.value.result
+    assert len(kept["status"]) == 8
+    assert set(kept["status"]) <= {"ok", "interrupted"} and "interrupted" in set(kept["status"])
+    unfinished = kept["status"] == "interrupted"
+    assert np.all(np.isnan(kept["q1"][unfinished]))
+    assert np.all(np.isfinite(kept["q1"][~unfinished]))

@@ -117,8 +117,13 @@ def test_large_rates_are_split_over_threads_and_agree():
     (lambda s: s.rates(np.zeros((3, 3))), r"shape \(N, 4\)"),
     (lambda s: s.rates(np.array([[0, 1, math.nan, 0]])), r"states\[0, 2\] is nan"),
     (lambda s: s.rates(np.zeros((3, 4)), np.zeros(2)), "torque"),
+    (lambda s: s.rates([[0.5, 1.2, 0, 0], [1e308] * 4]), r"states\[1\]: q1 = 1e\+308"),
+    (lambda s: s.rates([0.5, 1.2, 0, 0], torque=1e308), r"torque is 1e\+308: .*torque_limit 50"),
+    (lambda s: s.rates([[0.5, 1.2, 0, 0]] * 2, [1.0, -51.0]), r"torque\[1\] is -51"),
     (lambda s: s.step(-1), "n must be"),
     (lambda s: kane_sim.TorqueProfile.sine(math.nan, 1), "amplitude"),
+    (lambda s: kane_sim.TorqueProfile.sine(1, 1e308), "sine frequency 1e\\+308 Hz cannot"),
+    (lambda s: kane_sim.TorqueProfile.from_csv("/dev/zero"), "not a regular file"),
 ])
 def test_hostile_inputs_raise_and_keep_the_state(sim, bad, match):
     sim.run(0.1, torque=1.0)

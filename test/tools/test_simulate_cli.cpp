@@ -86,7 +86,9 @@ TEST(SimulateCli, BadFlagsExitWithUsage) {
 TEST(SimulateCli, BadConfigExitsOneNamingTheKey) {
   const RunResult missing = runSimulate("--config /nonexistent.yaml --duration 1");
   EXPECT_EQ(missing.exit_code, 1);
-  EXPECT_NE(missing.err.find("cannot open '/nonexistent.yaml'"), std::string::npos) << missing.err;
+  EXPECT_NE(missing.err.find("config '/nonexistent.yaml' is not a readable file (no such file)"),
+            std::string::npos)
+      << missing.err;
 
   const std::string path = ::testing::TempDir() + "/bad.yaml";
   std::ifstream in(kane_sim::test::configPath("mechanism.yaml"));
@@ -115,12 +117,18 @@ TEST(SimulateCli, AbsurdValuesAndBadTorqueProfilesAreUsageErrors) {
     std::string args;
     std::string message;
   } cases[] = {
-      {" --duration 1e12", "--duration must be in [0, 10000000] s"},
+      {" --duration 1e12", "--duration must be in [0, 1e+07] s"},
       {" --duration 1 --output-rate 1e300", "must divide simulation.physics_rate"},
       {" --duration 1 --torque-csv " + csv, "backwards.csv:4: time 0.5 goes backwards"},
-      {" --duration 1 --torque-csv /nonexistent.csv", "cannot be read"},
+      {" --duration 1 --torque-csv /nonexistent.csv", "'/nonexistent.csv' is not a readable file"},
+      // Devices and pipes are refused before a byte is read (/dev/zero once ran to 1 GB).
+      {" --duration 1 --torque-csv /dev/zero", "torque CSV '/dev/zero' is not a readable file"},
+      {" --duration 1 --sweep-file /dev/zero", "sweep file '/dev/zero' is not a readable file"},
       {" --duration 1 --torque-step 1,2", "--torque-step takes 3 comma-separated numbers"},
       {" --duration 1 --torque-sine 1,x", "--torque-sine: 'x' is not a number"},
+      // A sine that cannot be evaluated was every row's torque 0 (the reason only in events).
+      {" --duration 1 --torque-sine 10,1e308", "--torque-sine: sine frequency 1e+308 Hz cannot"},
+      {" --duration 1 --torque-sine 1e308,1,1e308", "offset + amplitude overflows"},
       {" --duration 1 --torque 1 --torque-sine 1,2", "give at most one of --torque"},
       {" --duration 1 --torque inf", "--torque must be finite"},
       {" --replay x.bag --duration 1", "--replay takes the bag's inputs and times: no --duration"},
@@ -154,6 +162,10 @@ TEST(SimulateCli, HostileInputEndsWithItsExitCode) {
   } cases[] = {
       {variant("complex_key.yaml", "? [a, b]\n: 1\n") + " --duration 1", 1, "not a plain name"},
       {"--config /etc --duration 1", 1, "not a readable file"},
+      {"--config /dev/zero --duration 1", 1, "config '/dev/zero' is not a readable file"},
+      // A config past 1 MiB is refused by its size (a 36 MB one took 26 s and 1.4 GB to fail).
+      {variant("huge.yaml", std::string(2 << 20, '#') + "\n") + " --duration 1", 1,
+       "more than the 1048576 a config may have"},
       {variant("dup.yaml", "command: {}\n") + " --duration 1", 1, "'command' appears twice"},
       {kConfig + " --duration 1 --bag /dev/full", 4, "--bag '/dev/full'"},
       {kConfig + " --duration 1 --output-rate 1e-300", 2, "must divide"},

@@ -126,6 +126,17 @@ struct Config {
   SensorSettings sensors;
 };
 
+// Sensor readings per second of sim time: sensors.rate, or simulation.publish_rate when it is 0;
+// none with the sensors off.
+inline double sensorReadingRate(const Config& config) {
+  if (!config.sensors.enabled) return 0.0;
+  return config.sensors.rate > 0 ? config.sensors.rate : config.simulation.publish_rate;
+}
+
+// The most sensor readings a config may keep in flight ((latency + latency_jitter) x reading
+// rate): each is ~150 bytes, so at most ~15 MB (1 MHz readings 10 s late once took 1.2 GB).
+constexpr double kMaxReadingsInFlight = 1e5;
+
 // The model a config describes: its parameters, the spring unstretched at the initial state.
 inline MechanismModel mechanismModel(const Config& config) {
   const State& x0 = config.initial_state;

@@ -7,6 +7,7 @@
 #define KANE_SIM_SIM_PROFILE_COMMANDS_H
 
 #include <atomic>
+#include <optional>
 
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/torque_profile.h"
@@ -17,6 +18,15 @@ namespace kane_sim {
 // of an offline run's command stream is.
 inline TorqueCommand::Verdict sendCommand(SimDriver& driver, double value) {
   return driver.servoMode() ? driver.setpoint(value) : driver.command(value);
+}
+
+// The command stream of an offline run (`simulate`, every sweep case): the profile given, else
+// the start held: 0 N m in effort mode, a servo's initial setpoint (the starting angle, or
+// standing still) in command.mode velocity | position.
+inline TorqueProfile profileOrHold(const SimDriver& driver,
+                                   const std::optional<TorqueProfile>& given) {
+  if (given) return *given;
+  return TorqueProfile::constant(driver.servoMode() ? driver.snapshot().servo.setpoint : 0.0);
 }
 
 class ProfileCommands {

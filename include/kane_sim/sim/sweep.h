@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -52,9 +53,14 @@ Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t ind
 // nothing): throws std::invalid_argument naming the first that is not.
 void checkSweepKeys(const SweepPlan& plan);
 
+// The most sweep threads: 4 per core (SweepSettings::jobs; more only adds switching).
+unsigned maxSweepJobs();
+
 struct SweepSettings {
   double duration = 10.0;  // [s] simulated per case
-  TorqueProfile torque = TorqueProfile::constant(0.0);
+  // The command stream; none: every case holds its start (profileOrHold: 0 N m, or a servo's
+  // initial setpoint), as a single run without a profile does.
+  std::optional<TorqueProfile> torque;
   // The ledger E + D - W is checked at this rate [Hz] of sim time (a snapshot each time);
   // max |q| and the final state use every step.
   double ledger_rate = 10.0;

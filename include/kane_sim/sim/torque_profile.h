@@ -23,7 +23,9 @@ class TorqueProfile {
 
   double at(double t) const;  // [N m]
   bool isConstant() const { return kind_ == Kind::kConstant; }
-  std::string describe() const;
+  // "constant 0.5 N m", "step at 1 s from 0 to 2 N m", ...; unit: of the values ("rad" when
+  // the profile is a position servo's setpoint).
+  std::string describe(const std::string& unit = "N m") const;
 
  private:
   enum class Kind { kConstant, kStep, kSine, kTable };

@@ -5,18 +5,15 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
-#include <thread>
 
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/sim/output_grid.h"
+#include "kane_sim/sim/sweep.h"
 
 namespace po = boost::program_options;
 
 namespace simulate {
-namespace {
-
-constexpr double kMaxDuration = 1e7;  // [s] ~4 months of sim time; beyond that is a typo
-
-}  // namespace
+namespace {}  // namespace
 
 po::options_description describeOptions() {
   po::options_description desc(
@@ -119,7 +116,11 @@ kane_sim::TorqueProfile parseProfile(const po::variables_map& vm) {
   }
   if (vm.count("torque-sine")) {
     const auto v = parseList("torque-sine", vm["torque-sine"].as<std::string>(), 2, 3);
-    return kane_sim::TorqueProfile::sine(v[0], v[1], v.size() > 2 ? v[2] : 0.0);
+    try {
+      return kane_sim::TorqueProfile::sine(v[0], v[1], v.size() > 2 ? v[2] : 0.0);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--torque-sine: ") + e.what());
+    }
   }
   if (vm.count("torque-csv")) {
     try {
@@ -185,7 +186,7 @@ bool parseOptions(int argc, char** argv, Options* options) {
   if (vm.count("sweep-file")) options->sweep_file = vm["sweep-file"].as<std::string>();
   if (vm.count("jobs")) {
     const long long jobs = vm["jobs"].as<long long>();
-    const long long most = 4LL * std::max(1u, std::thread::hardware_concurrency());
+    const long long most = kane_sim::maxSweepJobs();
     if (jobs < 1 || jobs > most)
       throw UsageError("--jobs must be in [1, " + std::to_string(most) + "] (4 per core), got " +
                        std::to_string(jobs));
@@ -215,9 +216,11 @@ bool parseOptions(int argc, char** argv, Options* options) {
   if (same(options->csv_path, options->bag_path))
     throw UsageError("--csv and --bag must name different files, got '" + options->csv_path +
                      "' for both");
-  if (options->duration < 0 || options->duration > kMaxDuration)
-    throw UsageError("--duration must be in [0, " + num(kMaxDuration) + "] s, got " +
-                     num(options->duration));
+  try {
+    kane_sim::checkRunDuration(options->duration, "--duration");
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
   if (!(options->output_rate > 0))
     throw UsageError("--output-rate must be > 0, got " + num(options->output_rate));
   return true;
