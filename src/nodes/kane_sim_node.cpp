@@ -34,9 +34,13 @@ constexpr double kMaxCatchUp = 0.1;          // [s]
 constexpr double kDiagnosticsPeriod = 1.0;   // [s] wall
 constexpr double kPausedPoll = 0.002;        // [s] wall, callback wait while paused
 constexpr double kPausedRepeatPeriod = 1.0;  // [s] wall, the last state again in /clock mode
-// ~step_with_command advances at most this many steps per call: a round trip stays well under a
-// second of work (~0.1 s of rk4 at 1e6 steps) and a typo (4e9) is refused, not run.
+// ~step_with_command advances at most this many steps per call (~0.1 s of rk4 at 1e6 steps; a
+// typo such as 4e9 is refused, not run), and for at most kStepCallBudget of wall time: dopri5
+// at a violent state once took 24.6 s for 2000 steps while ~pause and Ctrl-C waited. A call
+// that runs out answers the state it reached (success false, the reason).
 constexpr std::uint32_t kMaxStepsPerCall = 1000000;
+constexpr double kStepCallBudget = 2.0;  // [s] wall
+constexpr long kStepCallCheckEvery = 64;  // steps between two looks at the clock and ros::ok()
 
 // Wall seconds per physics tick; 0 runs free (real_time_factor 0).
 double tickPeriod(const SimulationSettings& s) {
@@ -206,7 +210,7 @@ void KaneSimNode::runOneTick() {
     stopped_at_time_limit_ = paused_ = true;
     return;
   }
-  if (config_.simulation.lockstep && !lockstep_answered_) {
+  if (config_.simulation.lockstep && !lockstep_.answered()) {
     if (!waitForLockstepAnswer()) return;
     loop_.anchor();  // waiting for the controller is not lateness
   }
@@ -221,7 +225,9 @@ void KaneSimNode::runOneTick() {
     if (driver_.ticks() % ticks_per_publish_ == 0) publishState();
     publishDueSensorReadings();
   } else if (publishDueByWallClock()) {
-    publishState();  // refused steps: the last good state, freshly stamped, keeps flowing
+    // Refused steps: the last good state keeps flowing, freshly stamped (on the wall clock).
+    if (!config_.simulation.publish_clock) stamp_valid_ = false;
+    publishState();
   }
   maybeReportLoopHealth();
 }
@@ -252,7 +258,10 @@ void KaneSimNode::waitWhilePaused() {
   // mode time stands still: the last state and /clock are repeated with their stamp, slowly, so
   // that a late subscriber (rviz, rostopic echo /clock) sees the robot and the time.
   if (!config_.simulation.publish_clock) {
-    if (publishDueByWallClock()) publishState();
+    if (publishDueByWallClock()) {
+      stamp_valid_ = false;  // a repeat at a later wall time: a later stamp
+      publishState();
+    }
   } else if (wallSeconds(SteadyClock::now() - last_publish_wall_) >= kPausedRepeatPeriod) {
     publishState();  // the same stamp: /tf goes only to listeners that joined since
   }
@@ -286,6 +295,9 @@ void KaneSimNode::onEvent(const SimEvent& event) {
 }
 
 ros::Time KaneSimNode::stamp() {
+  // One stamp per physics tick for everything published at it (state, sensor readings, truth,
+  // tf, /clock): a reading pairs with its truth by stamp.
+  if (stamp_valid_ && stamped_tick_ == driver_.ticks()) return tick_stamp_;
   double went_back = 0.0;
   const ros::Time now = stamp_clock_.stamp(driver_.time(), ros::WallTime::now(), &went_back);
   if (went_back > 0.01)
@@ -293,6 +305,9 @@ ros::Time KaneSimNode::stamp() {
                       "kane_sim: the system clock went back by %.3f s; stamps are held "
                       "monotonic until it catches up",
                       went_back);
+  tick_stamp_ = now;
+  stamped_tick_ = driver_.ticks();
+  stamp_valid_ = true;
   return now;
 }
 
@@ -304,9 +319,14 @@ void KaneSimNode::checkSimTimeSetting() {
 }
 
 void KaneSimNode::publishJointStates(const sensor_msgs::JointState& msg) {
-  if (msg.header.stamp != last_joint_states_stamp_) lockstep_answered_ = false;
-  last_joint_states_stamp_ = msg.header.stamp;
+  lockstep_.published(msg.header.stamp);
+  last_joint_states_ = msg;
+  lockstep_listeners_ = lockstepListeners();
   joint_state_pub_.publish(msg);
+}
+
+uint32_t KaneSimNode::lockstepListeners() const {
+  return joint_state_pub_.getNumSubscribers() + torque_stamped_sub_.getNumPublishers();
 }
 
 void KaneSimNode::publishDueSensorReadings() {
@@ -394,34 +414,62 @@ void KaneSimNode::maybeReportLoopHealth() {
   window_start_sim_ = driver_.time();
 }
 
-void KaneSimNode::onTorqueCommandStamped(const TorqueCommandStamped::ConstPtr& msg) {
-  const bool answers_last_state = msg->header.stamp == last_joint_states_stamp_;
-  // In lockstep a late answer (to a state already stepped past) is dropped: only the answer to
-  // the state in force is applied, whatever the timing.
-  if (config_.simulation.lockstep && !answers_last_state) {
-    ROS_DEBUG_THROTTLE(1.0, "kane_sim: lockstep: dropped a late torque_command_stamped");
-    return;
+void KaneSimNode::onTorqueCommandStamped(
+    const ros::MessageEvent<TorqueCommandStamped const>& event) {
+  const TorqueCommandStamped& msg = *event.getConstMessage();
+  const auto apply = [this, &msg] {
+    diagnostics_.commandReceived(driver_.command(msg.torque) != TorqueCommand::Verdict::kAccepted);
+  };
+  if (!config_.simulation.lockstep) return apply();
+  // In lockstep only the first answer to the state in force is applied, whatever the timing.
+  switch (lockstep_.answer(msg.header.stamp, event.getPublisherName(), msg.torque)) {
+    case LockstepGate::Verdict::kApply:
+      return apply();
+    case LockstepGate::Verdict::kDuplicate:
+      if (!lockstep_.warning().empty()) ROS_WARN("kane_sim: %s", lockstep_.warning().c_str());
+      return;
+    case LockstepGate::Verdict::kLate:
+      ROS_DEBUG_THROTTLE(1.0, "kane_sim: lockstep: dropped a late torque_command_stamped");
+      return;
+    case LockstepGate::Verdict::kUnknown:
+      ROS_WARN_THROTTLE(5.0, "kane_sim: %s", lockstep_.warning().c_str());
+      return;
   }
-  diagnostics_.commandReceived(driver_.command(msg->torque) != TorqueCommand::Verdict::kAccepted);
-  if (answers_last_state) lockstep_answered_ = true;
 }
 
 bool KaneSimNode::waitForLockstepAnswer() {
   const auto deadline =
       SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(
                                std::chrono::duration<double>(config_.simulation.lockstep_timeout));
-  while (!lockstep_answered_) {
+  while (!lockstep_.answered()) {
     if (!ros::ok() || paused_) return false;
+    // A controller that connected since the state went out (at start-up, a restarted one)
+    // never heard it: the state awaiting an answer goes out again for it.
+    const uint32_t listeners = lockstepListeners();
+    if (listeners > lockstep_listeners_ && lockstep_.hasState())
+      joint_state_pub_.publish(last_joint_states_);
+    lockstep_listeners_ = listeners;
     if (SteadyClock::now() >= deadline) {
       diagnostics_.lockstepTimedOut();
       const bool zero = config_.simulation.lockstep_fallback == LockstepFallback::kZero;
       if (zero) driver_.command(0.0);
-      ROS_WARN_THROTTLE(5.0,
-                        "kane_sim: lockstep: no torque_command_stamped for the state at t = %.6f "
-                        "s within %g s; %s and stepping on",
-                        driver_.time(), config_.simulation.lockstep_timeout,
-                        zero ? "commanding 0 N m" : "holding the last command");
-      lockstep_answered_ = true;
+      if (lockstep_.unknownSinceState() > 0)
+        ROS_WARN_THROTTLE(5.0,
+                          "kane_sim: lockstep: %llu torque_command_stamped arrived for the state "
+                          "at t = %.6f s (stamped %.9f) but matched no published state (the "
+                          "last stamped %.9f): controllers must copy the joint_states stamp; "
+                          "%s and stepping on",
+                          static_cast<unsigned long long>(lockstep_.unknownSinceState()),
+                          driver_.time(), lockstep_.awaiting().toSec(),
+                          lockstep_.lastUnknownStamp().toSec(),
+                          zero ? "commanding 0 N m" : "holding the last command");
+      else
+        ROS_WARN_THROTTLE(5.0,
+                          "kane_sim: lockstep: no torque_command_stamped for the state at t = "
+                          "%.6f s within %g s; %s and stepping on",
+                          driver_.time(), config_.simulation.lockstep_timeout,
+                          zero ? "commanding 0 N m" : "holding the last command");
+      lockstep_.release();
       break;
     }
     ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.001));
@@ -441,11 +489,7 @@ void KaneSimNode::onTorqueCommand(const std_msgs::Float64::ConstPtr& msg) {
 bool KaneSimNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   driver_.reset();
   ROS_INFO("kane_sim: reset to the initial state (sim time runs on at %.3f s)", driver_.time());
-  publishState();
-  // In /clock mode the moved state keeps the stamp: answer it anew. (With sensors on,
-  // joint_states goes on with readings of the moved state, each answered as it comes.)
-  if (!driver_.sensorsEnabled()) lockstep_answered_ = false;
-  publishDueSensorReadings();
+  publishMovedState();
   announceReset("reset");
   return true;
 }
@@ -465,11 +509,21 @@ bool KaneSimNode::onSetState(SetState::Request& req, SetState::Response& res) {
       << " rad/s, u2 = " << target.u2 << " m/s at t = " << driver_.time() << " s";
   res.message = msg.str();
   ROS_INFO("kane_sim: %s", res.message.c_str());
-  publishState();
-  if (!driver_.sensorsEnabled()) lockstep_answered_ = false;
-  publishDueSensorReadings();
+  publishMovedState();
   announceReset("set_state");
   return true;
+}
+
+void KaneSimNode::publishMovedState() {
+  // A stamp after every earlier one, also in /clock mode where sim time stands still: tf
+  // listeners take the moved pose at it, and in lockstep only an answer to it releases the
+  // next step (a stale answer to the state before the move matches nothing).
+  stamp_valid_ = false;
+  stamp_clock_.forceNext();
+  publishState();
+  // With sensors on, joint_states goes on with readings of the moved state as they arrive,
+  // each answered as it comes.
+  publishDueSensorReadings();
 }
 
 void KaneSimNode::announceReset(const std::string& cause) {
@@ -561,8 +615,16 @@ bool KaneSimNode::onStepWithCommand(StepWithCommand::Request& req, StepWithComma
   ProfileCommands commands(held, config_.command.timeout);
   commands.update(driver_);
   const double start = driver_.time();
+  const auto wall_start = SteadyClock::now();
+  std::atomic<bool> stop{false};
+  bool out_of_time = false;
   const RunEnd end = runProfile(
-      driver_, commands, req.steps, req.steps, nullptr, [](const SimDriver&) {},
+      driver_, commands, req.steps, req.steps, &stop,
+      [&](const SimDriver& d) {
+        if (d.ticks() % kStepCallCheckEvery != 0) return;
+        out_of_time = wallSeconds(SteadyClock::now() - wall_start) > kStepCallBudget;
+        if (out_of_time || !ros::ok() || ros::isShuttingDown()) stop = true;
+      },
       [](const SimDriver&) {});
   publishState();
   publishDueSensorReadings();
@@ -575,9 +637,18 @@ bool KaneSimNode::onStepWithCommand(StepWithCommand::Request& req, StepWithComma
   res.applied_torque = snapshot.torque;
   res.success = end == RunEnd::kFinished;
   std::ostringstream msg;
+  const std::uint64_t done = static_cast<std::uint64_t>(std::llround((res.time - start) *
+                                                                      config_.simulation.physics_rate));
   if (res.success)
     msg << "advanced " << req.steps << " physics steps from t = " << start << " s to " << res.time
         << " s";
+  else if (end == RunEnd::kStopped)
+    msg << "stopped after " << done << " of " << req.steps << " physics steps at t = " << res.time
+        << " s: "
+        << (out_of_time ? "the call's wall-time budget of " + formatNumber(kStepCallBudget) +
+                              " s ran out (ask for fewer steps per call)"
+                        : std::string("the node is shutting down"))
+        << "; the state there is answered";
   else
     msg << "a physics step was refused after t = " << res.time
         << " s (see the log); the state there is answered";

@@ -25,6 +25,7 @@
 #include "kane_sim/config/config.h"
 #include "kane_sim/description/robot_description.h"
 #include "kane_sim/sim/sim_driver.h"
+#include "loop/lockstep_gate.h"
 #include "loop/loop_diagnostics.h"
 #include "loop/loop_stats.h"
 #include "loop/paced_loop.h"
@@ -49,7 +50,7 @@ class KaneSimNode {
   static Config loadParameters(const YAML::Node& tree, const ros::NodeHandle& private_nh);
 
   void onTorqueCommand(const std_msgs::Float64::ConstPtr& msg);
-  void onTorqueCommandStamped(const TorqueCommandStamped::ConstPtr& msg);
+  void onTorqueCommandStamped(const ros::MessageEvent<TorqueCommandStamped const>& event);
   void onServoSetpoint(const std_msgs::Float64::ConstPtr& msg);
   // Lockstep: serves callbacks until the last published state is answered (or the timeout's
   // fallback); false when interrupted (shutdown, pause).
@@ -65,6 +66,9 @@ class KaneSimNode {
   // ~reset_event after the moved state is published, with its stamp: controllers clear their
   // state, and tf at that stamp is the new pose.
   void announceReset(const std::string& cause);
+  // A state moved by reset or set_state: published at a new stamp (see the .cpp).
+  void publishMovedState();
+  uint32_t lockstepListeners() const;  // who could answer: see waitForLockstepAnswer
 
   void connect();                       // advertise, subscribe, offer the services
   void publishRobotDescription();       // robot_description (URDF) and the static tf
@@ -114,10 +118,14 @@ class KaneSimNode {
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_broadcaster_;
   std::unique_ptr<RuntimeParameters> runtime_parameters_;
 
-  ros::Time last_tf_stamp_;            // never two transforms of one frame with one stamp
-  ros::Time last_state_stamp_;         // the stamp of the last published state
-  ros::Time last_joint_states_stamp_;  // the last joint_states' (what a controller answers)
-  bool lockstep_answered_ = false;     // a stamped command answered last_joint_states_stamp_
+  ros::Time last_tf_stamp_;                    // never two transforms of one frame with one stamp
+  ros::Time last_state_stamp_;                 // the stamp of the last published state
+  LockstepGate lockstep_;                      // which joint_states stamp awaits its answer
+  sensor_msgs::JointState last_joint_states_;  // re-sent to a controller that joins late
+  uint32_t lockstep_listeners_ = 0;  // joint_states subscribers + torque_command_stamped publishers
+  ros::Time tick_stamp_;             // the stamp of tick stamped_tick_ (one per tick)
+  std::uint64_t stamped_tick_ = 0;
+  bool stamp_valid_ = false;
   bool stopped_at_time_limit_ = false;
   SteadyClock::time_point last_publish_wall_;
   double last_publish_sim_ = 0.0;

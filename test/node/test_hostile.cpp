@@ -11,6 +11,8 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include "kane_sim/MechanismState.h"
+#include "kane_sim/SetState.h"
+#include "kane_sim/StepWithCommand.h"
 #include "node_test_utils.h"
 
 namespace kane_sim {
@@ -102,6 +104,38 @@ TEST(SlowTicks, A1000SecondTickDoesNotMakeTheNodeDeaf) {
   ASSERT_TRUE(ros::service::call("kane_sim/pause", empty));
   ASSERT_TRUE(ros::service::call("kane_sim/unpause", empty));
   EXPECT_LT((ros::WallTime::now() - start).toSec(), 1.0);
+}
+
+// dopri5 stepping 1 s ticks of a crank spinning at 100 rad/s: each step costs thousands of
+// sub-steps, so 10^6 of them would take hours. The call gives up after its wall-time budget
+// (2 s), answers the state it reached, and ~pause is served right after.
+TEST(SlowTicks, AStepWithCommandCallEndsWithinItsWallTimeBudget) {
+  ASSERT_TRUE(ros::service::waitForService("kane_sim/step_with_command", ros::Duration(15)));
+  std_srvs::Empty empty;
+  ASSERT_TRUE(ros::service::call("kane_sim/pause", empty));
+  SetState set;
+  set.request.q1 = 0.5;
+  set.request.u1 = 100.0;
+  set.request.spring_at_rest = true;
+  ASSERT_TRUE(ros::service::call("kane_sim/set_state", set));
+  ASSERT_TRUE(set.response.success) << set.response.message;
+  StepWithCommand step;
+  step.request.torque = 0.0;
+  step.request.steps = 1000000;
+  const auto start = ros::WallTime::now();
+  ASSERT_TRUE(ros::service::call("kane_sim/step_with_command", step));
+  const double took = (ros::WallTime::now() - start).toSec();
+  EXPECT_LT(took, 6.0) << "the budget is 2 s; margin for a loaded machine";
+  EXPECT_GT(took, 1.9);
+  EXPECT_FALSE(step.response.success);
+  EXPECT_NE(step.response.message.find("the call's wall-time budget of 2 s ran out"),
+            std::string::npos)
+      << step.response.message;
+  EXPECT_GT(step.response.time, 0.0);  // it advanced, and says where to
+  EXPECT_TRUE(std::isfinite(step.response.q1));
+  const auto pause_start = ros::WallTime::now();
+  ASSERT_TRUE(ros::service::call("kane_sim/pause", empty));
+  EXPECT_LT((ros::WallTime::now() - pause_start).toSec(), 1.0);
 }
 
 }  // namespace

@@ -167,3 +167,42 @@ TEST(LockstepFallback, WithoutAnswersEachStateWaitsThenTheFallbackApplies) {
 
 }  // namespace
 }  // namespace kane_sim
+
+namespace kane_sim {
+namespace {
+
+// Lockstep from the first step (lockstep_start.test: not paused, the controller started beside
+// the node): the initial state goes out again once the controller is connected, its answer
+// drives the first step, and every state after follows the offline driver under the same law.
+// (The first publish period once ran open-loop: the state at t = 0 went out before anyone
+// listened, and the first step waited out the timeout with 0 N m.)
+TEST(LockstepStart, TheControllersAnswerToTheInitialStateDrivesTheFirstStep) {
+  ros::NodeHandle nh;
+  Recorder<MechanismState> states(nh, "mechanism_state");
+  ASSERT_TRUE(states.waitForCount(100, 30.0));
+  test::ControlledRun run;
+  ASSERT_TRUE(test::readControlledRun(&run));
+  const Config& config = run.config;
+  const std::vector<MechanismState> got = states.messages();
+  SimDriver driver(config, {});
+  const auto ticks_per_publish = static_cast<std::uint64_t>(
+      wholeStepsPerPeriod(config.simulation.physics_rate, config.simulation.publish_rate));
+  size_t compared = 0;
+  for (const MechanismState& m : got) {
+    const auto tick = static_cast<std::uint64_t>(std::llround(m.sim_time * 1000.0));
+    ASSERT_EQ(tick % ticks_per_publish, 0u) << m.sim_time;
+    while (driver.ticks() < tick) {
+      const State& x = driver.simulator().state();
+      driver.command(pdTorque(run.gains, run.setpoint, x.q1, x.u1));
+      for (std::uint64_t i = 0; i < ticks_per_publish; ++i) ASSERT_TRUE(driver.step());
+    }
+    const State& x = driver.simulator().state();
+    ASSERT_EQ(m.q[0], x.q1) << "t = " << m.sim_time;
+    ASSERT_EQ(m.u[0], x.u1) << "t = " << m.sim_time;
+    ++compared;
+  }
+  EXPECT_GE(compared, 100u);
+}
+
+}  // namespace
+}  // namespace kane_sim

@@ -16,6 +16,7 @@
 #include <ros/time.h>
 
 #include "kane_sim/ros/messages.h"
+#include "loop/lockstep_gate.h"
 #include "loop/loop_diagnostics.h"
 #include "loop/master_watch.h"
 #include "loop/paced_loop.h"
@@ -33,8 +34,67 @@ class NodeLoop : public ::testing::Test {
 TEST_F(NodeLoop, SimStampsAreSimTimeOnTheEpoch) {
   StampClock clock(true);
   // The wall clock plays no part; the epoch keeps stamps of a fresh run clear of zero.
-  EXPECT_EQ(clock.stamp(12.5, ros::WallTime(1000, 0)), ros::Time(kSimEpochSeconds + 12, 500000000));
   EXPECT_EQ(clock.stamp(0.0, ros::WallTime(5, 0)), ros::Time(kSimEpochSeconds, 0));
+  EXPECT_EQ(clock.stamp(12.5, ros::WallTime(1000, 0)), ros::Time(kSimEpochSeconds + 12, 500000000));
+}
+
+// A moved state (reset, set_state) at an unchanged sim time gets a stamp after every earlier
+// one; the states after it are stamped with their sim time again.
+TEST_F(NodeLoop, AMovedStateIsStampedAfterEveryEarlierStamp) {
+  StampClock clock(true);
+  const ros::Time before = clock.stamp(1.0, ros::WallTime(0, 0));
+  EXPECT_EQ(clock.stamp(1.0, ros::WallTime(0, 0)), before);  // the same state: the same stamp
+  clock.forceNext();
+  const ros::Time moved = clock.stamp(1.0, ros::WallTime(0, 0));
+  EXPECT_EQ(moved, before + ros::Duration(0, 1000));
+  clock.forceNext();
+  EXPECT_EQ(clock.stamp(1.0, ros::WallTime(0, 0)), moved + ros::Duration(0, 1000));
+  EXPECT_EQ(clock.stamp(1.001, ros::WallTime(0, 0)), ros::Time(kSimEpochSeconds + 1, 1000000));
+}
+
+// Lockstep: the first answer to the state awaiting one is applied; a second controller's
+// answer (or another torque) is dropped and said once; an answer to an earlier state is late;
+// one stamped with a time never published (now()) is named, with the stamp awaited.
+TEST_F(NodeLoop, LockstepGateAppliesTheFirstAnswerAndNamesTheRest) {
+  LockstepGate gate;
+  EXPECT_TRUE(gate.answered()) << "nothing published: nothing awaits an answer";
+  const ros::Time s1(100, 0), s2(100, 10000000);
+  gate.published(s1);
+  EXPECT_FALSE(gate.answered());
+  EXPECT_EQ(gate.answer(s1, "/ctrl_a", 2.0), LockstepGate::Verdict::kApply);
+  EXPECT_TRUE(gate.answered());
+  // The same controller answering a repeat of the state with the same torque: quietly dropped.
+  EXPECT_EQ(gate.answer(s1, "/ctrl_a", 2.0), LockstepGate::Verdict::kDuplicate);
+  EXPECT_EQ(gate.warning(), "");
+  EXPECT_EQ(gate.answer(s1, "/ctrl_b", -3.0), LockstepGate::Verdict::kDuplicate);
+  EXPECT_NE(gate.warning().find("/ctrl_b answered the state stamped 100.000000000 with -3 N m "
+                                "after /ctrl_a answered it with 2 N m; the first answer is "
+                                "applied"),
+            std::string::npos)
+      << gate.warning();
+  gate.published(s1);  // a repeat of the state: nothing new awaits an answer
+  EXPECT_TRUE(gate.answered());
+  gate.published(s2);
+  EXPECT_FALSE(gate.answered());
+  EXPECT_EQ(gate.answer(s2, "/ctrl_a", 1.0), LockstepGate::Verdict::kApply);
+  EXPECT_EQ(gate.answer(s2, "/ctrl_b", 5.0), LockstepGate::Verdict::kDuplicate);
+  EXPECT_EQ(gate.warning(), "") << "said once";
+  EXPECT_EQ(gate.answer(s1, "/ctrl_a", 2.0), LockstepGate::Verdict::kLate);
+  gate.published(ros::Time(100, 20000000));
+  const ros::Time now_stamp(1700000000, 123);
+  EXPECT_EQ(gate.answer(now_stamp, "/wall_ctrl", 1.0), LockstepGate::Verdict::kUnknown);
+  EXPECT_NE(gate.warning().find("from /wall_ctrl stamped 1700000000.000000123 matches no "
+                                "joint_states this node published (the state awaiting an "
+                                "answer is stamped 100.020000000)"),
+            std::string::npos)
+      << gate.warning();
+  EXPECT_EQ(gate.unknownSinceState(), 1u);
+  EXPECT_EQ(gate.lastUnknownStamp(), now_stamp);
+  EXPECT_FALSE(gate.answered());
+  gate.release();  // the timeout
+  EXPECT_TRUE(gate.answered());
+  EXPECT_EQ(gate.answer(ros::Time(100, 20000000), "/slow", 1.0), LockstepGate::Verdict::kDuplicate)
+      << "released by the timeout: an answer after it is too late for that state";
 }
 
 TEST_F(NodeLoop, WallStampsNeverGoBackwards) {

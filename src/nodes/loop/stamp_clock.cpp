@@ -7,10 +7,18 @@ namespace kane_sim {
 ros::Time StampClock::stamp(double sim_seconds, const ros::WallTime& wall,
                             double* clock_went_back) {
   if (clock_went_back) *clock_went_back = 0.0;
-  if (sim_time_) return simStamp(sim_seconds);
+  if (sim_time_) {
+    ros::Time t = simStamp(sim_seconds);
+    const ros::Time after_last = last_sim_stamp_ + ros::Duration(0, force_next_ ? 1000 : 0);
+    if (t < after_last) t = after_last;
+    force_next_ = false;
+    last_sim_stamp_ = t;
+    return t;
+  }
   // Wall-clock mode stamps wall time itself: ros::Time::now() would read a /clock that a
   // leftover /use_sim_time asks for (0 without one).
   ros::Time now(wall.sec, wall.nsec);
+  force_next_ = false;  // wall stamps always move on
   if (now <= last_wall_stamp_) {
     if (clock_went_back) *clock_went_back = (last_wall_stamp_ - now).toSec();
     now = last_wall_stamp_ + ros::Duration(0, 1000);

@@ -21,6 +21,11 @@ class StampClock {
   ros::Time stamp(double sim_seconds, const ros::WallTime& wall, double* clock_went_back = nullptr);
   ros::Time stamp(double sim_seconds) { return stamp(sim_seconds, ros::WallTime::now()); }
 
+  // The next stamp comes after every stamp given so far, also in sim-time mode where the sim
+  // time has not advanced (a moved state: reset, set_state): 1 µs past the last, so that tf
+  // listeners take the moved pose at its own stamp instead of keeping the old one there.
+  void forceNext() { force_next_ = true; }
+
   // A warning when /use_sim_time (`use_sim_time`) contradicts the mode, once until they agree
   // again; "" otherwise.
   std::string checkUseSimTime(bool use_sim_time);
@@ -30,6 +35,8 @@ class StampClock {
  private:
   bool sim_time_;
   ros::Time last_wall_stamp_;
+  ros::Time last_sim_stamp_;  // sim-time stamps never go back, nor repeat after forceNext
+  bool force_next_ = false;
   bool warned_ = false;
 };
 
