@@ -39,7 +39,7 @@ constexpr double kPausedRepeatPeriod = 1.0;  // [s] wall, the last state again i
 // at a violent state once took 24.6 s for 2000 steps while ~pause and Ctrl-C waited. A call
 // that runs out answers the state it reached (success false, the reason).
 constexpr std::uint32_t kMaxStepsPerCall = 1000000;
-constexpr double kStepCallBudget = 2.0;  // [s] wall
+constexpr double kStepCallBudget = 2.0;   // [s] wall
 constexpr long kStepCallCheckEvery = 64;  // steps between two looks at the clock and ros::ok()
 
 // Wall seconds per physics tick; 0 runs free (real_time_factor 0).
@@ -88,7 +88,7 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
       paused_(config_.simulation.start_paused) {
   connect();
   driver_.setInputHandler([this](const DriverInput& input) {
-    input_log_pub_.publish(inputLogMessage(input, stamp()));
+    input_log_pub_.publish(inputLogMessage(input, stamp(), input_seq_++));
   });
   runtime_parameters_ = std::make_unique<RuntimeParameters>(
       private_nh_, parameter_tree_, config_, [this](const Config& c) { onReconfigure(c); },
@@ -637,8 +637,8 @@ bool KaneSimNode::onStepWithCommand(StepWithCommand::Request& req, StepWithComma
   res.applied_torque = snapshot.torque;
   res.success = end == RunEnd::kFinished;
   std::ostringstream msg;
-  const std::uint64_t done = static_cast<std::uint64_t>(std::llround((res.time - start) *
-                                                                      config_.simulation.physics_rate));
+  const std::uint64_t done = static_cast<std::uint64_t>(
+      std::llround((res.time - start) * config_.simulation.physics_rate));
   if (res.success)
     msg << "advanced " << req.steps << " physics steps from t = " << start << " s to " << res.time
         << " s";

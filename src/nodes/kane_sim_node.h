@@ -126,6 +126,7 @@ class KaneSimNode {
   ros::Time tick_stamp_;             // the stamp of tick stamped_tick_ (one per tick)
   std::uint64_t stamped_tick_ = 0;
   bool stamp_valid_ = false;
+  std::uint64_t input_seq_ = 0;  // ~input_log's sequence number of the next input
   bool stopped_at_time_limit_ = false;
   SteadyClock::time_point last_publish_wall_;
   double last_publish_sim_ = 0.0;

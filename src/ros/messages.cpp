@@ -131,9 +131,11 @@ kane_sim::ServoState servoStateMessage(const Snapshot& s, CommandMode mode,
   return msg;
 }
 
-kane_sim::InputLog inputLogMessage(const DriverInput& input, const ros::Time& stamp) {
+kane_sim::InputLog inputLogMessage(const DriverInput& input, const ros::Time& stamp,
+                                   std::uint64_t seq) {
   kane_sim::InputLog msg;
   msg.header.stamp = stamp;
+  msg.seq = seq;
   msg.tick = input.tick;
   msg.kind = static_cast<std::uint8_t>(input.kind);
   msg.value = input.value;

@@ -132,7 +132,7 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
 int runReplay(const Options& options, const kane_sim::Config& config) {
   simulate::ReplayResult r;
   try {
-    r = simulate::replayBag(options.replay_bag, config);
+    r = simulate::replayBag(options.replay_bag, config, &g_stop);
   } catch (const simulate::ReplayError& e) {
     std::cerr << "error: --replay: " << e.what() << "\n";
     return kExitReplayDiffers;
@@ -142,6 +142,13 @@ int runReplay(const Options& options, const kane_sim::Config& config) {
             << " skipped at a reset or set_state); largest difference " << num(r.largest);
   if (r.largest > 0) std::cout << " (" << r.largest_of << " at t = " << num(r.largest_at) << " s)";
   std::cout << "\n";
+  if (r.inputs_after_last_state > 0)
+    std::cerr << "note: " << r.inputs_after_last_state << " inputs arrived after the bag's last "
+              << "state and were not replayed (nothing to compare them with)\n";
+  if (r.interrupted) {
+    std::cerr << "interrupted: compared the " << r.compared << " states up to there\n";
+    return kExitSignalBase + g_signal.load();
+  }
   if (r.parameter_changes > 0)
     std::cerr << "warning: the bag's run was reconfigured " << r.parameter_changes
               << " times at run time; the replay runs the config as given\n";

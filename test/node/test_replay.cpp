@@ -4,6 +4,8 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
@@ -84,8 +86,45 @@ TEST_F(Replay, ARecordedRunReplaysBitForBit) {
   EXPECT_NE(same.out.find("replayed " + std::to_string(logged.size()) + " inputs"),
             std::string::npos)
       << same.out;
+  // Without the first input: named as not recorded, not reported as a difference far from it.
   const test::CommandResult differs = test::runCommand(simulate + " --replay " + cut);
   EXPECT_EQ(differs.exit_code, 6) << differs.out << differs.err;
+  EXPECT_NE(differs.err.find("input 0 of /kane_sim/input_log were not recorded: the recording "
+                             "began after the node had received them"),
+            std::string::npos)
+      << differs.err;
+  writeBag(cut, state_.messages(), logged, 3);  // a gap in the middle
+  const test::CommandResult gap = test::runCommand(simulate + " --replay " + cut);
+  EXPECT_EQ(gap.exit_code, 6) << gap.out << gap.err;
+  EXPECT_NE(gap.err.find("input 3 of /kane_sim/input_log were not recorded (a gap in the bag)"),
+            std::string::npos)
+      << gap.err;
+  // States no run can have: named, never compared (t = inf once passed as tick 0).
+  for (const auto& [time, q1, message] : std::vector<std::tuple<double, double, std::string>>{
+           {INFINITY, 0.5, "has sim_time inf s, not in [0, 1e+07] s"},
+           {1e300, 0.5, "has sim_time 1e+300 s"},
+           {-1.0, 0.5, "has sim_time -1 s"},
+           {0.0105, 0.5, "is not on the physics grid"},
+           {0.01, std::nan(""), "holds nan: the node never publishes one"}}) {
+    std::vector<MechanismState> states = state_.messages();
+    states.back().sim_time = time;
+    states.back().q[0] = q1;
+    writeBag(cut, states, logged);
+    const test::CommandResult bad = test::runCommand(simulate + " --replay " + cut);
+    EXPECT_EQ(bad.exit_code, 6) << message;
+    EXPECT_NE(bad.err.find(message), std::string::npos) << bad.err;
+  }
+  // A bag whose last state is 10^6 s of sim time away (10^9 steps): Ctrl-C ends the replay
+  // with 128 + SIGINT, saying how far it compared.
+  {
+    std::vector<MechanismState> states = state_.messages();
+    states.back().sim_time = 1e6;
+    writeBag(cut, states, logged);
+    const test::CommandResult stopped =
+        test::runCommand("timeout --preserve-status -s INT 1 " + simulate + " --replay " + cut);
+    EXPECT_EQ(stopped.exit_code, 130) << stopped.out << stopped.err;
+    EXPECT_NE(stopped.err.find("interrupted: compared the "), std::string::npos) << stopped.err;
+  }
   // Hostile: not a bag, a bag without inputs, a negative tolerance.
   const test::CommandResult not_bag = test::runCommand(simulate + " --replay " + config);
   EXPECT_EQ(not_bag.exit_code, 6);

@@ -133,6 +133,7 @@ TEST(SimulateCli, AbsurdValuesAndBadTorqueProfilesAreUsageErrors) {
       {" --duration 1 --torque inf", "--torque must be finite"},
       {" --replay x.bag --duration 1", "--replay takes the bag's inputs and times: no --duration"},
       {" --replay x.bag --torque 2", "no --torque"},
+      {" --replay x.bag --csv out.csv", "no --csv"},
       {" --replay x.bag --tolerance nan", "--tolerance must be finite"},
       {" --replay x.bag --tolerance -1", "--tolerance must be >= 0"},
       {" --duration 1 --tolerance 1", "--tolerance is for --replay"},

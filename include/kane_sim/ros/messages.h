@@ -70,8 +70,9 @@ kane_sim::ServoState servoStateMessage(const Snapshot& snapshot, CommandMode mod
                                        const ros::Time& stamp);
 
 // ~input_log: a driver input and back (simulate --replay). The message's kind is checked: an
-// unknown one gives std::nullopt.
-kane_sim::InputLog inputLogMessage(const DriverInput& input, const ros::Time& stamp);
+// unknown one gives std::nullopt. seq: the input's number in the order the node received them.
+kane_sim::InputLog inputLogMessage(const DriverInput& input, const ros::Time& stamp,
+                                   std::uint64_t seq);
 std::optional<DriverInput> driverInput(const kane_sim::InputLog& msg);
 
 // Everything published at one publish instant, by the node or into a bag offline.

@@ -1,6 +1,7 @@
 #include "simulate/replay.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <set>
 #include <vector>
@@ -10,7 +11,9 @@
 
 #include "kane_sim/InputLog.h"
 #include "kane_sim/MechanismState.h"
+#include "kane_sim/format_number.h"
 #include "kane_sim/ros/messages.h"
+#include "kane_sim/sim/output_grid.h"
 #include "kane_sim/sim/sim_driver.h"
 
 namespace simulate {
@@ -33,17 +36,53 @@ std::string onlyTopicOf(const rosbag::Bag& bag, const std::string& what) {
   return *topics.begin();
 }
 
+// Every message on `topic`; ReplayError when one is of another version of M (recorded by an
+// older kane_sim: it would otherwise be skipped without a word).
 template <typename M>
 std::vector<M> readAll(const rosbag::Bag& bag, const std::string& topic) {
   std::vector<M> out;
-  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic)))
-    if (const auto msg = m.instantiate<M>()) out.push_back(*msg);
+  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic))) {
+    const auto msg = m.instantiate<M>();
+    if (!msg)
+      throw ReplayError(topic + " holds " + m.getDataType() + " of another version (md5 " +
+                        m.getMD5Sum() + ", this simulate reads " +
+                        ros::message_traits::md5sum<M>() +
+                        "): the bag was recorded by another kane_sim version; record it again");
+    out.push_back(*msg);
+  }
   return out;
+}
+
+std::string seqRange(std::uint64_t first, std::uint64_t last) {
+  return first == last ? "input " + std::to_string(first)
+                       : "inputs " + std::to_string(first) + "-" + std::to_string(last);
+}
+
+// The inputs in the order the node received them, refused with their numbers when some were
+// not recorded: a gap would otherwise show up as a difference far from its cause.
+void checkSequence(std::vector<kane_sim::InputLog>* logs, const std::string& topic) {
+  std::stable_sort(logs->begin(), logs->end(),
+                   [](const auto& a, const auto& b) { return a.seq < b.seq; });
+  std::uint64_t expected = 0;
+  for (const kane_sim::InputLog& log : *logs) {
+    if (log.seq < expected) continue;  // recorded twice (two recorders merged): the same input
+    if (log.seq > expected)
+      throw ReplayError(seqRange(expected, log.seq - 1) + " of " + topic +
+                        (expected == 0 ? " were not recorded: the recording began after the node "
+                                         "had received them (record from the node's start)"
+                                       : " were not recorded (a gap in the bag)") +
+                        "; replaying without them would differ from the node");
+    expected = log.seq + 1;
+  }
+  logs->erase(std::unique(logs->begin(), logs->end(),
+                          [](const auto& a, const auto& b) { return a.seq == b.seq; }),
+              logs->end());
 }
 
 }  // namespace
 
-ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& config) {
+ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& config,
+                       const std::atomic<bool>* stop) {
   rosbag::Bag bag;
   try {
     bag.open(bag_path, rosbag::bagmode::Read);
@@ -54,20 +93,46 @@ ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& conf
   result.input_topic = onlyTopicOf<kane_sim::InputLog>(
       bag, "record the node's ~input_log, e.g. rosbag record -a, to replay its run");
   result.state_topic = onlyTopicOf<kane_sim::MechanismState>(bag, "the states to compare with");
+  std::vector<kane_sim::InputLog> logs = readAll<kane_sim::InputLog>(bag, result.input_topic);
+  checkSequence(&logs, result.input_topic);
   std::vector<kane_sim::DriverInput> inputs;
-  for (const kane_sim::InputLog& msg : readAll<kane_sim::InputLog>(bag, result.input_topic)) {
+  for (const kane_sim::InputLog& msg : logs) {
     const auto input = kane_sim::driverInput(msg);
     if (!input)
       throw ReplayError("an input on " + result.input_topic + " has kind " +
                         std::to_string(msg.kind) + " or a malformed state");
     inputs.push_back(*input);
   }
-  // Received in publish order: stable by tick keeps the order within a tick.
-  std::stable_sort(inputs.begin(), inputs.end(),
-                   [](const auto& a, const auto& b) { return a.tick < b.tick; });
+  // In the order received (seq); ticks never go back along it.
+  for (std::size_t i = 1; i < inputs.size(); ++i)
+    if (inputs[i].tick < inputs[i - 1].tick)
+      throw ReplayError("input " + std::to_string(logs[i].seq) + " of " + result.input_topic +
+                        " arrived at tick " + std::to_string(inputs[i].tick) +
+                        ", before the one received ahead of it (tick " +
+                        std::to_string(inputs[i - 1].tick) + "): not one node's run");
   std::vector<kane_sim::MechanismState> states =
       readAll<kane_sim::MechanismState>(bag, result.state_topic);
   if (states.empty()) throw ReplayError("no messages on " + result.state_topic);
+  // Every state's sim time must be a time this run could have: finite, >= 0, within the longest
+  // run, on the physics grid (a state at t = inf was once "compared" with tick 0 and passed).
+  const double rate = config.simulation.physics_rate;
+  for (const kane_sim::MechanismState& m : states) {
+    if (!(m.sim_time >= 0 && m.sim_time <= kane_sim::kMaxRunDuration))
+      throw ReplayError("a state on " + result.state_topic + " has sim_time " +
+                        kane_sim::formatNumber(m.sim_time) + " s, not in [0, " +
+                        kane_sim::formatNumber(kane_sim::kMaxRunDuration) +
+                        "] s: the bag is damaged or not kane_sim's");
+    const double ticks = std::round(m.sim_time * rate);
+    if (std::abs(ticks - m.sim_time * rate) > 1e-6 * std::max(1.0, ticks))
+      throw ReplayError("a state's sim_time " + kane_sim::formatNumber(m.sim_time) +
+                        " s is not on the physics grid of " + kane_sim::formatNumber(rate) +
+                        " Hz: --config is not the node's");
+    for (const double v : {m.q[0], m.q[1], m.u[0], m.u[1]})
+      if (!std::isfinite(v))
+        throw ReplayError("the state at t = " + kane_sim::formatNumber(m.sim_time) + " s on " +
+                          result.state_topic + " holds " + kane_sim::formatNumber(v) +
+                          ": the node never publishes one; the bag is damaged");
+  }
   std::stable_sort(states.begin(), states.end(),
                    [](const auto& a, const auto& b) { return a.sim_time < b.sim_time; });
   std::set<std::uint64_t> moved_at;  // ticks of resets and set_state
@@ -77,17 +142,11 @@ ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& conf
       moved_at.insert(in.tick);
 
   kane_sim::SimDriver driver(config, {});
-  const double rate = config.simulation.physics_rate;
   std::size_t next = 0;
   for (const kane_sim::MechanismState& m : states) {
     result.parameter_changes =
         std::max<std::uint64_t>(result.parameter_changes, m.parameter_changes);
-    const double ticks = std::round(m.sim_time * rate);
-    if (!(ticks >= 0) || std::abs(ticks - m.sim_time * rate) > 1e-6 * std::max(1.0, ticks))
-      throw ReplayError("a state's sim_time " + std::to_string(m.sim_time) +
-                        " s is not on the physics grid of " + std::to_string(rate) +
-                        " Hz: --config is not the node's");
-    const auto target = static_cast<std::uint64_t>(ticks);
+    const auto target = static_cast<std::uint64_t>(std::llround(m.sim_time * rate));
     if (target < driver.ticks()) continue;  // the same instant again (paused repeats)
     while (true) {
       // What arrived at this tick is applied before the step from it, as in the node.
@@ -95,6 +154,11 @@ ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& conf
            ++next, ++result.inputs)
         driver.apply(inputs[next]);
       if (driver.ticks() >= target) break;
+      if (stop && stop->load(std::memory_order_relaxed)) {
+        result.interrupted = true;
+        result.inputs_after_last_state = inputs.size() - next;
+        return result;
+      }
       if (!driver.step())
         throw ReplayError("the replay refused a step at t = " + std::to_string(driver.time()) +
                           " s, where the node went on: --config is not the node's");
@@ -109,14 +173,15 @@ ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& conf
     static const char* names[] = {"q1", "q2", "u1", "u2"};
     for (int i = 0; i < 4; ++i) {
       const double d = std::abs(got[i] - want[i]);
-      if (d > result.largest || std::isnan(d)) {
-        result.largest = std::isnan(d) ? INFINITY : d;
+      if (d > result.largest) {
+        result.largest = d;
         result.largest_at = m.sim_time;
         result.largest_of = names[i];
       }
     }
     ++result.compared;
   }
+  result.inputs_after_last_state = inputs.size() - next;
   return result;
 }
 

@@ -6,6 +6,7 @@
 #ifndef KANE_SIM_TOOLS_SIMULATE_REPLAY_H
 #define KANE_SIM_TOOLS_SIMULATE_REPLAY_H
 
+#include <atomic>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -25,12 +26,17 @@ struct ReplayResult {
   double largest = 0.0;         // largest |difference| of q1, q2, u1, u2
   double largest_at = 0.0;      // [s] sim time of the first largest difference
   const char* largest_of = "";  // which of q1, q2, u1, u2
-  std::uint64_t parameter_changes = 0;  // runtime reconfigurations in the bag (not replayed)
+  std::uint64_t parameter_changes = 0;        // runtime reconfigurations in the bag (not replayed)
+  std::uint64_t inputs_after_last_state = 0;  // recorded after the last state: not replayed
+  bool interrupted = false;                   // `stop` was set: compared up to there
   std::string input_topic, state_topic;
 };
 
-// Throws ReplayError naming what the bag lacks (no input log, no states, several sims).
-ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& config);
+// Throws ReplayError naming what the bag lacks or what is wrong with it (no input log, no
+// states, several sims, inputs not recorded, states at impossible times or with NaN). Stops
+// (result.interrupted) when `stop` is set, checked before every step.
+ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& config,
+                       const std::atomic<bool>* stop = nullptr);
 
 }  // namespace simulate
 
