@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <stdexcept>
 
 namespace kane_sim {
 namespace {
@@ -63,6 +65,25 @@ bool JointSensors::takeDue(std::uint64_t tick, SensorReading* reading) {
   *reading = queue_.front();
   queue_.pop_front();
   return true;
+}
+
+JointSensors::Memory JointSensors::memory() const {
+  std::ostringstream random;
+  random << random_ << ' ' << normal_;
+  return {random.str(), bias_, queue_, last_delivery_tick_};
+}
+
+void JointSensors::restore(const Memory& memory) {
+  std::istringstream random(memory.random);
+  std::mt19937_64 engine;
+  std::normal_distribution<double> normal;
+  random >> engine >> normal;
+  if (!random) throw std::invalid_argument("the sensors' random state does not parse");
+  random_ = engine;
+  normal_ = normal;
+  bias_ = memory.bias;
+  queue_ = memory.queue;
+  last_delivery_tick_ = memory.last_delivery_tick;
 }
 
 void JointSensors::dropPending() {

@@ -79,6 +79,9 @@ class Simulator::Integrator {
   // Advances x from t to exactly t + dt. `reuse_last_derivative`: x is where the last
   // successful call left it and the right-hand side (the torque) is unchanged. Returns nullptr,
   // or why it failed (a literal: no string is built on the good path).
+  double dopri5Substep() const { return dopri5_substep_; }
+  void setDopri5Substep(double substep) { dopri5_substep_ = substep; }
+
   template <class System>
   const char* advance(const System& system, OdeState& x, double t, double dt,
                       bool reuse_last_derivative) {

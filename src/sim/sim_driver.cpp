@@ -211,6 +211,42 @@ void SimDriver::apply(const DriverInput& input) {
   }
 }
 
+DriverCheckpoint SimDriver::checkpoint() const {
+  DriverCheckpoint c;
+  c.simulator = sim_.dynamics();
+  c.command = command_.memory();
+  c.delayed_commands = delayed_commands_;
+  c.setpoint = setpoint_;
+  c.servo_integral = servo_.integral();
+  c.servo_status = servo_.status();
+  c.sensors = sensors_.memory();
+  return c;
+}
+
+void SimDriver::restore(const DriverCheckpoint& c) {
+  const State& x = c.simulator.state;
+  if (!(std::isfinite(x.q1) && std::isfinite(x.q2) && std::isfinite(x.u1) && std::isfinite(x.u2)))
+    throw CheckpointError("the checkpoint's state is not finite (" + Simulator::stateText(x) + ")");
+  if (!sensors_.enabled() && !c.sensors.queue.empty())
+    throw CheckpointError(
+        "the checkpoint has sensor readings in flight but this config's "
+        "sensors are off: it is another config's checkpoint");
+  if (command_latency_ticks_ == 0 && !c.delayed_commands.empty())
+    throw CheckpointError(
+        "the checkpoint has delayed commands but this config has no "
+        "sensors.command_latency: it is another config's checkpoint");
+  try {
+    sensors_.restore(c.sensors);  // first: it alone can refuse its part
+  } catch (const std::invalid_argument& e) {
+    throw CheckpointError(std::string("the checkpoint's sensors: ") + e.what());
+  }
+  sim_.restore(c.simulator);
+  command_.restore(c.command);
+  delayed_commands_ = c.delayed_commands;
+  setpoint_ = c.setpoint;
+  servo_.restore(c.servo_integral, c.servo_status);
+}
+
 Snapshot SimDriver::snapshot() const {
   Snapshot snap = sim_.snapshot();
   snap.command.commanded = command_.commanded();

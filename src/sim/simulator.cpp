@@ -155,6 +155,46 @@ Status Simulator::stepWith(const Equations& equations) {
   return {};
 }
 
+Simulator::Dynamics Simulator::dynamics() const {
+  Dynamics d;
+  d.state = state_;
+  d.ticks = ticks_;
+  d.torque = torque_;
+  d.motor_work = motor_work_;
+  d.dissipated_energy = dissipated_energy_;
+  d.impact_energy = impact_energy_;
+  d.parameter_energy = parameter_energy_;
+  d.slider_crossings = slider_crossings_;
+  d.contact_impacts = contact_impacts_;
+  d.parameter_changes = parameter_changes_;
+  d.step_too_coarse = step_too_coarse_;
+  d.slider4_below = slider4_below_;
+  d.resting_contact = resting_contact_;
+  d.dopri5_substep = integrator_->dopri5Substep();
+  return d;
+}
+
+void Simulator::restore(const Dynamics& d) {
+  state_ = d.state;
+  ticks_ = d.ticks;
+  torque_ = d.torque;
+  motor_work_ = d.motor_work;
+  dissipated_energy_ = d.dissipated_energy;
+  impact_energy_ = d.impact_energy;
+  parameter_energy_ = d.parameter_energy;
+  slider_crossings_ = d.slider_crossings;
+  contact_impacts_ = d.contact_impacts;
+  parameter_changes_ = d.parameter_changes;
+  step_too_coarse_ = d.step_too_coarse;
+  slider4_below_ = d.slider4_below;
+  resting_contact_ = resting_contact_at_start_of_step_ = d.resting_contact;
+  integrator_->setDopri5Substep(d.dopri5_substep);
+  // dopri5 evaluates the derivative afresh instead of reusing its last one: the same function
+  // of the same state, so the same bits.
+  last_derivative_valid_ = false;
+  step_impact_energy_ = 0.0;
+}
+
 void Simulator::reset() {
   torque_ = 0.0;
   static_cast<void>(setState(initial_state_));  // the initial state was checked at start-up

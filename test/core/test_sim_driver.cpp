@@ -229,3 +229,137 @@ TEST_F(SimDriverTest, ReconfigureClampsAnewAndKeepsTheEnergyLedger) {
 
 }  // namespace
 }  // namespace kane_sim
+
+namespace kane_sim {
+namespace {
+
+// Drives `driver` one step with the test's command stream: a new command every 37 ticks
+// (a torque, or a servo setpoint in the servo modes), so that commands, timeouts, delayed
+// commands and the servo's integral all move.
+void commandedStep(SimDriver* driver) {
+  const std::uint64_t k = driver->ticks();
+  if (k % 37 == 0) {
+    const double v = std::sin(0.013 * static_cast<double>(k));
+    if (driver->servoMode())
+      driver->setpoint(0.6 + 0.4 * v);
+    else
+      driver->command(40.0 * v);
+  }
+  ASSERT_TRUE(driver->step());
+}
+
+struct CheckpointCase {
+  const char* name;
+  void (*adjust)(Config*);
+};
+
+// A driver restored from a checkpoint (through its text) steps on exactly as the original:
+// every state, sensor reading and the final checkpoint bit for bit, for every option that
+// keeps state between steps.
+TEST(Checkpoint, ARestoredDriverStepsOnBitForBit) {
+  const CheckpointCase cases[] = {
+      {"rk4 effort", [](Config*) {}},
+      {"dopri5", [](Config* c) { c->simulation.integrator = IntegratorType::kDopri5; }},
+      {"generic equations", [](Config* c) { c->simulation.equations = EquationsSource::kGeneric; }},
+      {"sensors, command latency",
+       [](Config* c) {
+         const Config s = loadConfigFile(test::configPath("mechanism.yaml")).config;
+         c->sensors = s.sensors;
+         c->sensors.enabled = true;
+         c->sensors.rate = 100.0;
+         c->sensors.latency = 0.004;
+         c->sensors.latency_jitter = 0.005;
+         c->sensors.command_latency = 0.003;
+         c->sensors.joints[0].position_noise = 0.002;
+         c->sensors.joints[0].velocity_noise = 0.05;
+         c->sensors.joints[0].bias_walk = 0.001;
+         c->sensors.joints[0].encoder_counts = 4096;
+       }},
+      {"position servo",
+       [](Config* c) {
+         c->command.mode = CommandMode::kPosition;
+         c->command.feedforward = Feedforward::kHolding;
+         c->command.position_ki = 200.0;
+       }},
+      {"velocity servo", [](Config* c) { c->command.mode = CommandMode::kVelocity; }},
+      {"contact, damping, motor line",
+       [](Config* c) {
+         c->mechanism.contact.enabled = true;
+         c->mechanism.damping.crank = 0.2;
+         c->mechanism.damping.slider4 = 1.0;
+         c->mechanism.motor.no_load_speed = 30.0;
+       }},
+  };
+  for (const CheckpointCase& test_case : cases) {
+    SCOPED_TRACE(test_case.name);
+    Config config = test::defaultConfig();
+    config.command.timeout = 0.05;  // lapses between some commands
+    test_case.adjust(&config);
+    SimDriver original(config, {});
+    for (int i = 0; i < 700; ++i) commandedStep(&original);
+    const std::string text = checkpointText(original.checkpoint());
+    SimDriver restored(config, {});
+    restored.restore(parseCheckpoint(text));
+    EXPECT_EQ(checkpointText(restored.checkpoint()), text);
+    for (int i = 0; i < 1300; ++i) {
+      commandedStep(&original);
+      commandedStep(&restored);
+      const Snapshot a = original.snapshot(), b = restored.snapshot();
+      ASSERT_EQ(a.state.q1, b.state.q1) << "step " << i;
+      ASSERT_EQ(a.state.u2, b.state.u2) << "step " << i;
+      ASSERT_EQ(a.torque, b.torque) << "step " << i;
+      ASSERT_EQ(a.energyBalance(), b.energyBalance()) << "step " << i;
+      SensorReading ra, rb;
+      while (original.takeSensorReading(&ra)) {
+        ASSERT_TRUE(restored.takeSensorReading(&rb)) << "step " << i;
+        ASSERT_EQ(ra.joints.position, rb.joints.position) << "step " << i;
+        ASSERT_EQ(ra.joints.velocity, rb.joints.velocity) << "step " << i;
+      }
+      ASSERT_FALSE(restored.takeSensorReading(&rb)) << "step " << i;
+    }
+    EXPECT_EQ(checkpointText(restored.checkpoint()), checkpointText(original.checkpoint()));
+  }
+}
+
+// A checkpoint that does not parse, or that belongs to another config, is refused by name and
+// changes nothing.
+TEST(Checkpoint, DamagedOrForeignCheckpointsAreRefusedByName) {
+  Config config = test::defaultConfig();
+  SimDriver driver(config, {});
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(driver.step());
+  const std::string good = checkpointText(driver.checkpoint());
+  const auto refused = [](const std::string& text, const std::string& expected) {
+    try {
+      parseCheckpoint(text);
+      ADD_FAILURE() << "accepted: " << expected;
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  refused("", "not a kane_sim checkpoint");
+  refused("garbage\nstate 1 2 3 4\n", "not a kane_sim checkpoint");
+  std::string no_state = good;
+  no_state.erase(no_state.find("state "),
+                 no_state.find('\n', no_state.find("state ")) - no_state.find("state ") + 1);
+  refused(no_state, "checkpoint field 'state' is missing");
+  std::string bad_number = good;
+  bad_number.replace(bad_number.find("ticks ") + 6, 2, "x1");
+  refused(bad_number, "checkpoint field 'ticks'");
+  std::string bad_random = good;
+  bad_random.replace(bad_random.find("sensors_random ") + 15, 5, "zzzzz");
+  SimDriver other(config, {});
+  EXPECT_THROW(other.restore(parseCheckpoint(bad_random)), CheckpointError);
+  EXPECT_EQ(other.ticks(), 0u) << "nothing changed";
+  // Sensor readings in flight cannot go into a driver without sensors.
+  Config with_sensors = config;
+  with_sensors.sensors.enabled = true;
+  with_sensors.sensors.latency = 0.02;
+  SimDriver sensing(with_sensors, {});
+  for (int i = 0; i < 15; ++i) ASSERT_TRUE(sensing.step());
+  ASSERT_GT(sensing.sensors().pending(), 0u);
+  EXPECT_THROW(other.restore(sensing.checkpoint()), CheckpointError);
+  EXPECT_EQ(other.ticks(), 0u);
+}
+
+}  // namespace
+}  // namespace kane_sim

@@ -43,6 +43,13 @@ class CrankServo {
   void clearIntegral() { integral_ = 0.0; }
   const ServoStatus& status() const { return status_; }
 
+  // What it remembers (the integral, the last update's status), for checkpoints.
+  double integral() const { return integral_; }
+  void restore(double integral, const ServoStatus& status) {
+    integral_ = integral;
+    status_ = status;
+  }
+
  private:
   CommandSettings settings_;
   double integral_ = 0.0;  // [N m]

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <deque>
 #include <random>
+#include <string>
 
 #include "kane_sim/config/config.h"
 #include "kane_sim/description/joint_values.h"
@@ -45,6 +46,18 @@ class JointSensors {
   std::uint64_t jitterTicks() const { return jitter_ticks_; }
   const std::array<double, kNumJoints>& biases() const { return bias_; }
   std::size_t pending() const { return queue_.size(); }
+
+  // What the sensors remember (sim/checkpoint.h): the random engine and normal distribution as
+  // their standard text, the biases, the readings in flight. Restored into sensors of the same
+  // settings, they give the same readings from there on.
+  struct Memory {
+    std::string random;
+    std::array<double, kNumJoints> bias{};
+    std::deque<SensorReading> queue;
+    std::uint64_t last_delivery_tick = 0;
+  };
+  Memory memory() const;
+  void restore(const Memory& memory);  // std::invalid_argument when `random` does not parse
 
  private:
   void sample(std::uint64_t tick, double time, const JointValues& truth);

@@ -12,6 +12,7 @@
 #include "kane_sim/config/config.h"
 #include "kane_sim/control/crank_servo.h"
 #include "kane_sim/sensors/joint_sensors.h"
+#include "kane_sim/sim/checkpoint.h"
 #include "kane_sim/sim/simulator.h"
 #include "kane_sim/sim/snapshot.h"
 #include "kane_sim/sim/torque_command.h"
@@ -81,6 +82,13 @@ class SimDriver {
 
   Snapshot snapshot() const;  // the physics of this instant and the command status
 
+  // Everything the driver remembers beyond its config (sim/checkpoint.h). restore() into a
+  // driver built from the same config (the config in force: reconfigured values included)
+  // makes it step on exactly as this one; refused (CheckpointError, nothing changed) when the
+  // checkpoint cannot belong to such a driver (readings in flight with the sensors off, say).
+  DriverCheckpoint checkpoint() const;
+  void restore(const DriverCheckpoint& checkpoint);
+
   // Called with every input, before it is applied (empty: none).
   void setInputHandler(InputHandler on_input) { on_input_ = std::move(on_input); }
   // The call that `input` records (its tick is the caller's to match).
@@ -118,10 +126,6 @@ class SimDriver {
   JointSensors sensors_;
   CrankServo servo_;
   double setpoint_;
-  struct DelayedCommand {
-    std::uint64_t due_tick;
-    double torque;
-  };
   std::uint64_t command_latency_ticks_;
   std::deque<DelayedCommand> delayed_commands_;  // in arrival order, so in due order
 };

@@ -94,6 +94,20 @@ class Simulator {
   const MechanismModel& model() const { return model_; }
   EquationsSource equations() const { return equations_; }
 
+  // Everything a step depends on beyond the config (sim/checkpoint.h writes it down): restored
+  // into a Simulator built from the same config, the two step alike, bit for bit.
+  struct Dynamics {
+    State state;
+    std::uint64_t ticks = 0;
+    double torque = 0.0, motor_work = 0.0, dissipated_energy = 0.0, impact_energy = 0.0,
+           parameter_energy = 0.0;
+    std::uint64_t slider_crossings = 0, contact_impacts = 0, parameter_changes = 0;
+    bool step_too_coarse = false, slider4_below = false, resting_contact = false;
+    double dopri5_substep = 0.0;  // [s] dopri5's step size suggestion for the next tick
+  };
+  Dynamics dynamics() const;
+  void restore(const Dynamics& dynamics);
+
   // The physics of this instant (command fields left at their defaults: see SimDriver).
   Snapshot snapshot() const;
   // The joints alone (what a sensor samples): the snapshot's joint values, cheaper.

@@ -32,6 +32,20 @@ class TorqueCommand {
   double torqueLimit() const { return settings_.torque_limit; }
   bool timedOut() const { return timed_out_; }
   void reset();  // back to no command, torque 0
+
+  // What it remembers (sim/checkpoint.h): restored into one of the same settings, it goes on
+  // as the original would.
+  struct Memory {
+    double commanded = 0.0, clamped = 0.0, last_command_time = 0.0;
+    bool have_command = false, timed_out = false;
+  };
+  Memory memory() const {
+    return {commanded_, clamped_, last_command_time_, have_command_, timed_out_};
+  }
+  void restore(const Memory& m) {
+    commanded_ = m.commanded, clamped_ = m.clamped, last_command_time_ = m.last_command_time;
+    have_command_ = m.have_command, timed_out_ = m.timed_out;
+  }
   // New limit and timeout (runtime reconfiguration): the last command is clamped anew.
   void setSettings(const CommandSettings& settings);
 
