@@ -41,6 +41,9 @@ constexpr double kPausedRepeatPeriod = 1.0;  // [s] wall, the last state again i
 constexpr std::uint32_t kMaxStepsPerCall = 1000000;
 constexpr double kStepCallBudget = 2.0;   // [s] wall
 constexpr long kStepCallCheckEvery = 64;  // steps between two looks at the clock and ros::ok()
+// A periodic ~checkpoint every this much sim time: a bag recorded from any point replays from
+// the last one before it (latched) at the cost of ~2 KB per checkpoint.
+constexpr double kCheckpointPeriod = 10.0;  // [s] sim
 
 // Wall seconds per physics tick; 0 runs free (real_time_factor 0).
 double tickPeriod(const SimulationSettings& s) {
@@ -85,7 +88,10 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
       stamp_clock_(config_.simulation.publish_clock),
       ticks_per_publish_(static_cast<std::uint64_t>(
           wholeStepsPerPeriod(config_.simulation.physics_rate, config_.simulation.publish_rate))),
-      paused_(config_.simulation.start_paused) {
+      paused_(config_.simulation.start_paused),
+      checkpoint_ticks_(std::max<std::uint64_t>(
+          1, static_cast<std::uint64_t>(
+                 std::llround(kCheckpointPeriod * config_.simulation.physics_rate)))) {
   connect();
   driver_.setInputHandler([this](const DriverInput& input) {
     input_log_pub_.publish(inputLogMessage(input, stamp(), input_seq_++));
@@ -120,6 +126,8 @@ void KaneSimNode::connect() {
   reset_event_pub_ = private_nh_.advertise<kane_sim::ResetEvent>("reset_event", 10);
   // A deep queue: a bag needs every input, and step_with_command can send bursts.
   input_log_pub_ = private_nh_.advertise<kane_sim::InputLog>("input_log", 1000);
+  // Latched: a recorder that starts mid-run gets the last one, and its bag replays from there.
+  checkpoint_pub_ = private_nh_.advertise<kane_sim::Checkpoint>("checkpoint", 1, true);
   if (config_.simulation.publish_clock)
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   // Private, as Gazebo's /gazebo/pause_physics: two sims (or turtlesim's /reset) never collide.
@@ -151,16 +159,17 @@ void KaneSimNode::reconnect() {
   torque_sub_.shutdown();
   torque_stamped_sub_.shutdown();
   servo_setpoint_sub_.shutdown();
-  for (ros::Publisher* pub :
-       {&joint_state_pub_, &joint_state_true_pub_, &mechanism_state_pub_, &marker_pub_,
-        &diagnostics_pub_, &clock_pub_, &reset_event_pub_, &servo_state_pub_, &input_log_pub_})
+  for (ros::Publisher* pub : {&joint_state_pub_, &joint_state_true_pub_, &mechanism_state_pub_,
+                              &marker_pub_, &diagnostics_pub_, &clock_pub_, &reset_event_pub_,
+                              &servo_state_pub_, &input_log_pub_, &checkpoint_pub_})
     pub->shutdown();
   for (ros::ServiceServer& service : services_) service.shutdown();
   tf_pub_.shutdown();
   static_tf_broadcaster_.reset();
   connect();
   if (runtime_parameters_) runtime_parameters_->advertise();
-  publishRobotDescription();  // a new master has no parameters either
+  publishRobotDescription();   // a new master has no parameters either
+  publishCheckpoint("start");  // the latched one went with the old master
   ROS_WARN(
       "kane_sim: the ROS master restarted; topics and services registered again "
       "(sim time %.3f s, state kept)",
@@ -177,6 +186,7 @@ void KaneSimNode::run() {
   publishRobotDescription();
   publishState();
   publishDueSensorReadings();  // the reading at start, when it has no latency
+  publishCheckpoint("start");
   const auto now = SteadyClock::now();
   loop_.anchor();
   window_start_wall_ = last_publish_wall_ = now;
@@ -224,6 +234,7 @@ void KaneSimNode::runOneTick() {
   if (driver_.step()) {
     if (driver_.ticks() % ticks_per_publish_ == 0) publishState();
     publishDueSensorReadings();
+    if (driver_.ticks() % checkpoint_ticks_ == 0) publishCheckpoint("periodic");
   } else if (publishDueByWallClock()) {
     // Refused steps: the last good state keeps flowing, freshly stamped (on the wall clock).
     if (!config_.simulation.publish_clock) stamp_valid_ = false;
@@ -490,6 +501,7 @@ bool KaneSimNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
   driver_.reset();
   ROS_INFO("kane_sim: reset to the initial state (sim time runs on at %.3f s)", driver_.time());
   publishMovedState();
+  publishCheckpoint("reset");
   announceReset("reset");
   return true;
 }
@@ -510,8 +522,20 @@ bool KaneSimNode::onSetState(SetState::Request& req, SetState::Response& res) {
   res.message = msg.str();
   ROS_INFO("kane_sim: %s", res.message.c_str());
   publishMovedState();
+  publishCheckpoint("set_state");
   announceReset("set_state");
   return true;
+}
+
+void KaneSimNode::publishCheckpoint(const std::string& cause) {
+  kane_sim::Checkpoint msg;
+  msg.header.stamp = stamp();
+  msg.cause = cause;
+  msg.tick = driver_.ticks();
+  msg.next_input = input_seq_;
+  msg.config = YAML::Dump(runtime_parameters_ ? runtime_parameters_->tree() : parameter_tree_);
+  msg.state = checkpointText(driver_.checkpoint());
+  checkpoint_pub_.publish(msg);
 }
 
 void KaneSimNode::publishMovedState() {
@@ -556,6 +580,7 @@ void KaneSimNode::onReconfigure(const Config& config) {
   publishRobotDescription();
   if (config_.simulation.real_time_factor != old_factor)
     loop_.setPeriod(tickPeriod(config_.simulation));
+  publishCheckpoint("reconfigure");
   ROS_INFO("kane_sim: reconfigured (from the next physics step): %s",
            RuntimeParameters::summary(config_).c_str());
 }

@@ -19,6 +19,7 @@
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
+#include "kane_sim/Checkpoint.h"
 #include "kane_sim/SetState.h"
 #include "kane_sim/StepWithCommand.h"
 #include "kane_sim/TorqueCommandStamped.h"
@@ -68,6 +69,9 @@ class KaneSimNode {
   void announceReset(const std::string& cause);
   // A state moved by reset or set_state: published at a new stamp (see the .cpp).
   void publishMovedState();
+  // ~checkpoint (latched): the driver's whole state now, with the config and the next input's
+  // seq, so that simulate --replay can start a bag here.
+  void publishCheckpoint(const std::string& cause);
   uint32_t lockstepListeners() const;  // who could answer: see waitForLockstepAnswer
 
   void connect();                       // advertise, subscribe, offer the services
@@ -98,6 +102,7 @@ class KaneSimNode {
   StampClock stamp_clock_;
   std::uint64_t ticks_per_publish_;
   bool paused_;
+  std::uint64_t checkpoint_ticks_;   // a periodic ~checkpoint every this many ticks (10 s)
   bool realtime_scheduled_ = false;  // the physics loop's thread runs SCHED_FIFO
 
   ros::Subscriber torque_sub_;
@@ -111,7 +116,8 @@ class KaneSimNode {
   ros::Publisher clock_pub_;
   ros::Publisher diagnostics_pub_;
   ros::Publisher reset_event_pub_;
-  ros::Publisher input_log_pub_;  // every driver input, for simulate --replay
+  ros::Publisher input_log_pub_;
+  ros::Publisher checkpoint_pub_;  // every driver input, for simulate --replay
   std::vector<ros::ServiceServer> services_;
   ros::Publisher tf_pub_;        // /tf (empty with frames.publish_tf false)
   uint32_t tf_subscribers_ = 0;  // /tf's subscribers when the transforms were last sent

@@ -23,7 +23,7 @@ constexpr const char* kUsage =
     "  command.mode velocity | position)\n"
     "Publishes:  joint_states, joint_states_true (sensors on), tf, mechanism_state,\n"
     "  visualization_markers, servo_state (servo modes), /clock (publish_clock), /diagnostics,\n"
-    "  ~reset_event, ~input_log (for simulate --replay), robot_description\n"
+    "  ~reset_event, ~input_log and ~checkpoint (for simulate --replay), robot_description\n"
     "Services:   ~reset, ~pause, ~unpause, ~step, ~step_with_command, ~set_state;\n"
     "  dynamic_reconfigure on ~set_parameters\n\n"
     "See the README, section \"The node\".\n";

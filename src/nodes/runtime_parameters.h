@@ -51,6 +51,9 @@ class RuntimeParameters {
   // ~spring_stiffness meant ~mechanism/spring_stiffness).
   static std::vector<std::string> removeServerKeys(YAML::Node* tree);
 
+  // The config in force as the YAML tree it was loaded from (for ~checkpoint).
+  const YAML::Node& tree() const { return tree_; }
+
   // The reconfigurable values of `config`, for the log: "torque_limit 50 N m, ...".
   static std::string summary(const Config& config);
 

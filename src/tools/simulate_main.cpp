@@ -137,6 +137,15 @@ int runReplay(const Options& options, const kane_sim::Config& config) {
     std::cerr << "error: --replay: " << e.what() << "\n";
     return kExitReplayDiffers;
   }
+  if (!r.checkpoint_topic.empty())
+    std::cout << "started at the checkpoint of tick " << r.start_tick << " on "
+              << r.checkpoint_topic << " (its config), re-synchronised at " << r.resynchronised
+              << " later ones"
+              << (r.checkpoints_passed_over > 0
+                      ? " (passed over " + std::to_string(r.checkpoints_passed_over) +
+                            " earlier ones: inputs after them were not recorded)"
+                      : std::string())
+              << "\n";
   std::cout << "replayed " << r.inputs << " inputs of " << r.input_topic << "; compared "
             << r.compared << " states of " << r.state_topic << " (" << r.skipped
             << " skipped at a reset or set_state); largest difference " << num(r.largest);
@@ -149,7 +158,7 @@ int runReplay(const Options& options, const kane_sim::Config& config) {
     std::cerr << "interrupted: compared the " << r.compared << " states up to there\n";
     return kExitSignalBase + g_signal.load();
   }
-  if (r.parameter_changes > 0)
+  if (r.parameter_changes > 0 && r.checkpoint_topic.empty())
     std::cerr << "warning: the bag's run was reconfigured " << r.parameter_changes
               << " times at run time; the replay runs the config as given\n";
   if (r.compared == 0) {

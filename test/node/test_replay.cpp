@@ -12,6 +12,7 @@
 #include <std_srvs/Empty.h>
 #include <yaml-cpp/yaml.h>
 
+#include "kane_sim/Checkpoint.h"
 #include "kane_sim/InputLog.h"
 #include "kane_sim/SetState.h"
 #include "kane_sim/StepWithCommand.h"
@@ -29,8 +30,10 @@ using test::send;
 
 // A bag as rosbag record writes it: each message at its own stamp (sim time in /clock mode).
 void writeBag(const std::string& path, const std::vector<MechanismState>& states,
-              const std::vector<InputLog>& inputs, std::size_t leave_out = SIZE_MAX) {
+              const std::vector<InputLog>& inputs, std::size_t leave_out = SIZE_MAX,
+              const std::vector<Checkpoint>& checkpoints = {}) {
   rosbag::Bag bag(path, rosbag::bagmode::Write);
+  for (const Checkpoint& c : checkpoints) bag.write("/kane_sim/checkpoint", c.header.stamp, c);
   for (const MechanismState& m : states) bag.write("/mechanism_state", m.header.stamp, m);
   for (std::size_t i = 0; i < inputs.size(); ++i)
     if (i != leave_out) bag.write("/kane_sim/input_log", inputs[i].header.stamp, inputs[i]);
@@ -38,7 +41,9 @@ void writeBag(const std::string& path, const std::vector<MechanismState>& states
 
 TEST_F(Replay, ARecordedRunReplaysBitForBit) {
   Recorder<InputLog> inputs(nh_, "kane_sim/input_log");
+  Recorder<Checkpoint> checkpoints(nh_, "kane_sim/checkpoint");
   ASSERT_TRUE(test::waitFor([&] { return inputs.connected(); }, 10.0));
+  ASSERT_TRUE(checkpoints.waitForCount(1, 10.0));  // latched: the one at start
   state_.clear();
   // Drive it as a user would: commands at whatever wall times, a refused one, the services.
   send(torque_, 5.0);
@@ -53,6 +58,9 @@ TEST_F(Replay, ARecordedRunReplaysBitForBit) {
   ASSERT_TRUE(set_state.response.success);
   send(torque_, 8.0);
   test::sleepWall(0.3);
+  // A reconfiguration mid-run: replayed from the checkpoint it publishes (with its config).
+  ASSERT_EQ(test::reconfigure("spring_stiffness", 300.0), 300.0);
+  test::sleepWall(0.2);
   std_srvs::Empty empty;
   ASSERT_TRUE(ros::service::call("kane_sim/reset", empty));
   send(torque_, 60.0);  // clamped to 50
@@ -72,7 +80,8 @@ TEST_F(Replay, ARecordedRunReplaysBitForBit) {
   ASSERT_GE(logged.size(), 9u);  // 6 torques, set_state, reset, >= 2 from step_with_command
   const std::string dir = ::testing::TempDir();
   const std::string bag = dir + "/replay_test.bag", cut = dir + "/replay_cut.bag";
-  writeBag(bag, state_.messages(), logged);
+  const std::vector<Checkpoint> recorded = checkpoints.messages();
+  writeBag(bag, state_.messages(), logged, SIZE_MAX, recorded);
   writeBag(cut, state_.messages(), logged, 0);  // without the first command
   XmlRpc::XmlRpcValue params;
   ASSERT_TRUE(ros::param::get("/kane_sim", params));
@@ -86,6 +95,49 @@ TEST_F(Replay, ARecordedRunReplaysBitForBit) {
   EXPECT_NE(same.out.find("replayed " + std::to_string(logged.size()) + " inputs"),
             std::string::npos)
       << same.out;
+  // The bag holds the node's checkpoints (start, set_state, reconfigure, reset): the replay
+  // started at tick 0 and re-synchronised at each (the reconfiguration included).
+  ASSERT_GE(recorded.size(), 4u);
+  EXPECT_EQ(recorded[0].cause, "start");
+  EXPECT_NE(same.out.find("started at the checkpoint of tick 0"), std::string::npos) << same.out;
+  const std::string with_checkpoints = dir + "/replay_checkpoints.bag";
+  // Recorded mid-run: the recorder got the latched checkpoint of set_state, but the inputs before
+  // it, and between an older checkpoint and it, are not in the bag. It replays from the first
+  // checkpoint after which every input is there, bit for bit.
+  std::size_t at_set_state = 0;
+  while (at_set_state < recorded.size() && recorded[at_set_state].cause != "set_state")
+    ++at_set_state;
+  ASSERT_LT(at_set_state, recorded.size());
+  std::vector<InputLog> later;
+  for (const InputLog& log : logged)
+    if (log.seq >= recorded[at_set_state].next_input) later.push_back(log);
+  ASSERT_FALSE(later.empty());
+  const std::string mid_run = dir + "/replay_mid_run.bag";
+  writeBag(mid_run, state_.messages(), later, SIZE_MAX, recorded);
+  const test::CommandResult from_mid = test::runCommand(simulate + " --replay " + mid_run);
+  EXPECT_EQ(from_mid.exit_code, 0) << from_mid.out << from_mid.err;
+  EXPECT_NE(from_mid.out.find("started at the checkpoint of tick " +
+                              std::to_string(recorded[at_set_state].tick)),
+            std::string::npos)
+      << from_mid.out;
+  EXPECT_NE(from_mid.out.find("passed over " + std::to_string(at_set_state) + " earlier"),
+            std::string::npos)
+      << from_mid.out;
+  EXPECT_NE(from_mid.out.find("largest difference 0\n"), std::string::npos) << from_mid.out;
+  // The same bag without its checkpoints is refused by name (it once reported 74.28).
+  writeBag(mid_run, state_.messages(), later);
+  const test::CommandResult no_start = test::runCommand(simulate + " --replay " + mid_run);
+  EXPECT_EQ(no_start.exit_code, 6);
+  EXPECT_NE(no_start.err.find("has no ~checkpoint to start from"), std::string::npos)
+      << no_start.err;
+  // Without the reconfiguration's checkpoint the run after it cannot match.
+  std::vector<Checkpoint> without_reconfigure;
+  for (const Checkpoint& c : recorded)
+    if (c.cause != "reconfigure") without_reconfigure.push_back(c);
+  writeBag(with_checkpoints, state_.messages(), logged, SIZE_MAX, without_reconfigure);
+  const test::CommandResult unsynced = test::runCommand(simulate + " --replay " + with_checkpoints);
+  EXPECT_EQ(unsynced.exit_code, 6) << unsynced.out;
+
   // Without the first input: named as not recorded, not reported as a difference far from it.
   const test::CommandResult differs = test::runCommand(simulate + " --replay " + cut);
   EXPECT_EQ(differs.exit_code, 6) << differs.out << differs.err;

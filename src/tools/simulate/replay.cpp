@@ -3,16 +3,21 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iterator>
+#include <memory>
 #include <set>
 #include <vector>
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
+#include "kane_sim/Checkpoint.h"
 #include "kane_sim/InputLog.h"
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/format_number.h"
 #include "kane_sim/ros/messages.h"
+#include "kane_sim/sim/checkpoint.h"
+#include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/output_grid.h"
 #include "kane_sim/sim/sim_driver.h"
 
@@ -39,6 +44,14 @@ std::string onlyTopicOf(const rosbag::Bag& bag, const std::string& what) {
 // Every message on `topic`; ReplayError when one is of another version of M (recorded by an
 // older kane_sim: it would otherwise be skipped without a word).
 template <typename M>
+bool hasTopicOf(const rosbag::Bag& bag) {
+  const std::string type = ros::message_traits::datatype<M>();
+  for (const rosbag::ConnectionInfo* c : rosbag::View(bag).getConnections())
+    if (c->datatype == type) return true;
+  return false;
+}
+
+template <typename M>
 std::vector<M> readAll(const rosbag::Bag& bag, const std::string& topic) {
   std::vector<M> out;
   for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic))) {
@@ -58,25 +71,61 @@ std::string seqRange(std::uint64_t first, std::uint64_t last) {
                        : "inputs " + std::to_string(first) + "-" + std::to_string(last);
 }
 
-// The inputs in the order the node received them, refused with their numbers when some were
-// not recorded: a gap would otherwise show up as a difference far from its cause.
-void checkSequence(std::vector<kane_sim::InputLog>* logs, const std::string& topic) {
+// The inputs in the order the node received them, from `first` on (those before are inside the
+// starting checkpoint), refused with their numbers when some were not recorded: a gap would
+// otherwise show up as a difference far from its cause.
+void checkSequence(std::vector<kane_sim::InputLog>* logs, const std::string& topic,
+                   std::uint64_t first, bool from_checkpoint) {
   std::stable_sort(logs->begin(), logs->end(),
                    [](const auto& a, const auto& b) { return a.seq < b.seq; });
-  std::uint64_t expected = 0;
+  logs->erase(std::remove_if(logs->begin(), logs->end(),
+                             [first](const auto& log) { return log.seq < first; }),
+              logs->end());
+  std::uint64_t expected = first;
   for (const kane_sim::InputLog& log : *logs) {
     if (log.seq < expected) continue;  // recorded twice (two recorders merged): the same input
     if (log.seq > expected)
       throw ReplayError(seqRange(expected, log.seq - 1) + " of " + topic +
-                        (expected == 0 ? " were not recorded: the recording began after the node "
-                                         "had received them (record from the node's start)"
-                                       : " were not recorded (a gap in the bag)") +
+                        (expected != first ? " were not recorded (a gap in the bag)"
+                         : from_checkpoint
+                             ? " were not recorded after the bag's first ~checkpoint"
+                             : " were not recorded: the recording began after the node had "
+                               "received them and the bag has no ~checkpoint to start from "
+                               "(record the node's ~checkpoint too, e.g. rosbag record -a)") +
                         "; replaying without them would differ from the node");
     expected = log.seq + 1;
   }
   logs->erase(std::unique(logs->begin(), logs->end(),
                           [](const auto& a, const auto& b) { return a.seq == b.seq; }),
               logs->end());
+}
+
+// The config a checkpoint carries, through the one loader (a damaged one is named).
+kane_sim::Config checkpointConfig(const kane_sim::Checkpoint& c, const std::string& topic) {
+  try {
+    return kane_sim::loadSimulationConfig(YAML::Load(c.config)).config;
+  } catch (const std::exception& e) {
+    throw ReplayError("the " + c.cause + " checkpoint on " + topic + " at tick " +
+                      std::to_string(c.tick) + " holds a config the loader refuses: " + e.what());
+  }
+}
+
+// A driver at checkpoint `c`: built from its config, restored from its state.
+std::unique_ptr<kane_sim::SimDriver> driverAt(const kane_sim::Checkpoint& c,
+                                              const std::string& topic) {
+  auto driver = std::make_unique<kane_sim::SimDriver>(checkpointConfig(c, topic),
+                                                      kane_sim::SimDriver::EventHandler{});
+  try {
+    driver->restore(kane_sim::parseCheckpoint(c.state));
+  } catch (const kane_sim::CheckpointError& e) {
+    throw ReplayError("the " + c.cause + " checkpoint on " + topic + " at tick " +
+                      std::to_string(c.tick) + " cannot be restored: " + e.what());
+  }
+  if (driver->ticks() != c.tick)
+    throw ReplayError("the " + c.cause + " checkpoint on " + topic + " says tick " +
+                      std::to_string(c.tick) + " but holds tick " +
+                      std::to_string(driver->ticks()) + ": the bag is damaged");
+  return driver;
 }
 
 }  // namespace
@@ -93,8 +142,41 @@ ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& conf
   result.input_topic = onlyTopicOf<kane_sim::InputLog>(
       bag, "record the node's ~input_log, e.g. rosbag record -a, to replay its run");
   result.state_topic = onlyTopicOf<kane_sim::MechanismState>(bag, "the states to compare with");
+  // Checkpoints, when recorded: the run starts at the first (the driver, its config and the
+  // inputs it already holds) and re-synchronises at each later one.
+  std::vector<kane_sim::Checkpoint> checkpoints;
+  if (hasTopicOf<kane_sim::Checkpoint>(bag)) {
+    result.checkpoint_topic = onlyTopicOf<kane_sim::Checkpoint>(bag, "checkpoints");
+    checkpoints = readAll<kane_sim::Checkpoint>(bag, result.checkpoint_topic);
+    std::stable_sort(checkpoints.begin(), checkpoints.end(), [](const auto& a, const auto& b) {
+      return a.tick != b.tick ? a.tick < b.tick : a.next_input < b.next_input;
+    });
+  }
   std::vector<kane_sim::InputLog> logs = readAll<kane_sim::InputLog>(bag, result.input_topic);
-  checkSequence(&logs, result.input_topic);
+  // The run starts at the first checkpoint after which every input was recorded: a recorder
+  // started mid-run gets the latched checkpoint from before it began, and the inputs between
+  // that one and the recording's start are missing; the next checkpoint (<= 10 s on) is whole.
+  std::set<std::uint64_t> recorded;
+  for (const kane_sim::InputLog& log : logs) recorded.insert(log.seq);
+  const auto wholeFrom = [&recorded](std::uint64_t first) {
+    const auto from = recorded.lower_bound(first);
+    if (from == recorded.end()) return true;
+    const std::uint64_t last = *recorded.rbegin();
+    return *from == first &&
+           static_cast<std::uint64_t>(std::distance(from, recorded.end())) == last - first + 1;
+  };
+  std::size_t start = 0;
+  while (start < checkpoints.size() && !wholeFrom(checkpoints[start].next_input)) ++start;
+  if (start == checkpoints.size() && !checkpoints.empty()) start = 0;  // checkSequence names it
+  checkpoints.erase(checkpoints.begin(), checkpoints.begin() + static_cast<long>(start));
+  result.checkpoints_passed_over = start;
+  std::unique_ptr<kane_sim::SimDriver> driver =
+      checkpoints.empty()
+          ? std::make_unique<kane_sim::SimDriver>(config, kane_sim::SimDriver::EventHandler{})
+          : driverAt(checkpoints.front(), result.checkpoint_topic);
+  const std::uint64_t start_tick = driver->ticks();
+  checkSequence(&logs, result.input_topic, checkpoints.empty() ? 0 : checkpoints.front().next_input,
+                !checkpoints.empty());
   std::vector<kane_sim::DriverInput> inputs;
   for (const kane_sim::InputLog& msg : logs) {
     const auto input = kane_sim::driverInput(msg);
@@ -115,7 +197,7 @@ ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& conf
   if (states.empty()) throw ReplayError("no messages on " + result.state_topic);
   // Every state's sim time must be a time this run could have: finite, >= 0, within the longest
   // run, on the physics grid (a state at t = inf was once "compared" with tick 0 and passed).
-  const double rate = config.simulation.physics_rate;
+  const double rate = 1.0 / driver->simulator().stepSize();
   for (const kane_sim::MechanismState& m : states) {
     if (!(m.sim_time >= 0 && m.sim_time <= kane_sim::kMaxRunDuration))
       throw ReplayError("a state on " + result.state_topic + " has sim_time " +
@@ -141,33 +223,50 @@ ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& conf
         in.kind == kane_sim::DriverInput::Kind::kSetState)
       moved_at.insert(in.tick);
 
-  kane_sim::SimDriver driver(config, {});
-  std::size_t next = 0;
+  std::size_t next = 0;        // the next input to apply
+  std::size_t checkpoint = 1;  // the next checkpoint to re-synchronise at
+  // A checkpoint is due once the driver is at its tick with every input before it applied.
+  const auto checkpointDue = [&] {
+    return checkpoint < checkpoints.size() && checkpoints[checkpoint].tick <= driver->ticks() &&
+           (next == inputs.size() || logs[next].seq >= checkpoints[checkpoint].next_input);
+  };
   for (const kane_sim::MechanismState& m : states) {
     result.parameter_changes =
         std::max<std::uint64_t>(result.parameter_changes, m.parameter_changes);
     const auto target = static_cast<std::uint64_t>(std::llround(m.sim_time * rate));
-    if (target < driver.ticks()) continue;  // the same instant again (paused repeats)
+    if (target < driver->ticks()) continue;  // before the first checkpoint, or a repeat
     while (true) {
-      // What arrived at this tick is applied before the step from it, as in the node.
-      for (; next < inputs.size() && inputs[next].tick <= driver.ticks() && driver.ticks() < target;
-           ++next, ++result.inputs)
-        driver.apply(inputs[next]);
-      if (driver.ticks() >= target) break;
+      // What arrived at this tick is applied before the step from it, as in the node; a
+      // checkpoint taken between two of those inputs is met between them.
+      while (driver->ticks() < target) {
+        if (checkpointDue()) {
+          driver = driverAt(checkpoints[checkpoint++], result.checkpoint_topic);
+          ++result.resynchronised;
+        } else if (next < inputs.size() && inputs[next].tick <= driver->ticks()) {
+          driver->apply(inputs[next++]);
+          ++result.inputs;
+        } else {
+          break;
+        }
+      }
+      if (driver->ticks() >= target) break;
       if (stop && stop->load(std::memory_order_relaxed)) {
         result.interrupted = true;
         result.inputs_after_last_state = inputs.size() - next;
         return result;
       }
-      if (!driver.step())
-        throw ReplayError("the replay refused a step at t = " + std::to_string(driver.time()) +
+      if (!driver->step())
+        throw ReplayError("the replay refused a step at t = " + std::to_string(driver->time()) +
                           " s, where the node went on: --config is not the node's");
+      kane_sim::SensorReading reading;  // the node takes them as they come: so does the replay
+      while (driver->takeSensorReading(&reading)) {
+      }
     }
-    if (moved_at.count(target)) {
-      ++result.skipped;
+    if (moved_at.count(target) || (!checkpoints.empty() && target == start_tick)) {
+      ++result.skipped;  // both sides of a move, or the starting checkpoint's instant
       continue;
     }
-    const kane_sim::State& x = driver.simulator().state();
+    const kane_sim::State& x = driver->simulator().state();
     const double got[] = {m.q[0], m.q[1], m.u[0], m.u[1]};
     const double want[] = {x.q1, x.q2, x.u1, x.u2};
     static const char* names[] = {"q1", "q2", "u1", "u2"};
@@ -182,6 +281,7 @@ ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& conf
     ++result.compared;
   }
   result.inputs_after_last_state = inputs.size() - next;
+  result.start_tick = start_tick;
   return result;
 }
 

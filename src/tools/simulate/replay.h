@@ -1,8 +1,11 @@
 // `simulate --replay BAG`: the inputs a node logged on ~input_log (torque commands, servo
-// setpoints, resets, set_state, each with the physics tick it arrived at) fed to a fresh driver of
-// the same config at the same ticks, and every mechanism_state of the bag compared with the
-// replayed state at its sim time. A bag of the node replays bit for bit: the node steps the same
-// driver, and what arrives between two ticks is applied before the second, in both.
+// setpoints, resets, set_state, each with the physics tick it arrived at) fed to the driver at the
+// same ticks, and every mechanism_state of the bag compared with the replayed state at its sim
+// time. The driver starts at the bag's first ~checkpoint (its config and state; a recording may
+// begin mid-run) and restarts from each later one (resets, reconfigurations, every 10 s); a bag
+// without checkpoints starts a fresh driver of --config at t = 0. A bag of the node replays bit for
+// bit: the node steps the same driver, and what arrives between two ticks is applied before the
+// second, in both.
 #ifndef KANE_SIM_TOOLS_SIMULATE_REPLAY_H
 #define KANE_SIM_TOOLS_SIMULATE_REPLAY_H
 
@@ -29,7 +32,10 @@ struct ReplayResult {
   std::uint64_t parameter_changes = 0;        // runtime reconfigurations in the bag (not replayed)
   std::uint64_t inputs_after_last_state = 0;  // recorded after the last state: not replayed
   bool interrupted = false;                   // `stop` was set: compared up to there
-  std::string input_topic, state_topic;
+  std::uint64_t start_tick = 0;               // where it began: 0, or the first checkpoint's
+  std::uint64_t resynchronised = 0;           // later checkpoints the replay restarted from
+  std::uint64_t checkpoints_passed_over = 0;  // earlier ones with inputs after them missing
+  std::string input_topic, state_topic, checkpoint_topic;  // the last "" without checkpoints
 };
 
 // Throws ReplayError naming what the bag lacks or what is wrong with it (no input log, no
