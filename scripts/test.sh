@@ -16,4 +16,4 @@ set -u
 rm -rf "$KANE_SIM_BUILD_DIR/test_results"
 cd "$KANE_SIM_BUILD_DIR"
 # ctest is the gate: catkin's run_tests target exits 0 even when tests fail.
-ctest --output-on-failure
+ctest -j2 --output-on-failure

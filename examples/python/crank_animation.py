@@ -4,7 +4,8 @@ q1 = 1 rad, the motion is animated (a GIF) and the reaction forces Kane's method
 evidence are plotted over one crank turn driven by the velocity servo.
 
     source <build>/devel/setup.bash
-    python3 examples/python/crank_animation.py [OUT_DIR]    # writes OUT_DIR/crank.gif, ...
+    python3 examples/python/crank_animation.py [OUT_DIR]    # OUT_DIR/crank.gif, swing_up.png,
+                                                            # reactions_one_turn.png
 
 Runs headless (the tests run it). In a notebook, the same calls with kane_sim.animate(r,
 html=True) show the animation inline."""
@@ -38,7 +39,7 @@ L = cfg["mechanism.rod_half_length"]
 rest = cfg["initial_state.q2"] - 4 * L * np.cos(cfg["initial_state.q1"])  # x_C - x_B, unstretched
 turn.set_state([0.0, 4 * L + rest, 2 * np.pi, 0.0])  # q1 = 0, the spring at rest, 1 turn/s
 reactions = turn.run(1.0, torque=2 * np.pi, output_rate=1000)
-kane_sim.plot_result(reactions, os.path.join(out_dir, "reactions.png"), kind="reactions",
+kane_sim.plot_result(reactions, os.path.join(out_dir, "reactions_one_turn.png"), kind="reactions",
                      title="Reaction forces over one crank turn (velocity servo, 1 turn/s)")
 away = np.abs(np.cos(reactions["q1"])) > 0.1  # the toggle at q1 = 90, 270 deg aside
 print("one turn: |pin O| up to %.0f N away from the toggle"

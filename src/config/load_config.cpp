@@ -158,8 +158,8 @@ void requireNonNegative(const std::string& key, double value) {
 void requireRange(const std::string& key, double value, double lo, double hi,
                   const std::string& unit) {
   if (!(value >= lo && value <= hi))
-    throw ConfigError(key, "must be in [" + formatValue(lo) + ", " + formatValue(hi) + "] " + unit +
-                               ", got " + formatValue(value));
+    throw ConfigError(key, "must be in [" + formatValue(lo) + ", " + formatValue(hi) + "]" +
+                               (unit.empty() ? "" : " " + unit) + ", got " + formatValue(value));
 }
 
 void requireFrameName(const std::string& key, const std::string& name, bool allow_empty) {

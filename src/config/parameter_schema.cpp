@@ -948,26 +948,79 @@ std::string valueText(const ParameterSpec& spec, const Config& config) {
   return formatNumber(numericValue(spec, config));
 }
 
+namespace {
+
+struct ParameterRow {
+  std::string key, symbol, unit, fallback, rule, reconfigure, meaning;
+};
+
+ParameterRow parameterRow(const ParameterSpec& p, const Config& defaults) {
+  ParameterRow row;
+  row.key = p.path();
+  row.symbol = p.symbol;
+  row.unit = p.unit;
+  row.fallback = p.required        ? "required"
+                 : *p.default_text ? p.default_text
+                                   : valueText(p, defaults);
+  if (row.fallback.empty()) row.fallback = "\"\"";
+  // A value that is only read (finite) and then checked against others shows the latter.
+  row.rule = ruleText(p.rule, p.choices);
+  if (*p.cross_rule)
+    row.rule = p.rule.kind == ValueRule::kFinite ? p.cross_rule : row.rule + "; " + p.cross_rule;
+  row.reconfigure = p.reconfigurable() ? p.reconfigure.name : "";
+  row.meaning = p.doc;
+  return row;
+}
+
+std::string rowText(const ParameterRow& r) {
+  std::string out = r.key + "\n";
+  const auto field = [&out](const char* name, const std::string& value) {
+    if (!value.empty()) out += std::string("  ") + name + ": " + value + "\n";
+  };
+  field("symbol", r.symbol);
+  field("unit", r.unit);
+  field("default", r.fallback);
+  field("rule", r.rule);
+  field("reconfigure", r.reconfigure.empty() ? "" : r.reconfigure + " (dynamic_reconfigure)");
+  field("meaning", r.meaning);
+  return out;
+}
+
+}  // namespace
+
 std::string parameterTable() {
   const Config defaults;
   std::ostringstream table;
   table << "| key | symbol | unit | default | rule | reconfigure name | meaning |\n"
         << "|---|---|---|---|---|---|---|\n";
   for (const ParameterSpec& p : parameterSchema()) {
-    std::string fallback = p.required        ? "required"
-                           : *p.default_text ? p.default_text
-                                             : valueText(p, defaults);
-    if (fallback.empty()) fallback = "\"\"";
-    // A value that is only read (finite) and then checked against others shows the latter.
-    std::string rule = ruleText(p.rule, p.choices);
-    if (*p.cross_rule)
-      rule = p.rule.kind == ValueRule::kFinite ? p.cross_rule : rule + "; " + p.cross_rule;
-    table << "| " << p.path() << " | " << p.symbol << " | " << p.unit << " | " << fallback << " | "
-          << rule << " | "
-          << (p.reconfigurable() ? std::string("`") + p.reconfigure.name + "`" : "") << " | "
-          << p.doc << " |\n";
+    const ParameterRow r = parameterRow(p, defaults);
+    table << "| " << r.key << " | " << r.symbol << " | " << r.unit << " | " << r.fallback << " | "
+          << r.rule << " | " << (r.reconfigure.empty() ? "" : "`" + r.reconfigure + "`") << " | "
+          << r.meaning << " |\n";
   }
   return table.str();
+}
+
+std::string parameterText(const std::string& key) {
+  const Config defaults;
+  for (const ParameterSpec& p : parameterSchema())
+    if (p.path() == key) return rowText(parameterRow(p, defaults));
+  std::string known;
+  for (const ParameterSpec& p : parameterSchema())
+    if (p.path().find(key) != std::string::npos || key.find(p.key) != std::string::npos)
+      known += (known.empty() ? "" : ", ") + p.path();
+  throw std::invalid_argument("'" + key + "' is not a config key" +
+                              (known.empty() ? " (config_info parameters --text lists them)"
+                                             : "; did you mean " + known + "?"));
+}
+
+std::string parametersText() {
+  const Config defaults;
+  std::string out;
+  for (const ParameterSpec& p : parameterSchema())
+    out += (out.empty() ? "" : "\n") + rowText(parameterRow(p, defaults));
+  return out;
 }
 
 }  // namespace kane_sim

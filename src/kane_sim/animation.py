@@ -4,6 +4,8 @@ C++ model's geometry, kane_sim._core.mechanism_points), as a matplotlib animatio
 
 In a notebook: `kane_sim.animate(r, html=True)` shows it inline (JavaScript player, no ffmpeg
 needed); `kane_sim.animate(r, save="run.gif")` writes a GIF (Pillow)."""
+from collections.abc import Mapping
+
 import numpy as np
 
 from kane_sim import _core
@@ -38,6 +40,9 @@ def animate(result, rod_half_length=None, fps=25, speed=1.0, save=None, html=Fal
     rod_half_length: L [m] (default: the run's config); fps: frames per second of the video;
     speed: sim seconds per video second. save: a .gif (or any writer matplotlib has) to write;
     html: return the notebook's inline player (IPython HTML) instead of the animation."""
+    if not isinstance(result, Mapping):
+        raise TypeError("animate: result must be a kane_sim.Result (or a mapping of columns t, "
+                        "q1, q2), got %s" % type(result).__name__)
     if rod_half_length is None:
         config = getattr(result, "config", None)
         if config is None:

@@ -48,9 +48,11 @@ class Config:
                             % type(source).__name__)
 
     def __getitem__(self, name):
+        """A value by config name: cfg["mechanism.rod_mass"]."""
         return self._core.get(name)
 
     def __setitem__(self, name, value):
+        """Sets a value through the loader again (ConfigError: nothing changes)."""
         self._core = self._core.with_value(name, _yaml_scalar(value))
 
     def with_values(self, values):
@@ -62,14 +64,18 @@ class Config:
 
     @staticmethod
     def names():
+        """Every config name ("section.key") a Config takes."""
         return list(_core.Config.names())
 
     @property
     def warnings(self):
+        """What the loader said of the source (unknown keys, a jitter longer than the reading
+        period, ...)."""
         return list(self._core.warnings)
 
     @property
     def source(self):
+        """The file it was read from ("" for a dict)."""
         return self._core.source
 
     def yaml(self):
@@ -78,6 +84,18 @@ class Config:
 
     def __repr__(self):
         return "Config(%r)" % self.source
+
+
+def _real(what, value):
+    """A real number as a float: TypeError for complex numbers, strings and the like."""
+    if isinstance(value, (bool, complex, np.complexfloating)) or not isinstance(
+            value, (int, float, np.integer, np.floating)):
+        raise TypeError("%s must be a real number, got %r (%s)"
+                        % (what, value, type(value).__name__))
+    try:
+        return float(value)
+    except OverflowError:
+        raise ValueError("%s %r is beyond the range of a float" % (what, value)) from None
 
 
 def _plain(value):
@@ -110,7 +128,11 @@ class Result(Mapping):
         self.sensors = sensors
 
     def __getitem__(self, name):
-        return self.columns[name]
+        try:
+            return self.columns[name]
+        except KeyError:
+            raise KeyError("%r is not a column of this result; the columns are: %s"
+                           % (name, ", ".join(self.columns))) from None
 
     def __iter__(self):
         return iter(self.columns)
@@ -123,22 +145,27 @@ class Result(Mapping):
 
     @property
     def t(self):
+        """Sim time [s] of each row."""
         return self.columns["t"]
 
     @property
     def q(self):
+        """(q1 [rad], q2 [m]) per row: N x 2."""
         return self._stack("q1", "q2")
 
     @property
     def u(self):
+        """(u1 [rad/s], u2 [m/s]) per row: N x 2."""
         return self._stack("u1", "u2")
 
     @property
     def u_dot(self):
+        """(u1', u2') per row: N x 2, from the equations the integrator stepped."""
         return self._stack("u1dot", "u2dot")
 
     @property
     def torque(self):
+        """The torque delivered [N m] per row (clamped, the motor line)."""
         return self.columns["torque"]
 
     def _group(self, names):
@@ -146,22 +173,27 @@ class Result(Mapping):
 
     @property
     def energies(self):
+        """Kinetic, potential and total energy [J] by name."""
         return self._group(columns.ENERGIES)
 
     @property
     def ledger(self):
+        """The energy ledger [J]: motor work W, dissipated D, E + D - W and its parts."""
         return self._group(columns.LEDGER)
 
     @property
     def reactions(self):
+        """Reaction forces [N, N m] at the pins and rails (Kane's auxiliary speeds)."""
         return self._group(columns.REACTIONS)
 
     @property
     def powers(self):
+        """Each load's power [W] by its short name; they add up to dT/dt."""
         return {short: self.columns[name] for short, name in columns.POWERS}
 
     @property
     def kinetic_per_body(self):
+        """Each body's kinetic energy [J] by body."""
         return {body: self.columns[name] for body, name in columns.KINETIC_PER_BODY}
 
     def __repr__(self):
@@ -183,6 +215,17 @@ class Simulator:
         self._config = config if isinstance(config, Config) else Config(config)
         self._sim = _core.Simulator(self._config._core)
 
+    def __copy__(self):
+        raise TypeError("a Simulator cannot be copied (a copy would share its driver): build "
+                        "another from its config, Simulator(sim.config), and set_state(sim.state)")
+
+    def __deepcopy__(self, memo):
+        raise TypeError("a Simulator cannot be deep-copied: build another from its config, "
+                        "Simulator(sim.config), and set_state(sim.state)")
+
+    def __reduce__(self):
+        raise TypeError("a Simulator cannot be pickled: pickle its config's yaml() and state")
+
     @property
     def config(self):
         """The config in force (runtime changes included)."""
@@ -190,22 +233,27 @@ class Simulator:
 
     @property
     def state(self):
+        """(q1 [rad], q2 [m], u1 [rad/s], u2 [m/s]) now, as a NumPy array."""
         return self._sim.state
 
     @property
     def time(self):
+        """Sim time [s] since the start (reset and set_state never move it back)."""
         return self._sim.time
 
     @property
     def ticks(self):
+        """Physics steps taken since the start."""
         return self._sim.ticks
 
     @property
     def step_size(self):
+        """One physics step [s]: 1 / simulation.physics_rate."""
         return self._sim.step_size
 
     @property
     def torque(self):
+        """The torque [N m] (servo modes: the setpoint) that step() holds."""
         return self._sim.torque
 
     def set_state(self, state):
@@ -213,17 +261,31 @@ class Simulator:
         self._sim.set_state(np.asarray(state, dtype=float))
 
     def reset(self):
+        """Back to the config's initial state, like ~reset: work and ledger 0, the command
+        forgotten, sensor readings in flight dropped; sim time runs on."""
         self._sim.reset()
 
     def set_torque(self, torque):
-        self._sim.set_torque(float(torque))
+        """The torque [N m] (servo modes: the setpoint) that step() holds from now on; clamped
+        like torque_command, refused (ValueError) when not finite."""
+        self._sim.set_torque(_real("set_torque: torque", torque))
 
     def step(self, n=1):
-        """n physics steps with the torque in force; returns the state."""
+        """n physics steps (a whole number >= 1) with the torque in force; returns the state.
+        Ctrl-C stops them where they are (KeyboardInterrupt)."""
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
+            raise TypeError("step: n must be a whole number of physics steps, got %r (%s)"
+                            % (n, type(n).__name__))
         return self._sim.step(int(n))
 
     def run(self, duration, torque=None, output_rate=None):
-        columns = self._sim.run(float(duration), torque, output_rate)
+        """A run of `duration` [s] (on the output grid: a whole number of 1/output_rate) from
+        the state now -> Result with every CSV column, rows every 1/output_rate s (default
+        simulation.publish_rate). torque: a number, a TorqueProfile, an array of one value
+        per physics step, a callable f(t, state) -> float called before every step, or None
+        to hold the torque in force (servo modes: setpoints). Ctrl-C stops it
+        (KeyboardInterrupt; the rows until then are in last_result)."""
+        columns = self._sim.run(_real("run: duration", duration), torque, output_rate)
         return Result(columns, self.config, self._sim.last_readings)
 
     @property
@@ -242,10 +304,13 @@ class Simulator:
         return self._sim.snapshot()
 
     def rates(self, states, torque=0.0):
-        """x' = (q1', q2', u1', u2') of each row of states (N x 4) at torque (a number or N)."""
+        """x' = (q1', q2', u1', u2') of each row of states (N x 4) at torque (a number or N).
+        States whose rates are not finite, and torques beyond command.torque_limit, are refused
+        (ValueError naming the row)."""
         return self._sim.rates(np.asarray(states, dtype=float), np.asarray(torque, dtype=float))
 
     def __getitem__(self, name):
+        """A config value in force by name ("mechanism.rod_mass")."""
         return self._sim.get(name)
 
     def __setitem__(self, name, value):
@@ -253,7 +318,8 @@ class Simulator:
         self._sim.set(name, _yaml_scalar(value))
 
     def events(self):
-        """What the driver reported since the last call: [(t, message)]."""
+        """What the driver reported since the last call: [(t, message)]; each report once, at
+        its first time (a held torque is clamped at every re-send: one entry)."""
         return self._sim.take_events()
 
 

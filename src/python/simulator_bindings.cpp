@@ -72,7 +72,18 @@ class CallableCommands {
     const py::object out = f_(driver.time(), state);
     double value;
     try {
-      value = out.cast<double>();
+      // A float, or anything with __float__ (ints, NumPy scalars), but no complex: its real
+      // part would be a silent guess.
+      if (PyComplex_Check(out.ptr()) || !PyNumber_Check(out.ptr())) throw py::cast_error();
+      value = PyFloat_AsDouble(out.ptr());
+      if (value == -1.0 && PyErr_Occurred()) {
+        if (!PyErr_ExceptionMatches(PyExc_OverflowError)) throw py::error_already_set();
+        PyErr_Clear();
+        throw py::value_error(
+            "torque callable returned a number beyond the range of a float "
+            "at t = " +
+            num(driver.time()) + " s");
+      }
     } catch (const py::cast_error&) {
       throw py::type_error("torque callable returned " +
                            std::string(py::str(py::type::of(out).attr("__name__"))) +
@@ -485,6 +496,10 @@ class PythonSimulator {
   }
 
   void onEvent(const SimEvent& e) {
+    // The same report again (a held torque beyond the limit is clamped at every re-send): said
+    // once until the events are taken, as simulate says it once.
+    for (const auto& seen : events_)
+      if (seen.second == e.message) return;
     events_.emplace_back(e.time, e.message);
     if (events_.size() > kMaxEvents) events_.pop_front();
   }

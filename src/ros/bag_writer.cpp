@@ -62,6 +62,10 @@ void BagWriter::write(const PublishedMessages& m, const ros::Time& stamp, bool s
   });
 }
 
+void BagWriter::writeServoState(const kane_sim::ServoState& state) {
+  guarded([&](rosbag::Bag& bag) { bag.write("/servo_state", state.header.stamp, state); });
+}
+
 void BagWriter::writeSensorReading(const sensor_msgs::JointState& reading) {
   const std::string topic = std::string("/") + kJointStatesTopic;
   guarded([&](rosbag::Bag& bag) { bag.write(topic, reading.header.stamp, reading); });

@@ -233,6 +233,19 @@ Status Simulator::checkState(const State& x) const {
         << " 1/s (rate h = " << rate * step_size_ << ", at most " << kRk4StabilityLimit << ")";
     return refuse(msg.str());
   }
+  // One rule with step(): a state whose first step step() would refuse (the crank past 1 rad
+  // within it, a runaway) is refused here too (u1 h = 1 exactly was once accepted, and the
+  // next step refused).
+  OdeState trial = toOdeState(x);
+  odeint::runge_kutta4<OdeState> rk4;
+  if (equations_ == EquationsSource::kGenerated)
+    rk4.do_step(EquationsOfMotion<GeneratedMechanism>{&generated_, torque_}, trial, 0.0,
+                step_size_);
+  else
+    rk4.do_step(EquationsOfMotion<MechanismModel>{&model_, torque_}, trial, 0.0, step_size_);
+  if (!withinScale(trial) || !(std::abs(trial[2]) * step_size_ <= kMaxCrankTurnPerStep))
+    return refuse("would turn the crank more than 1 rad within its first rk4 step (u1 reaches " +
+                  formatNumber(trial[2]) + " rad/s), which rk4 cannot resolve");
   return {};
 }
 

@@ -7,6 +7,7 @@
 
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/config/parameter_schema.h"
+#include "kane_sim/format_number.h"
 #include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/sweep.h"
 
@@ -94,10 +95,12 @@ SweepPlan sweepGrid(const std::vector<SweepAxis>& axes) {
     plan.keys.push_back(axis.key);
     total *= static_cast<double>(axis.values.size());
   }
-  if (axes.empty() || total > kMaxCases)
+  if (axes.empty())
+    throw std::invalid_argument("a sweep needs at least one key to vary, the grid has none");
+  if (total > kMaxCases)
     throw std::invalid_argument("a sweep needs 1 to " +
                                 std::to_string(static_cast<long>(kMaxCases)) +
-                                " cases, the grid has " + std::to_string(total));
+                                " cases, the grid has " + formatNumber(total));
   std::vector<size_t> at(axes.size(), 0);
   for (long c = 0; c < static_cast<long>(total); ++c) {
     std::vector<double> values;

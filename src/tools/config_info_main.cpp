@@ -23,7 +23,13 @@ namespace {
 constexpr const char* kUsage =
     "usage: config_info urdf FILE [--frame-prefix PREFIX]\n"
     "       config_info use_sim_time FILE\n"
-    "       config_info parameters\n";
+    "       config_info parameters [--text | KEY]\n\n"
+    "What kane_sim's launch files and docs read from a config, without a ROS master:\n"
+    "  urdf FILE          the robot_description (URDF) of FILE's mechanism (sim.launch's)\n"
+    "  use_sim_time FILE  true or false: FILE's simulation.publish_clock (/use_sim_time)\n"
+    "  parameters         every config parameter as the README's Markdown table;\n"
+    "                     --text: the same for a terminal; KEY (e.g. mechanism.rod_mass): one\n"
+    "Exit 0 on success, 1 for a config the loader refuses, 2 for a usage error.\n";
 
 int usage(const std::string& problem) {
   std::cerr << "error: " << problem << "\n" << kUsage;
@@ -39,8 +45,18 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (!args.empty() && args[0] == "parameters") {
-    if (args.size() != 1) return usage("parameters takes no arguments");
-    std::cout << kane_sim::parameterTable();
+    if (args.size() > 2) return usage("parameters takes at most one argument: --text or a KEY");
+    if (args.size() == 1) {
+      std::cout << kane_sim::parameterTable();
+    } else if (args[1] == "--text") {
+      std::cout << kane_sim::parametersText();
+    } else {
+      try {
+        std::cout << kane_sim::parameterText(args[1]);
+      } catch (const std::invalid_argument& e) {
+        return usage(e.what());
+      }
+    }
     return 0;
   }
   if (args.size() < 2) return usage("a command and a config FILE are needed");

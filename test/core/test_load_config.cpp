@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/config/parameter_schema.h"
 #include "test_helpers.h"
 
 namespace kane_sim {
@@ -135,6 +136,22 @@ TEST(LoadConfig, WrongTypes) {
   root = defaultYaml();
   root["simulation"]["publish_clock"] = "sometimes";
   expectError(root, "simulation.publish_clock", "must be true or false, got 'sometimes'");
+}
+
+// Every numeric parameter's refusal reads as a sentence: no stray space before ", got" (a range
+// without a unit once read "must be in [0, 1000000] , got").
+TEST(LoadConfig, RefusalsHaveNoStraySpace) {
+  for (const ParameterSpec& p : parameterSchema()) {
+    if (!p.choices.empty()) continue;
+    YAML::Node root = defaultYaml();
+    root[p.section][p.key] = -1e300;
+    try {
+      loadConfig(root);
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(std::string(e.what()).find(" , got"), std::string::npos) << e.what();
+    } catch (const std::exception&) {
+    }
+  }
 }
 
 TEST(LoadConfig, OutOfRangeValuesNameKeyAndValue) {

@@ -157,6 +157,23 @@ TEST(Simulator, SetStateRefusesStatesThatCannotBeIntegrated) {
   EXPECT_TRUE(sim.setState(State{0.0, 1.2, 20.0, 0.0}).ok);  // a fast but resolvable spin
 }
 
+// One rule for set_state and step: a state set_state accepts takes its next step (u1 h = 1
+// exactly was accepted at q1 = pi/2, and the step after it refused).
+TEST(Simulator, AStateSetStateAcceptsTakesItsNextStep) {
+  Simulator sim(test::defaultConfig());
+  const Status edge = sim.setState(State{1.5707963, 1.2, 1000.0, 0.0});
+  EXPECT_FALSE(edge.ok);
+  EXPECT_NE(edge.error.find("within its first rk4 step"), std::string::npos) << edge.error;
+  int accepted = 0;
+  for (double u1 = 990.0; u1 <= 1000.0; u1 += 0.25)
+    for (double q1 : {0.0, 0.7, 1.5707963, 3.0}) {
+      if (!sim.setState(State{q1, 1.2, u1, 0.0}).ok) continue;
+      ++accepted;
+      EXPECT_TRUE(sim.step().ok) << "q1 " << q1 << " u1 " << u1;
+    }
+  EXPECT_GT(accepted, 20);
+}
+
 // Whatever state set_state accepts, every snapshot after it (published as it is) is finite:
 // random states over 20 decades, each accepted one stepped 200 times (dopri5: 20).
 TEST(Simulator, EverySnapshotAfterAnAcceptedStateIsFinite) {

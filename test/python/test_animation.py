@@ -28,7 +28,7 @@ def test_the_example_writes_its_animation_and_figures(tmp_path):
     gif.seek(20)
     middle = np.asarray(gif.convert("RGB"), dtype=int)
     assert np.abs(first - middle).sum() > 0
-    for png in ("swing_up.png", "reactions.png"):
+    for png in ("swing_up.png", "reactions_one_turn.png"):
         assert os.path.getsize(tmp_path / png) > 10000, png
     assert "one turn: |pin O| up to" in r.stdout
 
@@ -84,3 +84,26 @@ def test_the_readmes_python_example_runs_as_written(tmp_path):
                        text=True, timeout=240)
     assert r.returncode == 0, r.stderr
     assert Image.open(tmp_path / "swing.gif").n_frames > 10
+
+
+def test_every_figure_of_the_readme_has_its_command_and_it_runs(tmp_path):
+    """Each doc/*.png the README shows has the command that makes it beside it; the Python ones
+    run here into a scratch folder (the node's figures need a master: their commands are the
+    launch tests' own)."""
+    root = os.path.join(os.path.dirname(EXAMPLE), "..", "..")
+    readme = open(os.path.join(root, "README.md")).read()
+    commands = {
+        "doc/power_flow.png": "python3 doc/power_flow.py",
+        "doc/reactions_one_turn.png": "python3 examples/python/crank_animation.py doc",
+        "doc/linear_response.png": "python3 doc/linear_response.py BUILD_DIR",
+        "doc/sensors_vs_ideal.png": "rosrun kane_sim plot_bag noisy.bag --compare",
+    }
+    for figure, command in commands.items():
+        at = readme.index("(%s)" % figure)
+        near = readme[max(0, at - 1500):at + 1500]
+        assert command in near, "%s: no '%s' beside it" % (figure, command)
+    out = tmp_path / "power_flow.png"
+    r = subprocess.run([sys.executable, os.path.join(root, "doc", "power_flow.py"), str(out)],
+                       capture_output=True, text=True, timeout=240)
+    assert r.returncode == 0, r.stderr
+    assert Image.open(out).size[0] > 800

@@ -147,6 +147,69 @@ def test_wrong_types_raise_type_errors(sim):
         sim.run(0.01, torque=np.array(["fast"] * 10, dtype=object))
 
 
+def test_numbers_that_are_not_real_or_whole_are_type_errors(sim):
+    before = sim.state.copy(), sim.time
+    for n in (2.7, 1 + 0j, "3", True):
+        with pytest.raises(TypeError, match="step: n must be a whole number"):
+            sim.step(n)
+    with pytest.raises(TypeError, match="real number"):
+        sim.set_torque(1 + 2j)
+    with pytest.raises(TypeError, match="real number"):
+        sim.run(1 + 0j)
+    with pytest.raises(TypeError, match="expected a float"):
+        sim.run(0.01, torque=lambda t, x: 1 + 2j)
+    with pytest.raises(ValueError, match="beyond the range of a float"):
+        sim.run(0.01, torque=lambda t, x: 10 ** 400)
+    with pytest.raises(ValueError, match="beyond the range of a float"):
+        sim.set_torque(10 ** 400)
+    np.testing.assert_array_equal(sim.state, before[0])
+    assert sim.time == before[1]
+    assert sim.step(np.int64(2)) is not None  # NumPy's integers are whole numbers
+
+
+def test_copies_are_refused_by_name(sim):
+    import copy
+    import pickle
+    with pytest.raises(TypeError, match="Simulator cannot be copied"):
+        copy.copy(sim)
+    with pytest.raises(TypeError, match="Simulator cannot be deep-copied"):
+        copy.deepcopy(sim)
+    with pytest.raises(TypeError, match="Simulator cannot be pickled"):
+        pickle.dumps(sim)
+
+
+def test_a_missing_column_lists_the_columns(sim):
+    r = sim.run(0.01)
+    with pytest.raises(KeyError, match="'q3' is not a column of this result; the columns are: t, "
+                                       "q1, q2"):
+        r["q3"]
+
+
+def test_a_held_clamp_is_one_event_not_one_per_resend(sim):
+    sim.set_torque(80.0)  # beyond the 50 N m limit; step() re-sends it every 0.25 s
+    sim.step(2000)
+    clamps = [m for _, m in sim.events() if "clamped" in m]
+    assert len(clamps) == 1, clamps
+
+
+def test_every_public_method_has_a_docstring():
+    for cls in (kane_sim.Simulator, kane_sim.Config, kane_sim.Result):
+        for name in dir(cls):
+            if name.startswith("_") and name not in ("__getitem__", "__setitem__"):
+                continue
+            member = getattr(cls, name)
+            if name in ("__getitem__", "__setitem__") and cls is kane_sim.Result:
+                continue
+            if callable(member) or isinstance(member, property):
+                assert (member.__doc__ or "").strip(), "%s.%s has no docstring" % (
+                    cls.__name__, name)
+
+
+def test_animate_names_a_wrong_type():
+    with pytest.raises(TypeError, match="animate: result must be a kane_sim.Result"):
+        kane_sim.animate([1, 2, 3])
+
+
 def test_a_callables_exception_propagates_and_keeps_the_rows_until_then(sim):
     def law(t, x):
         if t >= 0.05:

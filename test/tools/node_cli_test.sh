@@ -42,12 +42,33 @@ parameter_table() {
   "$bin/config_info" parameters >"$work/out" 2>"$work/err" || { cat "$work/err"; return 1; }
   head -1 "$work/out" | grep -q "^| key | symbol | unit | default | rule |" &&
     grep -q "^| mechanism.rod_mass | m | kg | required | > 0 |" "$work/out" || { cat "$work/out"; return 1; }
-  "$bin/config_info" parameters extra >"$work/out" 2>"$work/err"
+  "$bin/config_info" parameters rod_mas >"$work/out" 2>"$work/err"
   local code=$?
-  [ "$code" -eq 2 ] && grep -q "parameters takes no arguments" "$work/err" ||
+  [ "$code" -eq 2 ] && grep -q "'rod_mas' is not a config key; did you mean mechanism.rod_mass" "$work/err" ||
     { echo "     exit $code"; cat "$work/err"; return 1; }
+  "$bin/config_info" parameters a b >"$work/out" 2>"$work/err"
+  code=$?
+  [ "$code" -eq 2 ] && grep -q "parameters takes at most one argument" "$work/err" ||
+    { echo "     exit $code"; cat "$work/err"; return 1; }
+  # One parameter, and every one for a terminal: "field: value" lines, no Markdown.
+  "$bin/config_info" parameters mechanism.spring_stiffness >"$work/out" 2>"$work/err" &&
+    head -1 "$work/out" | grep -qx "mechanism.spring_stiffness" &&
+    grep -qx "  unit: N/m" "$work/out" && grep -q "^  reconfigure: spring_stiffness" "$work/out" ||
+    { echo "     KEY:"; cat "$work/out" "$work/err"; return 1; }
+  "$bin/config_info" parameters --text >"$work/out" 2>"$work/err" &&
+    grep -qx "mechanism.rod_mass" "$work/out" && ! grep -q "^| " "$work/out" ||
+    { echo "     --text:"; head "$work/out"; return 1; }
 }
-check "config_info parameters prints the table; a stray argument is a usage error" parameter_table
+check "config_info parameters prints the table, one KEY or --text; a wrong key or stray arguments are usage errors" parameter_table
+
+sim_time_line() {  # config_info use_sim_time prints a whole line
+  local config
+  config=$(rospack find kane_sim)/config/mechanism.yaml
+  "$bin/config_info" use_sim_time "$config" >"$work/out" 2>"$work/err" || { cat "$work/err"; return 1; }
+  [ "$(cat "$work/out")" = false ] && [ "$(tail -c 1 "$work/out" | od -An -c | tr -d ' ')" = '\n' ] ||
+    { od -c "$work/out"; return 1; }
+}
+check "config_info use_sim_time ends its line" sim_time_line
 
 refuses_name() {  # refuses_name EXE ARG TEXT: exit 1 with TEXT on stderr, no abort
   timeout 5 "$bin/$1" "$2" >"$work/out" 2>"$work/err" </dev/null
@@ -83,7 +104,7 @@ tab_completion() {
   libexec=$(catkin_find --first-only --without-underlays --libexec kane_sim 2>/dev/null)
   find -L "$pkg" $libexec -type f -perm /111 ! -regex ".*/[.][^./].*" -printf '%f\n' | sort >"$work/tab"
   printf '%s\n' analyze bag_summary config_info crank_marker demo_supervisor kane_sim_node \
-    loop_bag node_tests pd_controller plot_bag simulate teleop_key | sort >"$work/want"
+    lockstep_controller loop_bag node_tests pd_controller plot_bag simulate teleop_key | sort >"$work/want"
   diff "$work/want" "$work/tab" >"$work/diff" || { echo "     expected < > offered:"; sed 's/^/     /' "$work/diff"; return 1; }
 }
 check "rosrun kane_sim <TAB> offers the user's tools, each once" tab_completion

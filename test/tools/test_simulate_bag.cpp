@@ -20,6 +20,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "kane_sim/MechanismState.h"
+#include "kane_sim/ServoState.h"
 #include "kane_sim/ros/messages.h"
 #include "test_helpers.h"
 
@@ -176,6 +177,32 @@ TEST(SimulateBagSensors, ReadingsOnJointStatesTruthOnJointStatesTrue) {
     EXPECT_NEAR(std::remainder(r.position[0], count), 0.0, 1e-9);
     EXPECT_EQ(r.effort[0], at->second.effort[0]);
   }
+}
+
+// In a servo mode the bag holds /servo_state as the node publishes it, one per state, with
+// the setpoint of the profile (it once lacked the topic).
+TEST(SimulateBagServo, AServoRunsBagHoldsServoState) {
+  ros::Time::init();
+  YAML::Node root = YAML::LoadFile(test::configPath("mechanism.yaml"));
+  root["command"]["mode"] = "position";
+  const std::string config = ::testing::TempDir() + "/simulate_servo.yaml";
+  std::ofstream(config) << root;
+  const std::string bag_file = ::testing::TempDir() + "/simulate_servo.bag";
+  const std::string cmd = std::string(KANE_SIM_SIMULATE_EXE) + " --config " + config +
+                          " --duration 1 --torque 0.8 --bag " + bag_file + " 2>/dev/null";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << cmd;
+  rosbag::Bag bag(bag_file);
+  std::vector<ServoState> servo;
+  size_t states = 0;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    if (m.getTopic() == "/servo_state") servo.push_back(*m.instantiate<ServoState>());
+    states += m.getTopic() == "/mechanism_state";
+  }
+  ASSERT_EQ(servo.size(), states);
+  EXPECT_EQ(servo.size(), 101u);
+  EXPECT_EQ(servo.back().setpoint, 0.8);
+  EXPECT_NEAR(servo.back().measured, 0.8, 0.05);  // held near the setpoint after 1 s
 }
 
 TEST(SimulateBagInterrupted, TheBagOfAnInterruptedRunReadsBack) {

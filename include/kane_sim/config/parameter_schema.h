@@ -98,6 +98,12 @@ std::string valueText(const ParameterSpec& spec, const Config& config);
 // The README's parameter table (Markdown), one row per parameter.
 std::string parameterTable();
 
+// One parameter as the table describes it, one "field: value" line each (config_info
+// parameters KEY), and every parameter so, for a terminal (config_info parameters --text).
+// parameterText throws std::invalid_argument naming an unknown key.
+std::string parameterText(const std::string& key);
+std::string parametersText();
+
 }  // namespace kane_sim
 
 #endif  // KANE_SIM_CONFIG_PARAMETER_SCHEMA_H

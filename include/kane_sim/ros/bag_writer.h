@@ -24,6 +24,8 @@ class BagWriter {
   // /clock, /joint_states (/joint_states_true with sensors on), /tf, /mechanism_state,
   // /visualization_markers at `stamp`.
   void write(const PublishedMessages& messages, const ros::Time& stamp, bool sensors_enabled);
+  // /servo_state (command.mode velocity | position), as the node publishes it.
+  void writeServoState(const kane_sim::ServoState& state);
   // A sensor reading on /joint_states, stamped when it is delivered.
   void writeSensorReading(const sensor_msgs::JointState& reading);
   void close();

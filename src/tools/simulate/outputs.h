@@ -87,7 +87,9 @@ class CsvOutput {
 class Outputs {
  public:
   Outputs(const Options& options, const kane_sim::Config& config)
-      : robot_(kane_sim::describeRobot(config)), sensors_enabled_(config.sensors.enabled) {
+      : robot_(kane_sim::describeRobot(config)),
+        sensors_enabled_(config.sensors.enabled),
+        mode_(config.command.mode) {
     // With a bag and no --csv, no CSV.
     if (!options.csv_path.empty() || options.bag_path.empty())
       csv_ = std::make_unique<CsvOutput>(options.csv_path);
@@ -114,6 +116,8 @@ class Outputs {
       try {
         // real_time_factor 0: offline, not paced against any wall clock.
         bag_->write(kane_sim::buildMessages(snapshot, robot_, 0.0, stamp), stamp, sensors_enabled_);
+        if (mode_ != kane_sim::CommandMode::kEffort)  // as the node: servo_state in servo modes
+          bag_->writeServoState(kane_sim::servoStateMessage(snapshot, mode_, stamp));
       } catch (const std::exception& e) {
         throw OutputError("writing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
       }
@@ -151,6 +155,7 @@ class Outputs {
  private:
   kane_sim::RobotDescription robot_;  // the node's tf tree, the same in the bag
   bool sensors_enabled_;
+  kane_sim::CommandMode mode_;
   std::unique_ptr<StagedPath> bag_file_;
   std::string bag_path_;
   std::unique_ptr<CsvOutput> csv_;
