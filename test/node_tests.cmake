@@ -24,6 +24,7 @@ catkin_add_executable_with_gtest(node_tests
   test/node/test_servo.cpp
   test/node/test_replay.cpp
   test/node/test_stamps.cpp
+  test/node/test_one_truth.cpp
   EXCLUDE_FROM_ALL)
 if(TARGET node_tests)
   target_include_directories(node_tests PRIVATE ${urdfdom_INCLUDE_DIRS})
@@ -38,7 +39,7 @@ if(TARGET node_tests)
   foreach(case topics torque commands services clock_mode bad_param namespaces controller robustness
       stalled leftover_sim_time slow_ticks robot_description robot_description_textbook rsp_tf
       reconfigure crank_marker teleop options fuzz resets resets_rsp lockstep lockstep_hog
-      lockstep_fallback lockstep_python lockstep_start stamps resets_paused_clock sensors servo
+      lockstep_fallback lockstep_python lockstep_start stamps resets_paused_clock one_truth sensors servo
       replay)
     add_rostest(test/node/${case}.test DEPENDENCIES node_tests kane_sim_node pd_controller simulate
       crank_marker teleop_key)
