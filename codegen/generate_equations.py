@@ -223,6 +223,11 @@ def render():
     return "\n".join(lines) + "\n"
 
 
+# The SymPy that generated the committed header: another version orders and names the common
+# subexpressions differently (the same equations, another text), so --check would differ.
+COMMITTED_WITH_SYMPY = "1.11"
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("output", nargs="?", default=DEFAULT_OUTPUT)
@@ -234,6 +239,13 @@ def main():
             if f.read() != text:
                 sys.stderr.write("%s differs from a fresh derivation (SymPy %s); regenerate with "
                                  "codegen/generate_equations.py\n" % (args.check, sp.__version__))
+                if not sp.__version__.startswith(COMMITTED_WITH_SYMPY):
+                    sys.stderr.write(
+                        "note: this is SymPy %s from %s (%s); the committed header was "
+                        "generated with SymPy %s, Debian 12's python3-sympy: run it with "
+                        "/usr/bin/python3\n" % (sp.__version__, sys.executable,
+                                                 os.path.dirname(sp.__file__),
+                                                 COMMITTED_WITH_SYMPY))
                 return 1
         print("%s matches the derivation (SymPy %s)" % (args.check, sp.__version__))
         return 0

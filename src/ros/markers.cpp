@@ -14,6 +14,9 @@ namespace {
 constexpr double kSpringHalfWidth = 0.03;  // [m] lateral amplitude of the zigzag
 constexpr int kSpringZigs = 12;
 constexpr double kArrowLength = 0.3;  // [m] at the torque limit
+// [m] at the least torque: the head (0.06 m) and some shaft, so that 5 N m of 50 still shows
+// (a length proportional to the torque alone drew a 3 mm stub there).
+constexpr double kMinArrowLength = 0.08;
 
 visualization_msgs::Marker baseMarker(const std::string& frame, const ros::Time& stamp,
                                       const std::string& ns, int id, int type, const float rgb[3]) {
@@ -103,7 +106,7 @@ visualization_msgs::MarkerArray mechanismMarkers(const Snapshot& snapshot, const
   const double fraction = torque_limit > 0 ? std::min(1.0, std::abs(snapshot.torque) / torque_limit)
                                            : (snapshot.torque != 0.0 ? 1.0 : 0.0);
   const double sense = snapshot.torque >= 0 ? 1.0 : -1.0;
-  const double arrow_length = std::max(1e-3, kArrowLength * fraction);
+  const double arrow_length = kMinArrowLength + (kArrowLength - kMinArrowLength) * fraction;
   const Eigen::Vector3d at_a(g.rod_length, 0, 0.03);
   arrow.points = {point(at_a), point(at_a + Eigen::Vector3d(0, sense * arrow_length, 0))};
   arrow.scale.x = 0.015;                         // shaft diameter

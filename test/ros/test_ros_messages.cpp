@@ -211,6 +211,15 @@ TEST_F(MessagesTest, TorqueArrowIsDeletedAtZeroTorque) {
   EXPECT_EQ(on.color.a, 1.0f);
   EXPECT_EQ(on.header.frame_id, robot_.frames.bodies[kRod1]);
   EXPECT_NEAR(on.points[0].x, s.geometry.rod_length, 1e-12);  // A, in rod 1's frame
+  // Its length grows with the torque from a visible least (head and shaft) to 0.3 m at the limit.
+  const auto length = [](const visualization_msgs::Marker& m) {
+    return std::hypot(m.points[1].x - m.points[0].x, m.points[1].y - m.points[0].y);
+  };
+  EXPECT_NEAR(length(on), 0.08 + 0.22 * 10.0 / 50.0, 1e-12);
+  s.torque = 5.0;  // a tenth of the limit: longer than the 0.06 m head
+  EXPECT_GT(length(torqueArrow(mechanismMarkers(s, robot_.frames, ros::Time(1)))), 0.1);
+  s.torque = -80.0;  // beyond the limit: the full length, the other way
+  EXPECT_NEAR(length(torqueArrow(mechanismMarkers(s, robot_.frames, ros::Time(1)))), 0.3, 1e-12);
   s.torque = 0.0;
   const auto off = torqueArrow(mechanismMarkers(s, robot_.frames, ros::Time(2)));
   EXPECT_EQ(off.action, visualization_msgs::Marker::DELETE);

@@ -135,21 +135,28 @@ TEST_F(SimulateBag, MarkersHaveStableIdsAndTheirLinksFrames) {
 
 // SIGINT during a long --bag run: the bag is closed properly (index written) and renamed into
 // place, so what was simulated reads back, every message in order; exit 130.
+// `simulate --bag` of the config `root` (written to a scratch file) with `args`; the bag's path.
+std::string writeBagOf(const YAML::Node& root, const std::string& name, const std::string& args) {
+  ros::Time::init();
+  const std::string config = ::testing::TempDir() + "/simulate_" + name + ".yaml";
+  std::ofstream(config) << root;
+  const std::string bag_file = ::testing::TempDir() + "/simulate_" + name + ".bag";
+  const std::string cmd = std::string(KANE_SIM_SIMULATE_EXE) + " --config " + config + " " + args +
+                          " --bag " + bag_file + " 2>/dev/null";
+  const int status = std::system(cmd.c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << cmd;
+  return bag_file;
+}
+
 // Sensors on (config/sensors.yaml over the default): /joint_states holds the readings, 100 Hz,
 // each stamped when it arrives (5..7 ms after its sample, so off the 10 ms output grid), within
 // noise, bias and half a count of the truth on /joint_states_true at the sample's instant.
 TEST(SimulateBagSensors, ReadingsOnJointStatesTruthOnJointStatesTrue) {
-  ros::Time::init();
   YAML::Node root = YAML::LoadFile(test::configPath("mechanism.yaml"));
   for (const auto& e : YAML::LoadFile(test::configPath("sensors.yaml"))["sensors"])
     root["sensors"][e.first.Scalar()] = e.second;
-  const std::string config = ::testing::TempDir() + "/simulate_sensors.yaml";
-  std::ofstream(config) << root;
-  const std::string bag_file = ::testing::TempDir() + "/simulate_sensors.bag";
-  const std::string cmd = std::string(KANE_SIM_SIMULATE_EXE) + " --config " + config +
-                          " --duration 2 --torque 3 --bag " + bag_file + " 2>/dev/null";
-  const int status = std::system(cmd.c_str());
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << cmd;
+  std::string bag_file;
+  ASSERT_NO_FATAL_FAILURE(bag_file = writeBagOf(root, "sensors", "--duration 2 --torque 3"));
   rosbag::Bag bag(bag_file);
   std::map<ros::Time, sensor_msgs::JointState> truth;
   std::vector<sensor_msgs::JointState> readings;
@@ -182,16 +189,10 @@ TEST(SimulateBagSensors, ReadingsOnJointStatesTruthOnJointStatesTrue) {
 // In a servo mode the bag holds /servo_state as the node publishes it, one per state, with
 // the setpoint of the profile (it once lacked the topic).
 TEST(SimulateBagServo, AServoRunsBagHoldsServoState) {
-  ros::Time::init();
   YAML::Node root = YAML::LoadFile(test::configPath("mechanism.yaml"));
   root["command"]["mode"] = "position";
-  const std::string config = ::testing::TempDir() + "/simulate_servo.yaml";
-  std::ofstream(config) << root;
-  const std::string bag_file = ::testing::TempDir() + "/simulate_servo.bag";
-  const std::string cmd = std::string(KANE_SIM_SIMULATE_EXE) + " --config " + config +
-                          " --duration 1 --torque 0.8 --bag " + bag_file + " 2>/dev/null";
-  const int status = std::system(cmd.c_str());
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << cmd;
+  std::string bag_file;
+  ASSERT_NO_FATAL_FAILURE(bag_file = writeBagOf(root, "servo", "--duration 1 --torque 0.8"));
   rosbag::Bag bag(bag_file);
   std::vector<ServoState> servo;
   size_t states = 0;
