@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "kane_sim/config/parameter_schema.h"
 #include "kane_sim/model/generated_mechanism.h"
 #include "kane_sim/sim/simulator.h"
 #include "test_helpers.h"
@@ -171,6 +172,50 @@ TEST(EquationsSetting, DefaultIsGeneratedAndTheKeyIsRead) {
   EXPECT_EQ(parseEquationsName("generic", "simulation.equations"), EquationsSource::kGeneric);
   EXPECT_EQ(parseEquationsName("generated", "simulation.equations"), EquationsSource::kGenerated);
   EXPECT_THROW(parseEquationsName("fast", "simulation.equations"), ConfigError);
+}
+
+}  // namespace
+}  // namespace kane_sim
+
+namespace kane_sim {
+namespace {
+
+// Every physical parameter of the schema (the mechanism's, each damper, the motor line's
+// no-load speed) changes the rates on both paths, one at a time: a field left out of the
+// generated constants, of MechanismParameters' fields() (equality) or of the damped-kernel
+// choice (a damper once ran the undamped kernel) fails here. Contact's parameters act through
+// impacts between steps, not through the rates.
+TEST(EveryParameter, ChangesTheRatesOnBothPaths) {
+  const Config base = test::defaultConfig();
+  const State x{0.7, 1.2, 1.5, -0.4};
+  const double torque = 7.0;
+  const auto rates = [&](const Config& c) {
+    const MechanismModel model = mechanismModel(c);
+    return std::make_pair(GeneratedMechanism(model).stateDerivative(x, torque),
+                          model.stateDerivative(x, torque));
+  };
+  const auto before = rates(base);
+  int checked = 0;
+  for (const ParameterSpec& p : parameterSchema()) {
+    const std::string section = p.section;
+    const bool physical =
+        section == "mechanism" || section == "damping" || p.path() == "command.motor_no_load_speed";
+    if (!physical || !p.field.number) continue;
+    SCOPED_TRACE(p.path());
+    Config changed = base;
+    double& value = p.field.number(changed);
+    value = value == 0.0 ? 0.7 : value * 1.3;
+    EXPECT_FALSE(changed.mechanism == base.mechanism) << "equality misses it";
+    const auto after = rates(changed);
+    const auto differs = [](const OdeState& a, const OdeState& b) {
+      return a[2] != b[2] || a[3] != b[3] || a[5] != b[5];
+    };
+    EXPECT_TRUE(differs(after.first, before.first)) << "the generated equations ignore it";
+    EXPECT_TRUE(differs(after.second, before.second)) << "the generic assembly ignores it";
+    EXPECT_NEAR(after.first[2], after.second[2], 1e-9 * (1 + std::abs(after.second[2])));
+    ++checked;
+  }
+  EXPECT_EQ(checked, 7 + 4 + 1);  // m, L, M1, M2, k, g, I; four dampers; w0
 }
 
 }  // namespace

@@ -17,7 +17,7 @@ class GeneratedMechanism {
   explicit GeneratedMechanism(const MechanismModel& model)
       : constants_(constantsOf(model)),
         motor_(model.parameters().motor),
-        damped_(!(model.parameters().damping == JointDamping{})) {}
+        damped_(model.parameters().damping.any()) {}
 
   // As MechanismModel::stateDerivative: q' = u, u' (eq 18), W' = M_m u1, D' (dampers' power),
   // with M_m the motor line's torque at u1 for the command.

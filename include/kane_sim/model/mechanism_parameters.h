@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 namespace kane_sim {
 
@@ -16,6 +17,13 @@ struct JointDamping {
   double coupler = 0.0;  // c_A [N m s/rad] pin A: -c_A (w2 - w1) k on rod 2, the opposite on rod 1
   double slider3 = 0.0;  // c_B [N s/m] slider 3 on the rail: -c_B v_B i at B
   double slider4 = 0.0;  // c_C [N s/m] slider 4 on the rail: -c_C v_C i at C
+
+  // Every field, once: equality and any() derive from it (a damper added above and not here
+  // fails test_generated_equations' every-parameter test).
+  auto fields() const { return std::tie(crank, coupler, slider3, slider4); }
+  bool any() const {
+    return std::apply([](auto... c) { return ((c != 0.0) || ...); }, fields());
+  }
 };
 
 // The drive's torque-speed line (a DC motor): in the direction the crank already turns it
@@ -46,6 +54,8 @@ struct SliderContact {
   // (description/body_shapes.h), so by default they touch when contact does.
   double gap = 0.07;
   double restitution = 0.5;  // e in [0, 1]: separating speed / approaching speed
+
+  auto fields() const { return std::tie(enabled, gap, restitution); }
 };
 
 struct MechanismParameters {
@@ -69,11 +79,17 @@ struct MechanismParameters {
   static double slenderRodInertia(double mass, double half_length) {
     return mass * (2.0 * half_length) * (2.0 * half_length) / 12.0;
   }
+
+  // Every field, once (equality derives from it: a field left out here would let a
+  // reconfiguration of it go unnoticed, as a damper once ran the undamped kernel).
+  auto fields() const {
+    return std::tie(rod_mass, rod_half_length, slider3_mass, slider4_mass, spring_stiffness,
+                    gravity, rod_inertia, damping, motor, contact);
+  }
 };
 
 inline bool operator==(const JointDamping& a, const JointDamping& b) {
-  return a.crank == b.crank && a.coupler == b.coupler && a.slider3 == b.slider3 &&
-         a.slider4 == b.slider4;
+  return a.fields() == b.fields();
 }
 // With the line off the stall torque plays no part in the physics (the command's clamp does
 // that job), so two lines that are off are the same whatever their torque_limit.
@@ -82,14 +98,10 @@ inline bool operator==(const MotorLine& a, const MotorLine& b) {
          (a.no_load_speed == 0.0 || a.torque_limit == b.torque_limit);
 }
 inline bool operator==(const SliderContact& a, const SliderContact& b) {
-  return a.enabled == b.enabled && a.gap == b.gap && a.restitution == b.restitution;
+  return a.fields() == b.fields();
 }
 inline bool operator==(const MechanismParameters& a, const MechanismParameters& b) {
-  return a.rod_mass == b.rod_mass && a.rod_half_length == b.rod_half_length &&
-         a.slider3_mass == b.slider3_mass && a.slider4_mass == b.slider4_mass &&
-         a.spring_stiffness == b.spring_stiffness && a.gravity == b.gravity &&
-         a.rod_inertia == b.rod_inertia && a.damping == b.damping && a.motor == b.motor &&
-         a.contact == b.contact;
+  return a.fields() == b.fields();
 }
 inline bool operator!=(const MechanismParameters& a, const MechanismParameters& b) {
   return !(a == b);
