@@ -619,9 +619,14 @@ bool KaneSimNode::onStep(std_srvs::Trigger::Request&, std_srvs::Trigger::Respons
 }
 
 bool KaneSimNode::onStepWithCommand(StepWithCommand::Request& req, StepWithCommand::Response& res) {
-  const auto refuse = [&res](const std::string& why) {
+  const auto refuse = [this, &res](const std::string& why) {
     res.success = false;
     res.message = why + "; nothing changed";
+    // The state as it is: a refusal never answers zeros.
+    const State& x = driver_.simulator().state();
+    res.time = driver_.time();
+    res.q1 = x.q1, res.q2 = x.q2, res.u1 = x.u1, res.u2 = x.u2;
+    res.applied_torque = driver_.snapshot().torque;
     return true;
   };
   if (!paused_)
@@ -665,17 +670,17 @@ bool KaneSimNode::onStepWithCommand(StepWithCommand::Request& req, StepWithComma
   const std::uint64_t done = static_cast<std::uint64_t>(
       std::llround((res.time - start) * config_.simulation.physics_rate));
   if (res.success)
-    msg << "advanced " << req.steps << " physics steps from t = " << start << " s to " << res.time
-        << " s";
+    msg << "advanced " << req.steps << " physics steps from t = " << formatNumber(start) << " s to "
+        << formatNumber(res.time) << " s";
   else if (end == RunEnd::kStopped)
-    msg << "stopped after " << done << " of " << req.steps << " physics steps at t = " << res.time
-        << " s: "
+    msg << "stopped after " << done << " of " << req.steps
+        << " physics steps at t = " << formatNumber(res.time) << " s: "
         << (out_of_time ? "the call's wall-time budget of " + formatNumber(kStepCallBudget) +
                               " s ran out (ask for fewer steps per call)"
                         : std::string("the node is shutting down"))
         << "; the state there is answered";
   else
-    msg << "a physics step was refused after t = " << res.time
+    msg << "a physics step was refused after t = " << formatNumber(res.time)
         << " s (see the log); the state there is answered";
   if (std::abs(req.torque) > config_.command.torque_limit)
     msg << "; torque " << formatNumber(req.torque) << " N m clamped to the limit "

@@ -11,6 +11,36 @@ namespace kane_sim {
 namespace {
 
 constexpr const char* kHeader = "kane_sim checkpoint 1";
+// 10^5 readings in flight of ~400 bytes each, and the rest: anything larger is not a driver's.
+constexpr size_t kMaxCheckpointBytes = 64u << 20;
+
+// The field names a checkpoint holds (delayedN and readingN numbered from 0).
+bool known(const std::string& name) {
+  static const char* const fixed[] = {"state",
+                                      "ticks",
+                                      "torque",
+                                      "ledger",
+                                      "counts",
+                                      "flags",
+                                      "dopri5_substep",
+                                      "command",
+                                      "delayed_commands",
+                                      "setpoint",
+                                      "servo",
+                                      "sensors_random",
+                                      "sensors_bias",
+                                      "sensors_last_delivery",
+                                      "readings"};
+  for (const char* f : fixed)
+    if (name == f) return true;
+  for (const char* prefix : {"delayed", "reading"}) {
+    const std::string p = prefix;
+    if (name.size() > p.size() && name.compare(0, p.size(), p) == 0 &&
+        name.find_first_not_of("0123456789", p.size()) == std::string::npos)
+      return true;
+  }
+  return false;
+}
 
 std::string hex(double v) {
   char buffer[40];
@@ -49,10 +79,17 @@ class Reader {
     if (header != kHeader)
       throw CheckpointError("not a kane_sim checkpoint (its first line is '" +
                             header.substr(0, 40) + "', expected '" + kHeader + "')");
+    if (text.size() > kMaxCheckpointBytes)
+      throw CheckpointError("a checkpoint of " + std::to_string(text.size()) +
+                            " bytes is larger than any driver's (" +
+                            std::to_string(kMaxCheckpointBytes) + ")");
     for (std::string line; std::getline(in, line);) {
       const size_t space = line.find(' ');
       const std::string name = line.substr(0, space);
       if (name.empty()) continue;
+      if (!known(name))
+        throw CheckpointError("checkpoint field '" + name.substr(0, 40) +
+                              "' is not one of a kane_sim checkpoint's");
       if (!lines_.emplace(name, space == std::string::npos ? "" : line.substr(space + 1)).second)
         throw CheckpointError("checkpoint field '" + name + "' appears twice");
     }

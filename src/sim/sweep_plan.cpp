@@ -168,7 +168,8 @@ namespace {
 constexpr const char* kNotAKey = "is not a config key the simulation reads (a typo?)";
 bool isParameter(const std::string& key) {
   const std::vector<std::string> parts = split(key, '.');
-  return findParameter(parts[0], parts[1]) != nullptr;
+  // "section.key" exactly ('' or 'nosuch' once read past the end of `parts`).
+  return parts.size() == 2 && findParameter(parts[0], parts[1]) != nullptr;
 }
 }  // namespace
 

@@ -137,7 +137,7 @@ int runReplay(const Options& options, const kane_sim::Config& config) {
     std::cerr << "error: --replay: " << e.what() << "\n";
     return kExitReplayDiffers;
   }
-  if (!r.checkpoint_topic.empty())
+  if (!r.checkpoint_topic.empty()) {
     std::cout << "started at the checkpoint of tick " << r.start_tick << " on "
               << r.checkpoint_topic << " (its config), re-synchronised at " << r.resynchronised
               << " later ones"
@@ -146,6 +146,16 @@ int runReplay(const Options& options, const kane_sim::Config& config) {
                             " earlier ones: inputs after them were not recorded)"
                       : std::string())
               << "\n";
+    if (!options.default_config)
+      std::cerr << "note: the bag's checkpoints carry the node's config; --config "
+                << options.config_path << " is not used\n";
+  }
+  if (r.interrupted) {
+    std::cerr << "interrupted at t = " << num(r.interrupted_at) << " s: compared " << r.compared
+              << " states of " << r.state_topic << " up to there, largest difference "
+              << num(r.largest) << "\n";
+    return kExitSignalBase + g_signal.load();
+  }
   std::cout << "replayed " << r.inputs << " inputs of " << r.input_topic << "; compared "
             << r.compared << " states of " << r.state_topic << " (" << r.skipped
             << " skipped at a reset or set_state); largest difference " << num(r.largest);
@@ -154,10 +164,6 @@ int runReplay(const Options& options, const kane_sim::Config& config) {
   if (r.inputs_after_last_state > 0)
     std::cerr << "note: " << r.inputs_after_last_state << " inputs arrived after the bag's last "
               << "state and were not replayed (nothing to compare them with)\n";
-  if (r.interrupted) {
-    std::cerr << "interrupted: compared the " << r.compared << " states up to there\n";
-    return kExitSignalBase + g_signal.load();
-  }
   if (r.parameter_changes > 0 && r.checkpoint_topic.empty())
     std::cerr << "warning: the bag's run was reconfigured " << r.parameter_changes
               << " times at run time; the replay runs the config as given\n";

@@ -337,6 +337,8 @@ TEST(Checkpoint, DamagedOrForeignCheckpointsAreRefusedByName) {
     }
   };
   refused("", "not a kane_sim checkpoint");
+  refused(good + "junk 1 2 3\n", "checkpoint field 'junk' is not one of");
+  refused(good + std::string(70 << 20, '#'), "larger than any driver's");
   refused("garbage\nstate 1 2 3 4\n", "not a kane_sim checkpoint");
   std::string no_state = good;
   no_state.erase(no_state.find("state "),

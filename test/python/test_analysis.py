@@ -57,6 +57,11 @@ def test_sweep_refusals():
     for duration in (math.nan, -1.0, math.inf, 1e16, 1.1e7):
         with pytest.raises(ValueError, match=r"duration must be in \[0, 1e\+07\] s"):
             kane_sim.sweep(cases={"mechanism.rod_mass": [1.0]}, duration=duration)
+    for key in ("", "nosuch", "a.b.c", "."):  # '' once crashed the interpreter
+        with pytest.raises(ValueError, match="sweep key '%s'" % key.replace(".", r"\.")):
+            kane_sim.sweep(cases={key: [1.0]}, duration=0.1)
+        with pytest.raises(ValueError, match="sweep key"):
+            kane_sim.sweep(grid={key: [1.0]}, duration=0.1)
     with pytest.raises(ValueError, match="at least one key to vary, the grid has none"):
         kane_sim.sweep(grid={}, duration=0.1)
     with pytest.raises(ValueError, match=r"jobs must be in \[0, \d+\]"):

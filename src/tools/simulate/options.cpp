@@ -157,7 +157,7 @@ bool parseOptions(int argc, char** argv, Options* options) {
   if (vm.count("replay")) {
     options->replay_bag = vm["replay"].as<std::string>();
     for (const char* flag : {"duration", "torque", "torque-step", "torque-sine", "torque-csv",
-                             "sweep", "sweep-file", "bag", "csv", "output-rate"})
+                             "sweep", "sweep-file", "bag", "csv", "output-rate", "integrator"})
       if (vm.count(flag) && !vm[flag].defaulted())
         throw UsageError(std::string("--replay takes the bag's inputs and times: no --") + flag);
     if (vm.count("tolerance")) {

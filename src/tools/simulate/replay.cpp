@@ -130,14 +130,10 @@ std::unique_ptr<kane_sim::SimDriver> driverAt(const kane_sim::Checkpoint& c,
 
 }  // namespace
 
-ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& config,
-                       const std::atomic<bool>* stop) {
-  rosbag::Bag bag;
-  try {
-    bag.open(bag_path, rosbag::bagmode::Read);
-  } catch (const std::exception& e) {
-    throw ReplayError("cannot read --replay '" + bag_path + "': " + e.what());
-  }
+namespace {
+
+ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& config,
+                           const std::atomic<bool>* stop) {
   ReplayResult result;
   result.input_topic = onlyTopicOf<kane_sim::InputLog>(
       bag, "record the node's ~input_log, e.g. rosbag record -a, to replay its run");
@@ -165,6 +161,25 @@ ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& conf
     return *from == first &&
            static_cast<std::uint64_t>(std::distance(from, recorded.end())) == last - first + 1;
   };
+  // A checkpoint's next_input says which inputs it already holds: an input that arrived after it
+  // (a later tick) with a smaller seq, or one before it with a larger, means a damaged one.
+  // (Inputs in seq order have non-decreasing ticks: the neighbours of next_input tell.)
+  std::stable_sort(logs.begin(), logs.end(),
+                   [](const auto& a, const auto& b) { return a.seq < b.seq; });
+  for (const kane_sim::Checkpoint& c : checkpoints) {
+    const auto after = std::lower_bound(
+        logs.begin(), logs.end(), c.next_input,
+        [](const kane_sim::InputLog& log, std::uint64_t seq) { return log.seq < seq; });
+    const kane_sim::InputLog* wrong = nullptr;
+    if (after != logs.begin() && std::prev(after)->tick > c.tick) wrong = &*std::prev(after);
+    if (after != logs.end() && after->tick < c.tick) wrong = &*after;
+    if (wrong)
+      throw ReplayError("the " + c.cause + " checkpoint on " + result.checkpoint_topic +
+                        " at tick " + std::to_string(c.tick) + " says the next input is " +
+                        std::to_string(c.next_input) + ", but input " + std::to_string(wrong->seq) +
+                        " arrived at tick " + std::to_string(wrong->tick) +
+                        ": the checkpoint is damaged");
+  }
   std::size_t start = 0;
   while (start < checkpoints.size() && !wholeFrom(checkpoints[start].next_input)) ++start;
   if (start == checkpoints.size() && !checkpoints.empty()) start = 0;  // checkSequence names it
@@ -175,6 +190,7 @@ ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& conf
           ? std::make_unique<kane_sim::SimDriver>(config, kane_sim::SimDriver::EventHandler{})
           : driverAt(checkpoints.front(), result.checkpoint_topic);
   const std::uint64_t start_tick = driver->ticks();
+  result.start_tick = start_tick;
   checkSequence(&logs, result.input_topic, checkpoints.empty() ? 0 : checkpoints.front().next_input,
                 !checkpoints.empty());
   std::vector<kane_sim::DriverInput> inputs;
@@ -252,24 +268,35 @@ ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& conf
       if (driver->ticks() >= target) break;
       if (stop && stop->load(std::memory_order_relaxed)) {
         result.interrupted = true;
-        result.inputs_after_last_state = inputs.size() - next;
+        result.interrupted_at = driver->time();
         return result;
       }
       if (!driver->step())
-        throw ReplayError("the replay refused a step at t = " + std::to_string(driver->time()) +
-                          " s, where the node went on: --config is not the node's");
+        throw ReplayError("the replay refused a step at t = " +
+                          kane_sim::formatNumber(driver->time()) + " s, where the node went on: " +
+                          (checkpoints.empty()
+                               ? std::string("--config is not the node's")
+                               : "the checkpoint it started from (tick " +
+                                     std::to_string(start_tick) + ") is not the node's: damaged?"));
       kane_sim::SensorReading reading;  // the node takes them as they come: so does the replay
       while (driver->takeSensorReading(&reading)) {
       }
     }
-    if (moved_at.count(target) || (!checkpoints.empty() && target == start_tick)) {
-      ++result.skipped;  // both sides of a move, or the starting checkpoint's instant
+    if (moved_at.count(target)) {
+      ++result.skipped;  // the bag holds both sides of a move at one instant
       continue;
     }
     const kane_sim::State& x = driver->simulator().state();
     const double got[] = {m.q[0], m.q[1], m.u[0], m.u[1]};
     const double want[] = {x.q1, x.q2, x.u1, x.u2};
     static const char* names[] = {"q1", "q2", "u1", "u2"};
+    if (!checkpoints.empty() && target == start_tick)
+      for (int i = 0; i < 4; ++i)
+        if (got[i] != want[i])
+          throw ReplayError("the checkpoint at tick " + std::to_string(start_tick) + " on " +
+                            result.checkpoint_topic + " holds " + names[i] + " = " +
+                            kane_sim::formatNumber(want[i]) + " where the bag's state there has " +
+                            kane_sim::formatNumber(got[i]) + ": the checkpoint is damaged");
     for (int i = 0; i < 4; ++i) {
       const double d = std::abs(got[i] - want[i]);
       if (d > result.largest) {
@@ -281,8 +308,24 @@ ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& conf
     ++result.compared;
   }
   result.inputs_after_last_state = inputs.size() - next;
-  result.start_tick = start_tick;
   return result;
+}
+
+}  // namespace
+
+ReplayResult replayBag(const std::string& bag_path, const kane_sim::Config& config,
+                       const std::atomic<bool>* stop) {
+  rosbag::Bag bag;
+  try {
+    bag.open(bag_path, rosbag::bagmode::Read);
+  } catch (const std::exception& e) {
+    throw ReplayError("cannot read --replay '" + bag_path + "': " + e.what());
+  }
+  try {
+    return replayOpenBag(bag, config, stop);
+  } catch (const rosbag::BagException& e) {  // a damaged chunk or record, met while reading
+    throw ReplayError("'" + bag_path + "' is damaged: " + e.what());
+  }
 }
 
 }  // namespace simulate

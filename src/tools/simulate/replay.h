@@ -32,6 +32,7 @@ struct ReplayResult {
   std::uint64_t parameter_changes = 0;        // runtime reconfigurations in the bag (not replayed)
   std::uint64_t inputs_after_last_state = 0;  // recorded after the last state: not replayed
   bool interrupted = false;                   // `stop` was set: compared up to there
+  double interrupted_at = 0.0;                // [s] the replay's sim time then
   std::uint64_t start_tick = 0;               // where it began: 0, or the first checkpoint's
   std::uint64_t resynchronised = 0;           // later checkpoints the replay restarted from
   std::uint64_t checkpoints_passed_over = 0;  // earlier ones with inputs after them missing
