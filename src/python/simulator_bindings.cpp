@@ -345,17 +345,15 @@ class PythonSimulator {
                               "command.torque_limit " + num(limit) + " N m");
     Array out = single ? Array(4) : Array({n, 4L});
     double* y = out.mutable_data();
-    const MechanismModel& model = driver_.simulator().model();
-    const GeneratedMechanism generated(model);
-    const bool use_generated = driver_.simulator().equations() == EquationsSource::kGenerated;
     const auto range = [&](long begin, long end) {
-      for (long i = begin; i < end; ++i) {
-        const State s{x[4 * i], x[4 * i + 1], x[4 * i + 2], x[4 * i + 3]};
-        const double torque_i = per_state ? m[i] : m[0];
-        const OdeState d = use_generated ? generated.stateDerivative(s, torque_i)
-                                         : model.stateDerivative(s, torque_i);
-        std::copy(d.begin(), d.begin() + 4, y + 4 * i);
-      }
+      driver_.simulator().withEquations([&](const auto& equations) {
+        for (long i = begin; i < end; ++i) {
+          const State s{x[4 * i], x[4 * i + 1], x[4 * i + 2], x[4 * i + 3]};
+          const OdeState d = equations.stateDerivative(s, per_state ? m[i] : m[0]);
+          std::copy(d.begin(), d.begin() + 4, y + 4 * i);
+        }
+        return 0;
+      });
     };
     py::gil_scoped_release release;
     const long kParallelFrom = 1 << 16;

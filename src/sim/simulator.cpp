@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 
 #include "integrator.h"
 #include "kane_sim/analysis/stability.h"
@@ -32,8 +33,7 @@ bool Simulator::separationAtLeast(const OdeState& x, double threshold) const {
 }
 
 Status Simulator::step() {
-  if (equations_ == EquationsSource::kGenerated) return stepWith(generated_);
-  return stepWith(model_);
+  return withEquations([this](const auto& equations) { return stepWith(equations); });
 }
 
 // Advances from x over at most `span`, and finds by bisection (to 2^-50 of the span) the last
@@ -237,12 +237,12 @@ Status Simulator::checkState(const State& x) const {
   // within it, a runaway) is refused here too (u1 h = 1 exactly was once accepted, and the
   // next step refused).
   OdeState trial = toOdeState(x);
-  odeint::runge_kutta4<OdeState> rk4;
-  if (equations_ == EquationsSource::kGenerated)
-    rk4.do_step(EquationsOfMotion<GeneratedMechanism>{&generated_, torque_}, trial, 0.0,
-                step_size_);
-  else
-    rk4.do_step(EquationsOfMotion<MechanismModel>{&model_, torque_}, trial, 0.0, step_size_);
+  withEquations([&](const auto& equations) {
+    odeint::runge_kutta4<OdeState>().do_step(
+        EquationsOfMotion<std::decay_t<decltype(equations)>>{&equations, torque_}, trial, 0.0,
+        step_size_);
+    return 0;
+  });
   if (!withinScale(trial) || !(std::abs(trial[2]) * step_size_ <= kMaxCrankTurnPerStep))
     return refuse("would turn the crank more than 1 rad within its first rk4 step (u1 reaches " +
                   formatNumber(trial[2]) + " rad/s), which rk4 cannot resolve");

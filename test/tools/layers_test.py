@@ -4,8 +4,11 @@ only from itself and from the targets it links (transitively). Reads CMakeLists.
 add_library / add_executable give each target its files, target_sources(T INTERFACE ...) the
 headers of a header-only target, target_link_libraries its dependencies; a header not listed
 belongs to the library of its folder (include/kane_sim/<layer>/ -> kane_sim_<layer>).
-kane_sim/format_number.h is shared by all. Also checks that doc/architecture.md names each
-library's dependencies as CMake declares them.
+kane_sim/format_number.h is shared by all. Private headers a file includes from its own folder
+are scanned as part of its target. A ROS-free target (kane_sim_ros_free in CMake) may include no
+ROS header and no message header: on Debian ROS's headers are on the default include path, so
+the build alone would not notice. Also checks that doc/architecture.md names each library's
+dependencies as CMake declares them.
 
 Usage: layers_test.py [SOURCE_DIR]   (exit 1 with one line per violation)
 """
@@ -17,6 +20,12 @@ ROOT = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file
 SHARED = {"kane_sim/format_number.h"}
 # The message headers catkin generates for this package: only the ROS layer and nodes see them.
 GENERATED = re.compile(r"kane_sim/[A-Z]\w*\.h$")
+# ROS's own headers: on Debian they sit on the default include path (/usr/include/ros, ...), so a
+# ROS-free layer that includes one would still compile; this test is what keeps them out.
+ROS_HEADER = re.compile(
+    r"#include <(ros|rosbag|rospy|roscpp|tf2|tf2_ros|tf2_msgs|std_msgs|std_srvs|sensor_msgs|"
+    r"geometry_msgs|visualization_msgs|rosgraph_msgs|diagnostic_msgs|diagnostic_updater|"
+    r"dynamic_reconfigure|interactive_markers|urdf|xmlrpcpp|actionlib|message_filters)/")
 
 
 def commands(text, name):
@@ -66,13 +75,23 @@ def main():
     for target, fs in sorted(files.items()):
         allowed = closure(target) | {target}
         for f in fs:
-            # A private header beside a source is part of that target.
+            # Private headers are part of the target that includes them: the one beside a
+            # source, and every "x.h" a file includes from its own folder (integrator.h,
+            # outputs.h, python_layer.h, ...), followed as far as they go.
             paths = [f]
             local = os.path.splitext(f)[0] + ".h"
             if f.endswith(".cpp") and local not in fs and os.path.exists(os.path.join(ROOT, local)):
                 paths.append(local)
             for path in paths:
                 for line_no, line in enumerate(open(os.path.join(ROOT, path)), 1):
+                    if target in ros_free and ROS_HEADER.match(line):
+                        problems.append("%s:%d: %s in ROS-free %s"
+                                        % (path, line_no, line.strip(), target))
+                    private = re.match(r'#include "([^"/]+\.h)"', line)
+                    if private:
+                        beside = os.path.join(os.path.dirname(path), private.group(1))
+                        if os.path.exists(os.path.join(ROOT, beside)) and beside not in paths:
+                            paths.append(beside)
                     m = re.match(r'#include "(kane_sim/[^"]+)"', line)
                     if not m or m.group(1) in SHARED:
                         continue

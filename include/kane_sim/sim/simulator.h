@@ -93,6 +93,12 @@ class Simulator {
   bool stepTooCoarse() const { return step_too_coarse_; }
   const MechanismModel& model() const { return model_; }
   EquationsSource equations() const { return equations_; }
+  // f(equations) with the equations the integrators step: the GeneratedMechanism or the
+  // MechanismModel (both have stateDerivative(x, torque)). The one place that picks.
+  template <class F>
+  decltype(auto) withEquations(F&& f) const {
+    return equations_ == EquationsSource::kGenerated ? f(generated_) : f(model_);
+  }
 
   // Everything a step depends on beyond the config (sim/checkpoint.h writes it down): restored
   // into a Simulator built from the same config, the two step alike, bit for bit.
