@@ -39,7 +39,8 @@ if(TARGET node_tests)
   foreach(case topics torque commands services clock_mode bad_param namespaces controller robustness
       stalled leftover_sim_time slow_ticks robot_description robot_description_textbook rsp_tf
       reconfigure crank_marker teleop options fuzz resets resets_rsp lockstep lockstep_hog
-      lockstep_fallback lockstep_python lockstep_start stamps resets_paused_clock one_truth sensors servo
+      lockstep_fallback lockstep_python lockstep_start stamps resets_paused_clock
+      resets_paused_clock_rsp one_truth sensors servo
       replay)
     add_rostest(test/node/${case}.test DEPENDENCIES node_tests kane_sim_node pd_controller simulate
       crank_marker teleop_key)
