@@ -378,16 +378,28 @@ bool isMergeKey(const YAML::Node& key) {
   return key.IsScalar() && key.Scalar() == "<<" && key.Tag() != "!";  // not the quoted "<<"
 }
 
-bool hasMergeKey(const YAML::Node& node) {
-  if (node.IsSequence())
-    return std::any_of(node.begin(), node.end(),
-                       [](const YAML::Node& n) { return hasMergeKey(n); });
-  if (!node.IsMap()) return false;
-  for (const auto& entry : node)
-    if (isMergeKey(entry.first) || hasMergeKey(entry.second)) return true;
-  return false;
-}
+// A config has ~100 nodes; aliases of aliases can make a few lines stand for billions (each
+// alias is walked again), so the walk gives up past this many.
+constexpr long kMaxYamlNodes = 100000;
 
+// Whether `node` holds a merge key anywhere; counts the nodes walked in `walked` and throws
+// ConfigError past kMaxYamlNodes.
+bool hasMergeKey(const YAML::Node& node, long* walked) {
+  if (++*walked > kMaxYamlNodes)
+    throw ConfigError("file", "holds more than " + std::to_string(kMaxYamlNodes) +
+                                  " YAML nodes once its aliases are expanded (a config has about "
+                                  "a hundred): aliases of aliases?");
+  if (node.IsSequence()) {
+    bool found = false;
+    for (const YAML::Node& item : node) found = hasMergeKey(item, walked) || found;
+    return found;
+  }
+  if (!node.IsMap()) return false;
+  bool found = false;
+  for (const auto& entry : node)  // the whole tree: its size is what is bounded
+    found = hasMergeKey(entry.second, walked) || isMergeKey(entry.first) || found;
+  return found;
+}
 // Duplicate keys are kept (force_insert) for the loader to name.
 YAML::Node expandMergeKeys(const YAML::Node& node) {
   if (node.IsSequence()) {
@@ -452,7 +464,9 @@ YAML::Node loadYamlFile(const std::string& path) {
                                   " YAML documents; a config is one document (no '---' between "
                                   "sections)");
   if (documents.empty()) return YAML::Node();
-  return hasMergeKey(documents.front()) ? expandMergeKeys(documents.front()) : documents.front();
+  long walked = 0;  // expandMergeKeys walks no more nodes than this check did
+  return hasMergeKey(documents.front(), &walked) ? expandMergeKeys(documents.front())
+                                                 : documents.front();
 }
 
 LoadedConfig loadConfigFile(const std::string& path) { return loadConfig(loadYamlFile(path)); }

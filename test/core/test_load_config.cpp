@@ -328,6 +328,16 @@ TEST(LoadConfig, UnreadableOrMalformedFile) {
   expectFileError("two.yaml", "mechanism: {}\n---\nmechanism: {}\n", "holds 2 YAML documents");
   expectFileError("/dev/zero", "", "not a regular file");
   expectFileError("merge_scalar.yaml", "damping: {<<: 3}\n", "a merge key '<<' must name a map");
+  // Aliases of aliases: six lines that stand for 10^7 nodes are refused at once (they once kept
+  // simulate busy for minutes).
+  std::string laughs = "l0: &l0 [a, a, a, a, a, a, a, a, a, a]\n";
+  for (int i = 1; i <= 7; ++i)
+    laughs += "l" + std::to_string(i) + ": &l" + std::to_string(i) + " [" + [&] {
+      std::string items;
+      for (int k = 0; k < 10; ++k) items += (k ? ", *l" : "*l") + std::to_string(i - 1);
+      return items;
+    }() + "]\n";
+  expectFileError("laughs.yaml", laughs, "aliases of aliases");
 }
 
 // A merge key reads as rosparam (PyYAML) reads it: the node and the offline tools see one
