@@ -382,22 +382,30 @@ bool isMergeKey(const YAML::Node& key) {
 // alias is walked again), so the walk gives up past this many.
 constexpr long kMaxYamlNodes = 100000;
 
+// A config is two levels deep (section, key); an alias that contains itself is infinitely deep.
+constexpr int kMaxYamlDepth = 64;
+
 // Whether `node` holds a merge key anywhere; counts the nodes walked in `walked` and throws
-// ConfigError past kMaxYamlNodes.
-bool hasMergeKey(const YAML::Node& node, long* walked) {
+// ConfigError past kMaxYamlNodes or kMaxYamlDepth.
+bool hasMergeKey(const YAML::Node& node, long* walked, int depth = 0) {
   if (++*walked > kMaxYamlNodes)
     throw ConfigError("file", "holds more than " + std::to_string(kMaxYamlNodes) +
                                   " YAML nodes once its aliases are expanded (a config has about "
                                   "a hundred): aliases of aliases?");
+  if (depth > kMaxYamlDepth)
+    throw ConfigError(
+        "file", "nests deeper than " + std::to_string(kMaxYamlDepth) +
+                    " levels once its aliases are expanded (a config has two): an alias inside "
+                    "its own anchor, or anchors nested in anchors?");
   if (node.IsSequence()) {
     bool found = false;
-    for (const YAML::Node& item : node) found = hasMergeKey(item, walked) || found;
+    for (const YAML::Node& item : node) found = hasMergeKey(item, walked, depth + 1) || found;
     return found;
   }
   if (!node.IsMap()) return false;
   bool found = false;
   for (const auto& entry : node)  // the whole tree: its size is what is bounded
-    found = hasMergeKey(entry.second, walked) || isMergeKey(entry.first) || found;
+    found = hasMergeKey(entry.second, walked, depth + 1) || isMergeKey(entry.first) || found;
   return found;
 }
 // Duplicate keys are kept (force_insert) for the loader to name.

@@ -276,6 +276,8 @@ class Simulator:
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
             raise TypeError("step: n must be a whole number of physics steps, got %r (%s)"
                             % (n, type(n).__name__))
+        if int(n) * self.step_size > 1e7:  # simulate's longest run; also keeps n in a C++ long
+            raise ValueError("step: n = %d physics steps is more than 1e7 s of sim time" % n)
         return self._sim.step(int(n))
 
     def run(self, duration, torque=None, output_rate=None):

@@ -338,6 +338,14 @@ TEST(LoadConfig, UnreadableOrMalformedFile) {
       return items;
     }() + "]\n";
   expectFileError("laughs.yaml", laughs, "aliases of aliases");
+  // An alias inside its own anchor (a cycle) once overflowed the stack.
+  expectFileError("cycle.yaml", "a: &a\n  x: *a\nmechanism:\n  <<: *a\n  rod_mass: 1.0\n",
+                  "an alias inside its own anchor");
+  std::string chain = "a0: &a0 {rod_mass: 1.0}\n";
+  for (int i = 1; i <= 2000; ++i)
+    chain += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " {<<: *a" +
+             std::to_string(i - 1) + "}\n";
+  expectFileError("chain.yaml", chain, "nests deeper than 64 levels");
 }
 
 // A merge key reads as rosparam (PyYAML) reads it: the node and the offline tools see one

@@ -149,6 +149,8 @@ def test_wrong_types_raise_type_errors(sim):
 
 def test_numbers_that_are_not_real_or_whole_are_type_errors(sim):
     before = sim.state.copy(), sim.time
+    with pytest.raises(ValueError, match="more than 1e7 s of sim time"):
+        sim.step(2 ** 63)
     for n in (2.7, 1 + 0j, "3", True):
         with pytest.raises(TypeError, match="step: n must be a whole number"):
             sim.step(n)
