@@ -61,6 +61,27 @@ parameter_table() {
 }
 check "config_info parameters prints the table, one KEY or --text; a wrong key or stray arguments are usage errors" parameter_table
 
+# loop_bag refuses what it cannot play before it contacts a master (no master runs here).
+loop_bag_refusals() {
+  "$bin/simulate" --duration 0.1 --bag "$work/run.bag" 2>/dev/null || return 1
+  local args expected
+  while IFS='|' read -r args expected; do
+    # shellcheck disable=SC2086
+    timeout 10 /usr/bin/python3 "$(rospack find kane_sim)/scripts/loop_bag" $args >"$work/out" 2>"$work/err"
+    local code=$?
+    [ "$code" -eq 1 ] && grep -q -- "$expected" "$work/err" ||
+      { echo "     loop_bag $args: exit $code"; cat "$work/err"; return 1; }
+  done <<EOF_CASES
+$work/run.bag --rate 0|--rate must be in (0, 1e6), got 0.0
+$work/run.bag --rate nan|--rate must be in (0, 1e6), got nan
+$work/run.bag --delay -5|--delay must be in
+$work/run.bag --passes -1|--passes must be >= 0
+/nonexistent.bag|cannot read /nonexistent.bag
+$work|cannot read
+EOF_CASES
+}
+check "loop_bag refuses bad rates, delays, passes and files by name" loop_bag_refusals
+
 sim_time_line() {  # config_info use_sim_time prints a whole line
   local config
   config=$(rospack find kane_sim)/config/mechanism.yaml
