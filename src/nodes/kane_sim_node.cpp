@@ -533,7 +533,12 @@ void KaneSimNode::publishCheckpoint(const std::string& cause) {
   msg.cause = cause;
   msg.tick = driver_.ticks();
   msg.next_input = input_seq_;
-  msg.config = YAML::Dump(runtime_parameters_ ? runtime_parameters_->tree() : parameter_tree_);
+  // The config's text changes only at a reconfiguration: written once per change, not per
+  // periodic checkpoint.
+  if (checkpoint_config_.empty())
+    checkpoint_config_ =
+        YAML::Dump(runtime_parameters_ ? runtime_parameters_->tree() : parameter_tree_);
+  msg.config = checkpoint_config_;
   msg.state = checkpointText(driver_.checkpoint());
   checkpoint_pub_.publish(msg);
 }
@@ -580,6 +585,7 @@ void KaneSimNode::onReconfigure(const Config& config) {
   publishRobotDescription();
   if (config_.simulation.real_time_factor != old_factor)
     loop_.setPeriod(tickPeriod(config_.simulation));
+  checkpoint_config_.clear();  // the tree changed: written again at this checkpoint
   publishCheckpoint("reconfigure");
   ROS_INFO("kane_sim: reconfigured (from the next physics step): %s",
            RuntimeParameters::summary(config_).c_str());

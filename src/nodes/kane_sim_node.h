@@ -103,6 +103,7 @@ class KaneSimNode {
   std::uint64_t ticks_per_publish_;
   bool paused_;
   std::uint64_t checkpoint_ticks_;   // a periodic ~checkpoint every this many ticks (10 s)
+  std::string checkpoint_config_;    // the config in force as YAML ("" until written)
   bool realtime_scheduled_ = false;  // the physics loop's thread runs SCHED_FIFO
 
   ros::Subscriber torque_sub_;

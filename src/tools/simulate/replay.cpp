@@ -238,7 +238,29 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
     if (in.kind == kane_sim::DriverInput::Kind::kReset ||
         in.kind == kane_sim::DriverInput::Kind::kSetState)
       moved_at.insert(in.tick);
+  // A move's checkpoint marks its tick too: a bag that starts there lacks the move's input, and
+  // holds the state before the move at that tick as well as the one after.
+  for (const kane_sim::Checkpoint& c : checkpoints)
+    if (c.cause == "reset" || c.cause == "set_state") moved_at.insert(c.tick);
 
+  // The starting checkpoint holds a state the bag recorded at its tick (at a move, the bag
+  // holds the states before and after it there): else the checkpoint is damaged.
+  if (!checkpoints.empty()) {
+    const kane_sim::State& x = driver->simulator().state();
+    bool any = false, matched = false;
+    const kane_sim::MechanismState* first = nullptr;
+    for (const kane_sim::MechanismState& m : states) {
+      if (std::llround(m.sim_time * rate) != static_cast<long long>(start_tick)) continue;
+      any = true;
+      first = first ? first : &m;
+      matched |= m.q[0] == x.q1 && m.q[1] == x.q2 && m.u[0] == x.u1 && m.u[1] == x.u2;
+    }
+    if (any && !matched)
+      throw ReplayError("the checkpoint at tick " + std::to_string(start_tick) + " on " +
+                        result.checkpoint_topic + " holds q1 = " + kane_sim::formatNumber(x.q1) +
+                        " where the bag's state there has " + kane_sim::formatNumber(first->q[0]) +
+                        ": the checkpoint is damaged");
+  }
   std::size_t next = 0;        // the next input to apply
   std::size_t checkpoint = 1;  // the next checkpoint to re-synchronise at
   // A checkpoint is due once the driver is at its tick with every input before it applied.
@@ -290,13 +312,6 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
     const double got[] = {m.q[0], m.q[1], m.u[0], m.u[1]};
     const double want[] = {x.q1, x.q2, x.u1, x.u2};
     static const char* names[] = {"q1", "q2", "u1", "u2"};
-    if (!checkpoints.empty() && target == start_tick)
-      for (int i = 0; i < 4; ++i)
-        if (got[i] != want[i])
-          throw ReplayError("the checkpoint at tick " + std::to_string(start_tick) + " on " +
-                            result.checkpoint_topic + " holds " + names[i] + " = " +
-                            kane_sim::formatNumber(want[i]) + " where the bag's state there has " +
-                            kane_sim::formatNumber(got[i]) + ": the checkpoint is damaged");
     for (int i = 0; i < 4; ++i) {
       const double d = std::abs(got[i] - want[i]);
       if (d > result.largest) {
