@@ -4,7 +4,8 @@ KanesMethod and writes the equations of motion as plain C++ (common subexpressio
 include/kane_sim/model/generated_equations.h, the fast path the integrators step.
 
 Every parameter stays a symbol, so one generated header serves every config: the masses, L, I,
-k, g, the spring's rest separation, the four joint dampers and the applied driver moment M_m
+k, g, the spring's rest separation, the five dampers (four joints, one beside the spring) and the
+applied driver moment M_m
 (the motor line, a piecewise function of u1, limits M_m before it enters; contact acts by
 impulses between steps). The generic Kane assembly (src/model/mechanism_model.cpp) remains the
 readable reference and the tests' oracle. This derivation is the generator, not a test: the
@@ -44,6 +45,7 @@ PARAMETERS = [
     ("c_A", "coupler_damping", "c_A [N m s/rad], pin A"),
     ("c_B", "slider3_damping", "c_B [N s/m], slider 3 on the rail"),
     ("c_C", "slider4_damping", "c_C [N s/m], slider 4 on the rail"),
+    ("c_S", "spring_damping", "c_S [N s/m], beside the spring between the sliders"),
 ]
 
 
@@ -87,6 +89,8 @@ def derive():
         (R1, p["c_A"] * (w2 - w1) * N.z),  # ... and its reaction on rod 1
         (B, -p["c_B"] * B.vel(N)),
         (C, -p["c_C"] * C.vel(N)),
+        (C, -p["c_S"] * (C.vel(N) - B.vel(N))),  # beside the spring: on slider 4 ...
+        (B, p["c_S"] * (C.vel(N) - B.vel(N))),  # ... and the opposite on slider 3
     ]
     loads = [
         (C1, m * g * N.x),  # eq (14): G1 ... G4
@@ -140,7 +144,7 @@ def to_cpp(expr):
     return _Printer().doprint(expr)
 
 
-DAMPERS = ("c_O", "c_A", "c_B", "c_C")
+DAMPERS = tuple(name for name, _, _ in PARAMETERS if name.startswith("c_"))  # the c_X above
 
 
 def render_function(out, name, p, M_m, rates, skipped=()):
@@ -209,10 +213,10 @@ def render():
     out("  double dissipated_power;")
     out("};")
     out("")
-    out("// Every term: the four joint dampers included.")
+    out("// Every term: the five dampers included.")
     render_function(out, "rates", p, M_m, rates)
     out("")
-    out("// The same with the four dampers zero (the textbook's model; the dissipated power is 0):")
+    out("// The same with the five dampers zero (the textbook's model; the dissipated power is 0):")
     out("// fewer terms where no damper is configured. Only for Constants whose dampers are all 0.")
     render_function(out, "ratesUndamped", p, M_m, rates, skipped=DAMPERS)
     out("")

@@ -690,7 +690,7 @@ std::vector<ParameterSpec> declareParameters() {
        {},
        "",
        physical("motor_no_load_speed", 0.0, 1e5)},
-      // ---- damping: viscous, at the joints joint_states names --------------------------------
+      // ---- damping: viscous, at the joints joint_states names, and beside the spring ----------
       {"damping",
        "crank_joint",
        "c_O",
@@ -743,6 +743,19 @@ std::vector<ParameterSpec> declareParameters() {
        {},
        "",
        physical("slider4_damping", 0.0, 1e4)},
+      {"damping",
+       "spring",
+       "c_S",
+       "N s/m",
+       kNonNegative,
+       KANE_SIM_NUMBER(mechanism.damping.spring),
+       false,
+       "beside the spring: −c_S (v_C − v_B) on slider 4, the opposite on slider 3",
+       "",
+       "",
+       {},
+       "",
+       physical("spring_damping", 0.0, 1e4)},
       // ---- contact between the sliders -------------------------------------------------------
       {"contact",
        "enabled",

@@ -1,16 +1,30 @@
-"""Groups of simulate's CSV columns (which are also Result's and the plots' names), named once
-for kane_sim.core's Result and kane_sim.plotting. No NumPy, no core: plot_bag imports it too."""
+"""Groups of simulate's CSV columns (which are also Result's and the plots' names), read from the
+one C++ table of output quantities (_core.output_columns(), sim/csv_format.cpp): a new load's
+power column, its key in Result.powers() and its /mechanism_state field come from there."""
 
-ENERGIES = ("kinetic", "gravitational", "spring", "energy")
-LEDGER = ("motor_work", "dissipated_energy", "energy_balance", "impact_energy")
+from kane_sim import _core
+
+# (column, group, key within the group, MechanismState field or "", array index or -1)
+TABLE = tuple(tuple(row) for row in _core.output_columns())
+
+
+def _names(group):
+    return tuple(name for name, g, _, _, _ in TABLE if g == group)
+
+
+def _keyed(group):
+    return tuple((key, name) for name, g, key, _, _ in TABLE if g == group)
+
+
+# The energy's terms, then their sum.
+ENERGIES = tuple(sorted(_names("energy"), key=lambda name: name == "energy"))
+LEDGER = _names("ledger")
 # The reaction forces (Kane's method, auxiliary speeds) [N], frame (0).
-REACTIONS = ("pin_o_x", "pin_o_y", "pin_a_x", "pin_a_y", "pin_b_x", "pin_b_y", "rail_slider3",
-             "rail_slider4", "spring_force")
-# Each load's power [W] by short name: their sum is dT/dt.
-POWERS = (("motor", "motor_power"), ("gravity", "power_gravity"), ("spring", "power_spring"),
-          ("crank_damper", "power_crank_damper"), ("coupler_damper", "power_coupler_damper"),
-          ("slider3_damper", "power_slider3_damper"), ("slider4_damper", "power_slider4_damper"),
-          ("contact", "power_contact"))
+REACTIONS = _names("reaction")
+# Each load's power [W] by the load's name: their sum is dT/dt.
+POWERS = _keyed("power")
 # Each body's kinetic energy [J] by body.
-KINETIC_PER_BODY = (("rod1", "kinetic_rod1"), ("rod2", "kinetic_rod2"),
-                    ("slider3", "kinetic_slider3"), ("slider4", "kinetic_slider4"))
+KINETIC_PER_BODY = _keyed("kinetic")
+# /mechanism_state's fields as columns: (column, field, index or None), for reading bags.
+BAG_FIELDS = tuple((name, field, None if index < 0 else index)
+                   for name, _, _, field, index in TABLE if field)

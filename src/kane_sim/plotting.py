@@ -26,24 +26,7 @@ POWERS = tuple((name, "motor M_m u1" if short == "motor" else short.replace("_",
 REACTIONS = columns.REACTIONS
 
 # /mechanism_state's fields as CSV columns: (column, field, index or None).
-_BAG_FIELDS = [("t", "sim_time", None), ("q1", "q", 0), ("q2", "q", 1), ("u1", "u", 0),
-               ("u2", "u", 1), ("torque", "applied_torque", None),
-               ("kinetic", "kinetic_energy", None), ("gravitational", "gravitational_energy", None),
-               ("spring", "spring_energy", None), ("energy", "total_energy", None),
-               ("motor_work", "motor_work", None), ("dissipated_energy", "dissipated_energy", None),
-               ("energy_balance", "energy_balance", None),
-               ("pin_o_x", "pin_o_force", 0), ("pin_o_y", "pin_o_force", 1),
-               ("pin_a_x", "pin_a_force", 0), ("pin_a_y", "pin_a_force", 1),
-               ("pin_b_x", "pin_b_force", 0), ("pin_b_y", "pin_b_force", 1),
-               ("rail_slider3", "rail_force_slider3", None),
-               ("rail_slider4", "rail_force_slider4", None), ("spring_force", "spring_force", None),
-               ("motor_power", "motor_power", None), ("power_gravity", "gravity_power", None),
-               ("power_spring", "spring_power", None),
-               ("power_crank_damper", "crank_damper_power", None),
-               ("power_coupler_damper", "coupler_damper_power", None),
-               ("power_slider3_damper", "slider3_damper_power", None),
-               ("power_slider4_damper", "slider4_damper_power", None),
-               ("power_contact", "contact_power", None)]
+_BAG_FIELDS = columns.BAG_FIELDS
 
 
 def read_run(path):

@@ -20,11 +20,13 @@ ConstraintForces constraintForces(const MechanismModel& model, const State& x,
                                   const SpeedVector& u_dot, double motor_command,
                                   double contact_force) {
   const MechanismKinematics k = model.kinematics(x);
-  return constraintForces(k, model.loads(k, x, motor_command), x, u_dot, contact_force);
+  MechanismLoads loads = model.loads(k, x, motor_command);
+  MechanismModel::addContactLoads(k, contact_force, &loads);
+  return constraintForces(k, loads, x, u_dot);
 }
 
 ConstraintForces constraintForces(const MechanismKinematics& k, const MechanismLoads& loads,
-                                  const State& x, const SpeedVector& u_dot, double contact_force) {
+                                  const State& x, const SpeedVector& u_dot) {
   const MechanismGeometry& g = k.geometry;
   const SpeedVector u = x.speeds();
 
@@ -56,22 +58,23 @@ ConstraintForces constraintForces(const MechanismKinematics& k, const MechanismL
   kane::addAuxiliaryInertiaForces(k.rod2, rod2, u, u_dot, &eq);
   kane::addAuxiliaryInertiaForces(k.slider3, slider3, u_dot, &eq);
   kane::addAuxiliaryInertiaForces(k.slider4, slider4, u_dot, &eq);
-  // F̃_s of the known loads: gravity at the mass centers (eq 14), the spring at B and C (eq 15),
-  // the motor and the dampers, the resting contact's force (+N on slider 4, -N on slider 3).
-  kane::addAuxiliaryActiveForces(loads.gravity[kRod1].force, rod1.velocity, &eq);
-  kane::addAuxiliaryActiveForces(loads.gravity[kRod2].force, rod2.velocity, &eq);
-  kane::addAuxiliaryActiveForces(loads.gravity[kSlider3].force, slider3, &eq);
-  kane::addAuxiliaryActiveForces(loads.gravity[kSlider4].force, slider4, &eq);
-  kane::addAuxiliaryActiveForces(loads.spring_on_slider3.force, slider3, &eq);
-  kane::addAuxiliaryActiveForces(loads.spring_on_slider4.force, slider4, &eq);
-  kane::addAuxiliaryActiveForces(loads.slider3_damper.force, slider3, &eq);
-  kane::addAuxiliaryActiveForces(loads.slider4_damper.force, slider4, &eq);
-  kane::addAuxiliaryActiveForces(Eigen::Vector3d(-contact_force * kI), slider3, &eq);
-  kane::addAuxiliaryActiveForces(Eigen::Vector3d(contact_force * kI), slider4, &eq);
-  kane::addAuxiliaryActiveForces(loads.motor.torque, rod1.angular_velocity, &eq);
-  kane::addAuxiliaryActiveForces(loads.crank_damper.torque, rod1.angular_velocity, &eq);
-  kane::addAuxiliaryActiveForces(loads.coupler_damper_on_rod1.torque, rod1.angular_velocity, &eq);
-  kane::addAuxiliaryActiveForces(loads.coupler_damper_on_rod2.torque, rod2.angular_velocity, &eq);
+  // F̃_s of the known loads: each force at its point of its body, each torque on its body's
+  // frame, under the auxiliary motions (the list of F_r, eq 16).
+  const kane::AuxiliaryMotion<kNumReactions>* rods[] = {&rod1, &rod2};
+  const Eigen::Vector3d* rod_centers[] = {&g.rod1_center, &g.rod2_center};
+  const Aux* sliders[] = {&slider3, &slider4};
+  for (const MechanismLoad& l : loads) {
+    const bool rod = l.body == kRod1 || l.body == kRod2;
+    if (l.load.kind == kane::Load<kNumSpeeds>::kTorqueOnFrame) {
+      // The sliders are particles: nothing in the model puts a torque on them.
+      if (rod) kane::addAuxiliaryActiveForces(l.load.vector, rods[l.body]->angular_velocity, &eq);
+    } else if (rod) {
+      const Aux at_point = rods[l.body]->atPoint(l.load.point - *rod_centers[l.body]);
+      kane::addAuxiliaryActiveForces(l.load.vector, at_point, &eq);
+    } else {
+      kane::addAuxiliaryActiveForces(l.load.vector, *sliders[l.body - kSlider3], &eq);
+    }
+  }
   // The reactions, each on the second body from the first (the ground has no motion).
   const Aux o_on_rod1 = rod1.atPoint(g.pivot_o - g.rod1_center);
   const Aux a_rod2_from_rod1 =
@@ -93,7 +96,7 @@ ConstraintForces constraintForces(const MechanismKinematics& k, const MechanismL
   f.pin_b = {lambda[kPinBx], lambda[kPinBy]};
   f.rail_slider3 = lambda[kRailSlider3];
   f.rail_slider4 = lambda[kRailSlider4];
-  f.spring = loads.spring_on_slider4.force.x();
+  f.spring = loadVector(loads, LoadName::kSpring, kSlider4).x();
   return f;
 }
 

@@ -84,44 +84,60 @@ double MechanismModel::appliedMotorTorque(double command, double u1) const {
 MechanismLoads MechanismModel::loads(const MechanismKinematics& k, const State& x,
                                      double motor_command) const {
   const MechanismParameters& p = parameters_;
+  const JointDamping& c = p.damping;
   const SpeedVector u = x.speeds();
   MechanismLoads l;
-  // Eq (14): gravity at each mass center, along +i.
-  const kane::Particle<kNumSpeeds>* centers[kNumBodies] = {&k.rod1.mass_center, &k.rod2.mass_center,
-                                                           &k.slider3, &k.slider4};
-  for (int b = 0; b < kNumBodies; ++b) {
-    l.gravity[b].force = centers[b]->mass * p.gravity * kI;  // G1 = m g i, ..., G4 = M2 g i
-    l.gravity[b].partial_velocity = centers[b]->partial_velocity;
-  }
+  auto add = [&l](LoadName name, Body body, const kane::Load<kNumSpeeds>& load) {
+    l.push_back({name, body, load});
+  };
+  // Eq (14): gravity at each mass center, along +i: G1 = m g i, ..., G4 = M2 g i.
+  add(LoadName::kGravity, kRod1, kane::forceAt(k.rod1.mass_center, p.rod_mass * p.gravity * kI));
+  add(LoadName::kGravity, kRod2, kane::forceAt(k.rod2.mass_center, p.rod_mass * p.gravity * kI));
+  add(LoadName::kGravity, kSlider3, kane::forceAt(k.slider3, p.slider3_mass * p.gravity * kI));
+  add(LoadName::kGravity, kSlider4, kane::forceAt(k.slider4, p.slider4_mass * p.gravity * kI));
   // Eq (15): F_eB = -k e i at B, F_eC = -F_eB at C.
-  const double e = springElongation(k.geometry);
-  l.spring_on_slider3.force = -p.spring_stiffness * e * kI;
-  l.spring_on_slider3.partial_velocity = k.slider3.partial_velocity;
-  l.spring_on_slider4.force = -l.spring_on_slider3.force;
-  l.spring_on_slider4.partial_velocity = k.slider4.partial_velocity;
-  // The driver moment M_m = M_m k acts on rod 1 (through the motor line, when on).
-  l.motor.torque = appliedMotorTorque(motor_command, x.u1) * kK;
-  l.motor.partial_angular_velocity = k.rod1.partial_angular_velocity;
+  const Eigen::Vector3d spring_on_b = -p.spring_stiffness * springElongation(k.geometry) * kI;
+  add(LoadName::kSpring, kSlider3, kane::forceAt(k.slider3, spring_on_b));
+  add(LoadName::kSpring, kSlider4, kane::forceAt(k.slider4, -spring_on_b));
+  // The driver moment M_m k on rod 1 (through the motor line, when on).
+  add(LoadName::kMotor, kRod1,
+      kane::torqueOn(k.rod1, appliedMotorTorque(motor_command, x.u1) * kK));
 
-  // Joint dampers: torques on the rods' frames, forces at the sliders, opposing the joint rates.
+  // Dampers, opposing the joint rates: torques on the rods' frames, forces at the sliders.
   const double w1 = k.rod1.angularVelocity(u).z(), w2 = k.rod2.angularVelocity(u).z();
-  l.crank_damper.torque = -p.damping.crank * w1 * kK;
-  l.crank_damper.partial_angular_velocity = k.rod1.partial_angular_velocity;
-  l.coupler_damper_on_rod2.torque = -p.damping.coupler * (w2 - w1) * kK;
-  l.coupler_damper_on_rod2.partial_angular_velocity = k.rod2.partial_angular_velocity;
-  l.coupler_damper_on_rod1.torque = -l.coupler_damper_on_rod2.torque;  // reaction at A
-  l.coupler_damper_on_rod1.partial_angular_velocity = k.rod1.partial_angular_velocity;
-  l.slider3_damper.force = -p.damping.slider3 * k.slider3.velocity(u);
-  l.slider3_damper.partial_velocity = k.slider3.partial_velocity;
-  l.slider4_damper.force = -p.damping.slider4 * k.slider4.velocity(u);
-  l.slider4_damper.partial_velocity = k.slider4.partial_velocity;
-
+  add(LoadName::kCrankDamper, kRod1, kane::torqueOn(k.rod1, Eigen::Vector3d(-c.crank * w1 * kK)));
+  const Eigen::Vector3d coupler_on_rod2 = -c.coupler * (w2 - w1) * kK;
+  add(LoadName::kCouplerDamper, kRod2, kane::torqueOn(k.rod2, coupler_on_rod2));
+  add(LoadName::kCouplerDamper, kRod1, kane::torqueOn(k.rod1, -coupler_on_rod2));  // reaction at A
+  const Eigen::Vector3d v_b = k.slider3.velocity(u), v_c = k.slider4.velocity(u);
+  add(LoadName::kSlider3Damper, kSlider3,
+      kane::forceAt(k.slider3, Eigen::Vector3d(-c.slider3 * v_b)));
+  add(LoadName::kSlider4Damper, kSlider4,
+      kane::forceAt(k.slider4, Eigen::Vector3d(-c.slider4 * v_c)));
+  // The damper beside the spring: -c_S (v_C - v_B) i on slider 4, the opposite on slider 3.
+  const Eigen::Vector3d spring_damper_on_c = -c.spring * (v_c - v_b);
+  add(LoadName::kSpringDamper, kSlider3, kane::forceAt(k.slider3, -spring_damper_on_c));
+  add(LoadName::kSpringDamper, kSlider4, kane::forceAt(k.slider4, spring_damper_on_c));
   return l;
+}
+
+void MechanismModel::addContactLoads(const MechanismKinematics& k, double contact_force,
+                                     MechanismLoads* loads) {
+  const Eigen::Vector3d on_c = contact_force * kI;
+  loads->push_back({LoadName::kContact, kSlider3, kane::forceAt(k.slider3, -on_c)});
+  loads->push_back({LoadName::kContact, kSlider4, kane::forceAt(k.slider4, on_c)});
+}
+
+Eigen::Vector3d loadVector(const MechanismLoads& loads, LoadName name, Body body) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const MechanismLoad& l : loads)
+    if (l.name == name && l.body == body) sum += l.load.vector;
+  return sum;
 }
 
 PowerTerms MechanismModel::power(const MechanismLoads& l, const State& x) {
   const LoadPowers each = loadPowers(l, x);
-  return {each.motor, -each.dampers()};
+  return {each[LoadName::kMotor], -each.dampers()};
 }
 
 std::optional<SliderImpact> MechanismModel::sliderImpact(const State& x, double restitution) const {
@@ -176,7 +192,7 @@ RestingContact MechanismModel::restingContact(const State& x, const SpeedVector&
 }
 
 MechanismModel::Equations MechanismModel::equations(const MechanismKinematics& k,
-                                                    const MechanismLoads& l, const State& x) {
+                                                    const MechanismLoads& loads, const State& x) {
   const SpeedVector u = x.speeds();
   Equations eq;
   // F*_r, eq (12): the sum over the four bodies of eqs (5)-(7).
@@ -185,14 +201,7 @@ MechanismModel::Equations MechanismModel::equations(const MechanismKinematics& k
   kane::addInertiaForces(k.slider3, &eq);
   kane::addInertiaForces(k.slider4, &eq);
   // F_r, eq (16): each load on the partial velocities of where it acts.
-  for (const auto& g : l.gravity) kane::addActiveForces(g, &eq);
-  kane::addActiveForces(l.spring_on_slider3, &eq);
-  kane::addActiveForces(l.spring_on_slider4, &eq);
-  kane::addActiveForces(l.motor, &eq);
-  for (const auto* damper : {&l.crank_damper, &l.coupler_damper_on_rod1, &l.coupler_damper_on_rod2})
-    kane::addActiveForces(*damper, &eq);
-  kane::addActiveForces(l.slider3_damper, &eq);
-  kane::addActiveForces(l.slider4_damper, &eq);
+  for (const MechanismLoad& l : loads) kane::addActiveForces(l.load, &eq);
   return eq;
 }
 

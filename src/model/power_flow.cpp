@@ -9,25 +9,12 @@ double unsignedZero(double x) { return x + 0.0; }
 
 }  // namespace
 
-LoadPowers loadPowers(const MechanismLoads& l, const State& x) {
+LoadPowers loadPowers(const MechanismLoads& loads, const State& x) {
   const SpeedVector u = x.speeds();
   LoadPowers p;
-  for (const auto& g : l.gravity) p.gravity += kane::power(g, u);
-  p.spring = kane::power(l.spring_on_slider3, u) + kane::power(l.spring_on_slider4, u);
-  p.motor = kane::power(l.motor, u);
-  p.crank_damper = kane::power(l.crank_damper, u);
-  p.coupler_damper =
-      kane::power(l.coupler_damper_on_rod1, u) + kane::power(l.coupler_damper_on_rod2, u);
-  p.slider3_damper = kane::power(l.slider3_damper, u);
-  p.slider4_damper = kane::power(l.slider4_damper, u);
-  for (double* power : {&p.gravity, &p.spring, &p.motor, &p.crank_damper, &p.coupler_damper,
-                        &p.slider3_damper, &p.slider4_damper})
-    *power = unsignedZero(*power);
+  for (const MechanismLoad& l : loads) p[l.name] += kane::power(l.load, u);
+  for (double& power : p.by_name) power = unsignedZero(power);
   return p;
-}
-
-double contactPower(const MechanismKinematics& k, const State& x, double contact_force) {
-  return unsignedZero(contact_force * MechanismModel::separationJacobian(k).dot(x.speeds()));
 }
 
 std::array<double, kNumBodies> bodyKineticEnergies(const MechanismKinematics& k, const State& x) {

@@ -232,7 +232,7 @@ class PythonSimulator {
     } catch (const std::invalid_argument& e) {
       throw py::value_error(std::string("run: ") + e.what());
     }
-    const long columns = csvColumnsEnd() - csvColumnsBegin();
+    const long columns = static_cast<long>(csvColumns().size());
     const long rows = grid.rows + 1;
     // The sensor readings come back too: arrival and sample time, 4 positions, 4 speeds each.
     const double readings_count = duration * sensorReadingRate(config_.config());
@@ -308,8 +308,7 @@ class PythonSimulator {
     const Exclusive exclusive(busy_, "snapshot");
     const Snapshot s = driver_.snapshot();
     py::dict out;
-    for (const CsvColumn* c = csvColumnsBegin(); c != csvColumnsEnd(); ++c)
-      out[c->name] = c->value(s);
+    for (const CsvColumn& c : csvColumns()) out[c.name.c_str()] = c.value(s);
     out["resting_contact"] = s.resting_contact;
     out["reactions_determinate"] = s.constraint_forces.determinate;
     return out;
@@ -438,15 +437,15 @@ class PythonSimulator {
     void add(const Snapshot& s) {
       if (filled_ == capacity_) return;
       long c = 0;
-      for (const CsvColumn* col = csvColumnsBegin(); col != csvColumnsEnd(); ++col, ++c)
-        data_[static_cast<size_t>(c * capacity_ + filled_)] = col->value(s);
+      for (const CsvColumn& col : csvColumns())
+        data_[static_cast<size_t>(c++ * capacity_ + filled_)] = col.value(s);
       ++filled_;
     }
     py::dict toDict() const {
       py::dict out;
       long c = 0;
-      for (const CsvColumn* col = csvColumnsBegin(); col != csvColumnsEnd(); ++col, ++c)
-        out[col->name] = Array(filled_, data_.data() + c * capacity_);
+      for (const CsvColumn& col : csvColumns())
+        out[col.name.c_str()] = Array(filled_, data_.data() + c++ * capacity_);
       return out;
     }
 
@@ -526,6 +525,15 @@ void bindSimulator(py::module_& m) {
       PyErr_SetString(step_refused.ptr(), e.what());
     }
   });
+  m.def(
+      "output_columns",
+      [] {
+        py::list out;
+        for (const CsvColumn& c : csvColumns())
+          out.append(py::make_tuple(c.name, c.group, c.key, c.message_field, c.message_index));
+        return out;
+      },
+      "The output quantities in CSV order: (column, group, key, message field, index or -1).");
   py::class_<PythonSimulator>(m, "Simulator")
       .def(py::init<const PythonConfig&>(), py::arg("config"))
       .def_property_readonly("config", &PythonSimulator::config)

@@ -59,6 +59,21 @@ std::vector<geometry_msgs::TransformStamped> jointTransforms(const RobotDescript
   return transformMessages(movingJointPoses(robot, joints), stamp);
 }
 
+// The message's load-power fields, indexed by LoadName: "<load>_power", as the output table
+// (sim/csv_format.h) names them; a .msg is static, so this is the one place a load meets its
+// field (test_ros_messages checks each against the table's name and value).
+double kane_sim::MechanismState::*const kLoadPowerFields[kNumLoadNames] = {
+    &kane_sim::MechanismState::gravity_power,
+    &kane_sim::MechanismState::spring_power,
+    &kane_sim::MechanismState::motor_power,
+    &kane_sim::MechanismState::crank_damper_power,
+    &kane_sim::MechanismState::coupler_damper_power,
+    &kane_sim::MechanismState::slider3_damper_power,
+    &kane_sim::MechanismState::slider4_damper_power,
+    &kane_sim::MechanismState::spring_damper_power,
+    &kane_sim::MechanismState::contact_power,
+};
+
 kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_time_factor,
                                                const ros::Time& stamp,
                                                const std::string& frame_id) {
@@ -97,15 +112,7 @@ kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_ti
   msg.rail_force_slider4 = f.rail_slider4;
   msg.spring_force = f.spring;
   msg.reactions_determinate = f.determinate;
-  const LoadPowers& p = s.load_powers;
-  msg.gravity_power = p.gravity;
-  msg.spring_power = p.spring;
-  msg.motor_power = p.motor;
-  msg.crank_damper_power = p.crank_damper;
-  msg.coupler_damper_power = p.coupler_damper;
-  msg.slider3_damper_power = p.slider3_damper;
-  msg.slider4_damper_power = p.slider4_damper;
-  msg.contact_power = p.contact;
+  for (int n = 0; n < kNumLoadNames; ++n) msg.*kLoadPowerFields[n] = s.load_powers.by_name[n];
   std::copy(s.body_kinetic_energy.begin(), s.body_kinetic_energy.end(),
             msg.body_kinetic_energy.begin());
   msg.impact_energy = s.impact_energy;

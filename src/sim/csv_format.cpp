@@ -1,68 +1,111 @@
 #include "kane_sim/sim/csv_format.h"
 
 #include <charconv>
-#include <iterator>
 
 namespace kane_sim {
 
 namespace {
 
-const CsvColumn kColumns[] = {
-    {"t", [](const Snapshot& s) { return s.time; }},
-    {"q1", [](const Snapshot& s) { return s.state.q1; }},
-    {"q2", [](const Snapshot& s) { return s.state.q2; }},
-    {"u1", [](const Snapshot& s) { return s.state.u1; }},
-    {"u2", [](const Snapshot& s) { return s.state.u2; }},
-    {"energy", [](const Snapshot& s) { return s.energy.total(); }},
-    {"u1dot", [](const Snapshot& s) { return s.u_dot[0]; }},
-    {"u2dot", [](const Snapshot& s) { return s.u_dot[1]; }},
-    {"torque", [](const Snapshot& s) { return s.torque; }},
-    {"motor_work", [](const Snapshot& s) { return s.motor_work; }},
-    {"kinetic", [](const Snapshot& s) { return s.energy.kinetic; }},
-    {"gravitational", [](const Snapshot& s) { return s.energy.gravitational; }},
-    {"spring", [](const Snapshot& s) { return s.energy.spring; }},
-    {"energy_minus_work", [](const Snapshot& s) { return s.energy.total() - s.motor_work; }},
-    {"F1", [](const Snapshot& s) { return s.active_forces[0]; }},
-    {"F2", [](const Snapshot& s) { return s.active_forces[1]; }},
-    {"spring_elongation", [](const Snapshot& s) { return s.spring_elongation; }},
-    {"motor_power", [](const Snapshot& s) { return s.motor_power; }},
-    {"dissipated_energy", [](const Snapshot& s) { return s.dissipated_energy; }},
-    {"energy_balance", [](const Snapshot& s) { return s.energyBalance(); }},
-    {"commanded_torque", [](const Snapshot& s) { return s.command.commanded; }},
-    {"contact_impacts", [](const Snapshot& s) { return static_cast<double>(s.contact_impacts); }},
-    // Reaction forces (Kane's method with auxiliary speeds), frame (0) [N].
-    {"pin_o_x", [](const Snapshot& s) { return s.constraint_forces.pin_o.x(); }},
-    {"pin_o_y", [](const Snapshot& s) { return s.constraint_forces.pin_o.y(); }},
-    {"pin_a_x", [](const Snapshot& s) { return s.constraint_forces.pin_a.x(); }},
-    {"pin_a_y", [](const Snapshot& s) { return s.constraint_forces.pin_a.y(); }},
-    {"pin_b_x", [](const Snapshot& s) { return s.constraint_forces.pin_b.x(); }},
-    {"pin_b_y", [](const Snapshot& s) { return s.constraint_forces.pin_b.y(); }},
-    {"rail_slider3", [](const Snapshot& s) { return s.constraint_forces.rail_slider3; }},
-    {"rail_slider4", [](const Snapshot& s) { return s.constraint_forces.rail_slider4; }},
-    {"spring_force", [](const Snapshot& s) { return s.constraint_forces.spring; }},
-    // Power flow [W]: each load (their sum is dT/dt), then each body's kinetic energy [J].
-    {"power_gravity", [](const Snapshot& s) { return s.load_powers.gravity; }},
-    {"power_spring", [](const Snapshot& s) { return s.load_powers.spring; }},
-    {"power_crank_damper", [](const Snapshot& s) { return s.load_powers.crank_damper; }},
-    {"power_coupler_damper", [](const Snapshot& s) { return s.load_powers.coupler_damper; }},
-    {"power_slider3_damper", [](const Snapshot& s) { return s.load_powers.slider3_damper; }},
-    {"power_slider4_damper", [](const Snapshot& s) { return s.load_powers.slider4_damper; }},
-    {"power_contact", [](const Snapshot& s) { return s.load_powers.contact; }},
-    {"kinetic_rod1", [](const Snapshot& s) { return s.body_kinetic_energy[kRod1]; }},
-    {"kinetic_rod2", [](const Snapshot& s) { return s.body_kinetic_energy[kRod2]; }},
-    {"kinetic_slider3", [](const Snapshot& s) { return s.body_kinetic_energy[kSlider3]; }},
-    {"kinetic_slider4", [](const Snapshot& s) { return s.body_kinetic_energy[kSlider4]; }},
-    {"impact_energy", [](const Snapshot& s) { return s.impact_energy; }},
-};
+using Value = std::function<double(const Snapshot&)>;
+
+// A column of its own group, keyed by its name.
+CsvColumn column(const char* name, const char* group, const char* message_field, int index,
+                 Value value) {
+  return {name, group, name, message_field, index, std::move(value)};
+}
+
+std::vector<CsvColumn> makeColumns() {
+  std::vector<CsvColumn> c = {
+      column("t", "time", "sim_time", -1, [](const Snapshot& s) { return s.time; }),
+      column("q1", "state", "q", 0, [](const Snapshot& s) { return s.state.q1; }),
+      column("q2", "state", "q", 1, [](const Snapshot& s) { return s.state.q2; }),
+      column("u1", "state", "u", 0, [](const Snapshot& s) { return s.state.u1; }),
+      column("u2", "state", "u", 1, [](const Snapshot& s) { return s.state.u2; }),
+      column("energy", "energy", "total_energy", -1,
+             [](const Snapshot& s) { return s.energy.total(); }),
+      column("u1dot", "equations", "u_dot", 0, [](const Snapshot& s) { return s.u_dot[0]; }),
+      column("u2dot", "equations", "u_dot", 1, [](const Snapshot& s) { return s.u_dot[1]; }),
+      column("torque", "command", "applied_torque", -1, [](const Snapshot& s) { return s.torque; }),
+      column("motor_work", "ledger", "motor_work", -1,
+             [](const Snapshot& s) { return s.motor_work; }),
+      column("kinetic", "energy", "kinetic_energy", -1,
+             [](const Snapshot& s) { return s.energy.kinetic; }),
+      column("gravitational", "energy", "gravitational_energy", -1,
+             [](const Snapshot& s) { return s.energy.gravitational; }),
+      column("spring", "energy", "spring_energy", -1,
+             [](const Snapshot& s) { return s.energy.spring; }),
+      column("energy_minus_work", "derived", "", -1,
+             [](const Snapshot& s) { return s.energy.total() - s.motor_work; }),
+      column("F1", "equations", "active_forces", 0,
+             [](const Snapshot& s) { return s.active_forces[0]; }),
+      column("F2", "equations", "active_forces", 1,
+             [](const Snapshot& s) { return s.active_forces[1]; }),
+      column("spring_elongation", "contact", "spring_elongation", -1,
+             [](const Snapshot& s) { return s.spring_elongation; }),
+  };
+  // The loads' powers [W], one per name of the model's load list (Σ = dT/dt). The motor's
+  // column kept its older name, motor_power, here among the ledger's; the others follow.
+  auto loadPower = [](int n) {
+    return [n](const Snapshot& s) { return s.load_powers.by_name[n]; };
+  };
+  const auto loadPowerColumn = [&](int n, std::string name) {
+    const std::string load = kLoadInfo[n].name;
+    return CsvColumn{std::move(name), "power", load, load + "_power", -1, loadPower(n)};
+  };
+  const int motor = static_cast<int>(LoadName::kMotor);
+  c.push_back(loadPowerColumn(motor, "motor_power"));
+  c.insert(c.end(),
+           {
+               column("dissipated_energy", "ledger", "dissipated_energy", -1,
+                      [](const Snapshot& s) { return s.dissipated_energy; }),
+               column("energy_balance", "ledger", "energy_balance", -1,
+                      [](const Snapshot& s) { return s.energyBalance(); }),
+               column("commanded_torque", "command", "commanded_torque", -1,
+                      [](const Snapshot& s) { return s.command.commanded; }),
+               column("contact_impacts", "contact", "contact_impacts", -1,
+                      [](const Snapshot& s) { return static_cast<double>(s.contact_impacts); }),
+               // Reaction forces (Kane's method with auxiliary speeds), frame (0) [N].
+               column("pin_o_x", "reaction", "pin_o_force", 0,
+                      [](const Snapshot& s) { return s.constraint_forces.pin_o.x(); }),
+               column("pin_o_y", "reaction", "pin_o_force", 1,
+                      [](const Snapshot& s) { return s.constraint_forces.pin_o.y(); }),
+               column("pin_a_x", "reaction", "pin_a_force", 0,
+                      [](const Snapshot& s) { return s.constraint_forces.pin_a.x(); }),
+               column("pin_a_y", "reaction", "pin_a_force", 1,
+                      [](const Snapshot& s) { return s.constraint_forces.pin_a.y(); }),
+               column("pin_b_x", "reaction", "pin_b_force", 0,
+                      [](const Snapshot& s) { return s.constraint_forces.pin_b.x(); }),
+               column("pin_b_y", "reaction", "pin_b_force", 1,
+                      [](const Snapshot& s) { return s.constraint_forces.pin_b.y(); }),
+               column("rail_slider3", "reaction", "rail_force_slider3", -1,
+                      [](const Snapshot& s) { return s.constraint_forces.rail_slider3; }),
+               column("rail_slider4", "reaction", "rail_force_slider4", -1,
+                      [](const Snapshot& s) { return s.constraint_forces.rail_slider4; }),
+               column("spring_force", "reaction", "spring_force", -1,
+                      [](const Snapshot& s) { return s.constraint_forces.spring; }),
+           });
+  for (int n = 0; n < kNumLoadNames; ++n)
+    if (n != motor) c.push_back(loadPowerColumn(n, std::string("power_") + kLoadInfo[n].name));
+  // Each body's kinetic energy [J] (Σ = T): the message's body_kinetic_energy array.
+  const char* bodies[kNumBodies] = {"rod1", "rod2", "slider3", "slider4"};
+  for (int b = 0; b < kNumBodies; ++b)
+    c.push_back({std::string("kinetic_") + bodies[b], "kinetic", bodies[b], "body_kinetic_energy",
+                 b, [b](const Snapshot& s) { return s.body_kinetic_energy[b]; }});
+  c.push_back(column("impact_energy", "ledger", "impact_energy", -1,
+                     [](const Snapshot& s) { return s.impact_energy; }));
+  return c;
+}
 
 }  // namespace
 
-const CsvColumn* csvColumnsBegin() { return std::begin(kColumns); }
-const CsvColumn* csvColumnsEnd() { return std::end(kColumns); }
+const std::vector<CsvColumn>& csvColumns() {
+  static const std::vector<CsvColumn> columns = makeColumns();
+  return columns;
+}
 
 void writeCsvHeader(std::ostream& out) {
   const char* separator = "";
-  for (const CsvColumn& c : kColumns) {
+  for (const CsvColumn& c : csvColumns()) {
     out << separator << c.name;
     separator = ",";
   }
@@ -71,7 +114,7 @@ void writeCsvHeader(std::ostream& out) {
 
 void writeCsvRow(std::ostream& out, const Snapshot& s) {
   const char* separator = "";
-  for (const CsvColumn& c : kColumns) {
+  for (const CsvColumn& c : csvColumns()) {
     out << separator;
     writeCsvNumber(out, c.value(s));
     separator = ",";

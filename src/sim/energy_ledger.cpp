@@ -17,13 +17,13 @@ void Simulator::setParameters(const MechanismParameters& parameters) {
 
 Snapshot Simulator::snapshot() const {
   const MechanismKinematics k = model_.kinematics(state_);
-  const MechanismLoads loads = model_.loads(k, state_, torque_);
+  MechanismLoads loads = model_.loads(k, state_, torque_);
   const MechanismModel::Equations equations = MechanismModel::equations(k, loads, state_);
   const PowerTerms power = MechanismModel::power(loads, state_);
   Snapshot snap;
   snap.time = time();
   snap.state = state_;
-  snap.torque = loads.motor.torque.z();  // what the drive delivers (motor line) at u1
+  snap.torque = model_.appliedMotorTorque(torque_, state_.u1);  // what the drive delivers at u1
   snap.command.commanded = torque_;
   // u' as the integrators step it: from the generated equations on that path (so a check of
   // the published u' checks the equations in use), else from the assembly; equal to rounding.
@@ -54,9 +54,10 @@ Snapshot Simulator::snapshot() const {
   snap.spring_elongation = model_.springElongation(k.geometry);
   snap.slider_separation = k.geometry.sliderSeparation();
   snap.slider_crossings = slider_crossings_;
-  snap.constraint_forces = constraintForces(k, loads, state_, snap.u_dot, snap.contact_force);
+  // The contact's force joins the list (zero when apart) for the reactions and the powers.
+  MechanismModel::addContactLoads(k, snap.contact_force, &loads);
+  snap.constraint_forces = constraintForces(k, loads, state_, snap.u_dot);
   snap.load_powers = loadPowers(loads, state_);
-  snap.load_powers.contact = contactPower(k, state_, snap.contact_force);
   snap.body_kinetic_energy = bodyKineticEnergies(k, state_);
   snap.impact_energy = impact_energy_;
   snap.geometry = k.geometry;
@@ -66,7 +67,7 @@ Snapshot Simulator::snapshot() const {
 
 JointValues Simulator::joints() const {
   const MechanismKinematics k = model_.kinematics(state_);
-  return jointValues(k, state_, model_.loads(k, state_, torque_).motor.torque.z());
+  return jointValues(k, state_, model_.appliedMotorTorque(torque_, state_.u1));
 }
 
 }  // namespace kane_sim

@@ -50,20 +50,20 @@ std::vector<double> newtonEulerResiduals(const MechanismModel& model, const Stat
       m * g + RA.x - RB.x - m * a2.x,
       RA.y - RB.y - m * a2.y,
       coupler_on_rod2 + cross(rel(A, C2), RA) + cross(rel(B, C2), Vec2{-RB.x, -RB.y}) - I * -ud,
-      // slider 3: G3 - k e + damper + R_B + N3 j - N (contact)
-      p.slider3_mass * g - p.spring_stiffness * e - p.damping.slider3 * vB + RB.x - contact_force -
-          p.slider3_mass * aB,
+      // slider 3: G3 - k e + dampers + R_B + N3 j - N (contact)
+      p.slider3_mass * g - p.spring_stiffness * e - p.damping.slider3 * vB +
+          p.damping.spring * (x.u2 - vB) + RB.x - contact_force - p.slider3_mass * aB,
       RB.y + f.rail_slider3,
-      // slider 4: G4 + k e + damper + N4 j + N (contact)
-      p.slider4_mass * g + p.spring_stiffness * e - p.damping.slider4 * x.u2 + contact_force -
-          p.slider4_mass * aC,
+      // slider 4: G4 + k e + dampers + N4 j + N (contact)
+      p.slider4_mass * g + p.spring_stiffness * e - p.damping.slider4 * x.u2 -
+          p.damping.spring * (x.u2 - vB) + contact_force - p.slider4_mass * aC,
       f.rail_slider4,
   };
 }
 
 Config dampedConfig() {
   Config config = test::defaultConfig();
-  config.mechanism.damping = {0.3, 0.2, 1.5, 2.5};  // c_O, c_A, c_B, c_C
+  config.mechanism.damping = {0.3, 0.2, 1.5, 2.5, 0.8};  // c_O, c_A, c_B, c_C, c_S
   return config;
 }
 
@@ -173,12 +173,18 @@ TEST(PowerFlow, LoadPowersSumToTheKineticEnergysRate) {
     const EnergyTerms plus = model.energy(along(h)), minus = model.energy(along(-h));
     const MechanismKinematics k = model.kinematics(x);
     const LoadPowers p = loadPowers(model.loads(k, x, m_m), x);
-    const double tol = 1e-7 * (1 + std::abs(p.motor) + std::abs(p.gravity) + std::abs(p.spring));
+    const double motor = p[LoadName::kMotor], gravity = p[LoadName::kGravity],
+                 spring = p[LoadName::kSpring];
+    const double tol = 1e-7 * (1 + std::abs(motor) + std::abs(gravity) + std::abs(spring));
     EXPECT_NEAR(p.total(), (plus.kinetic - minus.kinetic) / (2 * h), tol);
-    EXPECT_NEAR(p.gravity, -(plus.gravitational - minus.gravitational) / (2 * h), tol);
-    EXPECT_NEAR(p.spring, -(plus.spring - minus.spring) / (2 * h), tol);
-    EXPECT_LE(p.dampers(), 0.0);
-    EXPECT_NEAR(p.motor, m_m * x.u1, 1e-12 * (1 + std::abs(m_m * x.u1)));
+    EXPECT_NEAR(gravity, -(plus.gravitational - minus.gravitational) / (2 * h), tol);
+    EXPECT_NEAR(spring, -(plus.spring - minus.spring) / (2 * h), tol);
+    for (int n = 0; n < kNumLoadNames; ++n) {
+      if (kLoadInfo[n].damper) {
+        EXPECT_LT(p.by_name[n], 0.0) << kLoadInfo[n].name << " takes power out";
+      }
+    }
+    EXPECT_NEAR(motor, m_m * x.u1, 1e-12 * (1 + std::abs(m_m * x.u1)));
     double body_sum = 0;
     for (double t : bodyKineticEnergies(k, x)) body_sum += t;
     EXPECT_NEAR(body_sum, model.energy(x).kinetic, 1e-12 * (1 + body_sum));
@@ -190,8 +196,7 @@ TEST(PowerFlow, LoadsThatAreOffReportPlusZero) {
   const MechanismModel model = mechanismModel(test::defaultConfig());  // no dampers
   const State x{0.5, 1.2, -3.0, -1.0};                                 // negative speeds
   const LoadPowers p = loadPowers(model.loads(model.kinematics(x), x, 0.0), x);
-  for (double off : {p.motor, p.crank_damper, p.coupler_damper, p.slider3_damper, p.slider4_damper})
-    EXPECT_FALSE(std::signbit(off));
+  for (int n = 0; n < kNumLoadNames; ++n) EXPECT_FALSE(std::signbit(p.by_name[n])) << n;
 }
 
 // The simulator's snapshot: contact on, no dampers: every joule dissipated is an impact's, and
@@ -206,7 +211,7 @@ TEST(PowerFlow, ImpactEnergyIsTheDissipatedEnergyWithoutDampers) {
     ASSERT_TRUE(s.allFinite());
     if (s.resting_contact) {
       rested = true;
-      EXPECT_NEAR(s.load_powers.contact, 0.0, 1e-9 * (1 + s.contact_force));
+      EXPECT_NEAR(s.load_powers[LoadName::kContact], 0.0, 1e-9 * (1 + s.contact_force));
     }
   }
   const Snapshot s = driver.snapshot();

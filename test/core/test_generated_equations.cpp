@@ -41,7 +41,7 @@ const OptionCase kCases[] = {{"textbook", false, false, false, 10.0, 0.0, 1e-12}
                              {"all", true, true, true, 10.0, -6.0, 1e-12}};
 
 Config withOptions(Config c, const OptionCase& options) {
-  if (options.damping) c.mechanism.damping = JointDamping{0.05, 0.02, 0.5, 0.5};
+  if (options.damping) c.mechanism.damping = JointDamping{0.05, 0.02, 0.5, 0.5, 0.3};
   // w0 = 5 rad/s: the line limits the drive at the speeds of these motions.
   if (options.motor_line) c.mechanism.motor = MotorLine{50.0, 5.0};
   if (options.contact) c.mechanism.contact = SliderContact{true, 0.07, 0.5};
@@ -57,23 +57,18 @@ SpeedVector termSizes(const MechanismModel& model, const State& x, double comman
   const MechanismLoads l = model.loads(k, x, command);
   const MechanismParameters& p = model.parameters();
   SpeedVector sizes = SpeedVector::Zero();
-  auto add = [&](const auto& load) {
-    MechanismModel::Equations share;
-    kane::addActiveForces(load, &share);
-    sizes += share.active_forces.cwiseAbs();
-  };
-  for (const auto& g : l.gravity) add(g);
-  add(l.motor);
-  add(l.crank_damper);
-  add(l.coupler_damper_on_rod1);
-  add(l.coupler_damper_on_rod2);
-  add(l.slider3_damper);
-  add(l.slider4_damper);
   const double spring_size =
       p.spring_stiffness *
       (std::abs(x.q2) + std::abs(model.springRestLength()) + 4 * p.rod_half_length);
-  for (const auto* at : {&l.spring_on_slider3, &l.spring_on_slider4})
-    sizes += spring_size * at->partial_velocity.row(0).transpose().cwiseAbs();
+  for (const MechanismLoad& entry : l) {
+    if (entry.name == LoadName::kSpring) {
+      sizes += spring_size * entry.load.partials.row(0).transpose().cwiseAbs();
+    } else {
+      MechanismModel::Equations share;
+      kane::addActiveForces(entry.load, &share);
+      sizes += share.active_forces.cwiseAbs();
+    }
+  }
   const MechanismModel::Equations eq = MechanismModel::equations(k, l, x);
   sizes += eq.inertia_remainder.cwiseAbs();
   return sizes.cwiseQuotient(eq.mass_matrix.diagonal());
@@ -93,12 +88,14 @@ TEST_P(GeneratedEquations, RatesMatchTheGenericAssemblyAtRandomStates) {
   auto scaled = [&](double v) { return v * std::pow(10.0, scale_exp(rng)); };
   double worst = 0.0;
   for (int trial = 0; trial < 2000; ++trial) {
-    MechanismParameters p = shipped.mechanism;
+    Config drawn = shipped;
+    MechanismParameters& p = drawn.mechanism;
     for (double* v : {&p.rod_mass, &p.rod_half_length, &p.rod_inertia, &p.slider3_mass,
                       &p.slider4_mass, &p.spring_stiffness, &p.gravity})
       *v = scaled(*v);
-    for (double* c : {&p.damping.crank, &p.damping.coupler, &p.damping.slider3, &p.damping.slider4})
-      *c *= 10 * unit(rng);
+    // Every damper the schema declares (a new one is drawn here without editing this test).
+    for (const ParameterSpec& spec : parameterSchema())
+      if (std::string(spec.section) == "damping") spec.field.number(drawn) *= 10 * unit(rng);
     const MechanismModel generic(p, position(rng));
     const GeneratedMechanism generated(generic);
     const State x{angle(rng), position(rng), speed(rng), speed(rng)};
@@ -215,7 +212,7 @@ TEST(EveryParameter, ChangesTheRatesOnBothPaths) {
     EXPECT_NEAR(after.first[2], after.second[2], 1e-9 * (1 + std::abs(after.second[2])));
     ++checked;
   }
-  EXPECT_EQ(checked, 7 + 4 + 1);  // m, L, M1, M2, k, g, I; four dampers; w0
+  EXPECT_EQ(checked, 7 + 5 + 1);  // m, L, M1, M2, k, g, I; five dampers; w0
 }
 
 }  // namespace

@@ -34,8 +34,17 @@ TEST(ParameterSchema, PathsAndReconfigureNamesAreUnique) {
     for (const SectionSpec& s : configSections()) in_a_section |= p.section == std::string(s.name);
     EXPECT_TRUE(in_a_section) << p.path();
   }
-  // The 13 the node has offered since reconfiguration existed, and the 5 servo gains.
-  EXPECT_EQ(names.size(), 18u);
+  // Each name leads back to its row, and every damper (a physics option of a section the
+  // schema holds, however many rows it has) is reconfigurable with its energy booked.
+  for (const std::string& name : names) EXPECT_NE(findReconfigurable(name), nullptr) << name;
+  int dampers = 0;
+  for (const ParameterSpec& p : parameterSchema()) {
+    if (std::string(p.section) != "damping") continue;
+    ++dampers;
+    EXPECT_TRUE(p.reconfigurable()) << p.path();
+    EXPECT_EQ(p.reconfigure.level, 1) << p.path();
+  }
+  EXPECT_GT(dampers, 0);
 }
 
 // The shipped config holds every key of the schema it sets and no other: a file written from the

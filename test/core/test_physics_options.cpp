@@ -21,19 +21,21 @@ JointDamping allDampers() {
   d.coupler = 0.2;  // N m s/rad
   d.slider3 = 1.5;  // N s/m
   d.slider4 = 2.0;  // N s/m
+  d.spring = 0.8;   // N s/m
   return d;
 }
 
 // ---- Damping -------------------------------------------------------------------------------
 
 // Rayleigh's dissipation function written from the joint rates alone (w1 = u1, w2 = -u1,
-// v_B = -4 L sin q1 u1, v_C = u2): R = ½ [c_O w1² + c_A (w2 - w1)² + c_B v_B² + c_C v_C²].
+// v_B = -4 L sin q1 u1, v_C = u2):
+// R = ½ [c_O w1² + c_A (w2 - w1)² + c_B v_B² + c_C v_C² + c_S (v_C - v_B)²].
 // Lagrange: the damping's generalized forces are -∂R/∂u_r (central differences; R is quadratic
 // in u, so they are exact to rounding).
 double rayleigh(const JointDamping& c, double L, double q1, double u1, double u2) {
   const double w1 = u1, w2 = -u1, v_b = -4 * L * std::sin(q1) * u1, v_c = u2;
   return 0.5 * (c.crank * w1 * w1 + c.coupler * (w2 - w1) * (w2 - w1) + c.slider3 * v_b * v_b +
-                c.slider4 * v_c * v_c);
+                c.slider4 * v_c * v_c + c.spring * (v_c - v_b) * (v_c - v_b));
 }
 
 TEST(Damping, GeneralizedForcesMatchRayleighDissipation) {

@@ -47,7 +47,7 @@ class TextbookEquationsTest : public ::testing::Test {
   // The spring force on slider 3 (F_eB · i) as the model applies it.
   double springForceOnSlider3(const State& x) const {
     const MechanismKinematics k = model_.kinematics(x);
-    return model_.loads(k, x, 0.0).spring_on_slider3.force.x();
+    return loadVector(model_.loads(k, x, 0.0), LoadName::kSpring, kSlider3).x();
   }
 
   Config config_;

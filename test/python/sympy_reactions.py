@@ -55,14 +55,17 @@ def reaction_model(p, x0, damping):
     ]
     torque = sp.Symbol("M_m")
     e = (4 * L * sp.cos(q1) - q2) - (4 * L * math.cos(x0[0]) - x0[1])
-    c = {"crank_joint": 0.0, "coupler_joint": 0.0, "slider3_joint": 0.0, "slider4_joint": 0.0}
+    c = {"crank_joint": 0.0, "coupler_joint": 0.0, "slider3_joint": 0.0, "slider4_joint": 0.0,
+         "spring": 0.0}
     c.update(damping or {})
     w1, w2 = u1, -u1  # the real joint rates
     v_b = -4 * L * sp.sin(q1) * u1
     loads = [
         (C1, m * g * N.x), (C2, m * g * N.x),
-        (B3, (p["slider3_mass"] * g - k * e - c["slider3_joint"] * v_b) * N.x),
-        (C4, (p["slider4_mass"] * g + k * e - c["slider4_joint"] * u2) * N.x),
+        (B3, (p["slider3_mass"] * g - k * e - c["slider3_joint"] * v_b
+              + c["spring"] * (u2 - v_b)) * N.x),
+        (C4, (p["slider4_mass"] * g + k * e - c["slider4_joint"] * u2
+              - c["spring"] * (u2 - v_b)) * N.x),
         (R1, (torque - c["crank_joint"] * w1 + c["coupler_joint"] * (w2 - w1)) * N.z),
         (R2, -c["coupler_joint"] * (w2 - w1) * N.z),
         # the reactions, Newton's third law at each pin

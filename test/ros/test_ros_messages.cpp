@@ -10,6 +10,7 @@
 #include "kane_sim/ros/markers.h"
 #include "kane_sim/ros/messages.h"
 #include "kane_sim/ros/param_yaml.h"
+#include "kane_sim/sim/csv_format.h"
 #include "kane_sim/sim/simulator.h"
 #include "test_helpers.h"
 
@@ -186,8 +187,23 @@ TEST_F(MessagesTest, MechanismStateCarriesTheSnapshot) {
   EXPECT_TRUE(msg.reactions_determinate);
   EXPECT_NE(msg.pin_o_force[0], 0.0);  // the ground carries the weight
   EXPECT_EQ(msg.motor_power, 3.0 * s.state.u1);
-  EXPECT_EQ(msg.gravity_power, s.load_powers.gravity);
-  EXPECT_EQ(msg.slider4_damper_power, s.load_powers.slider4_damper);
+  // Each load's power in its field, named as the output table names it ("<load>_power").
+  const std::string definition = ros::message_traits::definition<kane_sim::MechanismState>();
+  // A field is declared as "<type> <name>" followed by spaces (a comment) or the line's end.
+  const auto declares = [&definition](const std::string& name) {
+    return definition.find(" " + name + " ") != std::string::npos ||
+           definition.find(" " + name + "\n") != std::string::npos;
+  };
+  for (int n = 0; n < kNumLoadNames; ++n) {
+    EXPECT_EQ(msg.*kLoadPowerFields[n], s.load_powers.by_name[n]) << kLoadInfo[n].name;
+    const std::string field = std::string(kLoadInfo[n].name) + "_power";
+    EXPECT_TRUE(declares(field)) << field;
+  }
+  for (const CsvColumn& c : csvColumns()) {
+    if (!c.message_field.empty()) {
+      EXPECT_TRUE(declares(c.message_field)) << c.message_field;
+    }
+  }
   double kinetic = 0.0;
   for (double t : msg.body_kinetic_energy) kinetic += t;
   EXPECT_NEAR(kinetic, msg.kinetic_energy, 1e-12);

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Independent derivation #2 (after the Lagrange test): SymPy's KanesMethod, built from the
 geometry alone, gives the same u' as kane_sim along simulated trajectories, for both
-inertias, a driven crank and all four joint dampers (as loads), on both of kane_sim's paths
+inertias, a driven crank and all five dampers (as loads), on both of kane_sim's paths
 (simulation.equations generated and generic). Measured agreement ~1e-13; the bound 1e-9 (relative to
 1 + |u'|) is far below any modelling error, which would be O(1).
 Usage: sympy_crosscheck_test.py BUILD_DIR
@@ -21,7 +21,8 @@ from sympy_model import sympy_model  # noqa: E402
 def main(build_dir):
     simulate = os.path.join(build_dir, "devel/lib/kane_sim/simulate")
     failures = 0
-    dampers = {"crank_joint": 0.3, "coupler_joint": 0.2, "slider3_joint": 1.5, "slider4_joint": 2.0}
+    dampers = {"crank_joint": 0.3, "coupler_joint": 0.2, "slider3_joint": 1.5, "slider4_joint": 2.0,
+               "spring": 0.8}
     cases = [(config_name, torque, damping, equations)
              for config_name, torque, damping in (
                  ("mechanism.yaml", 0.0, None), ("mechanism.yaml", 12.0, None),

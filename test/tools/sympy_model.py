@@ -55,8 +55,10 @@ def sympy_model(params, x0, torque=0.0, damping=None):
         (rod1, torque * frame.z),
     ]
     # Viscous dampers as loads: torques on the rods' frames from the joint rates (pin O: w1;
-    # pin A: w2 - w1, reaction on rod 1), forces at B and C against their velocities.
-    c = {"crank_joint": 0.0, "coupler_joint": 0.0, "slider3_joint": 0.0, "slider4_joint": 0.0}
+    # pin A: w2 - w1, reaction on rod 1), forces at B and C against their velocities, and the
+    # damper beside the spring on the sliders' relative velocity.
+    c = {"crank_joint": 0.0, "coupler_joint": 0.0, "slider3_joint": 0.0, "slider4_joint": 0.0,
+         "spring": 0.0}
     c.update(damping or {})
     w1, w2 = rod1.ang_vel_in(frame).dot(frame.z), rod2.ang_vel_in(frame).dot(frame.z)
     loads += [
@@ -64,6 +66,9 @@ def sympy_model(params, x0, torque=0.0, damping=None):
         (rod2, -c["coupler_joint"] * (w2 - w1) * frame.z),
         (points["B"], -c["slider3_joint"] * points["B"].vel(frame)),
         (points["C"], -c["slider4_joint"] * points["C"].vel(frame)),
+        # beside the spring, on the sliders' relative velocity
+        (points["C"], -c["spring"] * (points["C"].vel(frame) - points["B"].vel(frame))),
+        (points["B"], c["spring"] * (points["C"].vel(frame) - points["B"].vel(frame))),
     ]
     kane = me.KanesMethod(frame, q_ind=[q1, q2], u_ind=[u1, u2],
                           kd_eqs=[q1.diff() - u1, q2.diff() - u2])

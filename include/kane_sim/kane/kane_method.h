@@ -57,19 +57,30 @@ struct RigidBody {
   }
 };
 
-// A force applied at a point, with the partial velocities of that point.
+// One load, as an entry of SymPy's `loads` list ((point or frame, vector)): a force applied at a
+// point P, with P's partial velocities ∂v_P/∂u_r, or a torque (couple) applied to a frame, with
+// the frame's partial angular velocities ∂ω/∂u_r. Both enter F_r (eq 16) the same way, the
+// vector dotted with the partials; the kind and the point say where it acts (for reactions).
 template <int N>
-struct ForceAtPoint {
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();
-  PartialVelocities<N> partial_velocity = PartialVelocities<N>::Zero();
+struct Load {
+  enum Kind { kForceAtPoint, kTorqueOnFrame };
+  Kind kind = kForceAtPoint;
+  Eigen::Vector3d vector = Eigen::Vector3d::Zero();  // F [N] or T [N m], frame (0)
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();   // r_P (a force's point of application)
+  PartialVelocities<N> partials = PartialVelocities<N>::Zero();  // ∂v_P/∂u_r or ∂ω/∂u_r
 };
 
-// A torque (couple) applied to a frame, with the partial angular velocities of that frame.
+// F at the particle's point (a particle, or a rigid body's mass center).
 template <int N>
-struct TorqueOnFrame {
-  Eigen::Vector3d torque = Eigen::Vector3d::Zero();
-  PartialVelocities<N> partial_angular_velocity = PartialVelocities<N>::Zero();
-};
+Load<N> forceAt(const Particle<N>& point, const Eigen::Vector3d& force) {
+  return {Load<N>::kForceAtPoint, force, point.position, point.partial_velocity};
+}
+// T on the rigid body's frame.
+template <int N>
+Load<N> torqueOn(const RigidBody<N>& body, const Eigen::Vector3d& torque) {
+  return {Load<N>::kTorqueOnFrame, torque, body.mass_center.position,
+          body.partial_angular_velocity};
+}
 
 // Kane's equations at one instant, accumulated term by term.
 template <int N>
@@ -119,26 +130,16 @@ void addInertiaForces(const RigidBody<N>& body, const Speeds<N>& u, KaneEquation
   eq->inertia_remainder.noalias() += W.transpose() * torque_remainder;
 }
 
-// Eq (16), one term: F_r += ∂v_P/∂u_r · F.
+// Eq (16), one term: F_r += ∂v_P/∂u_r · F (a force), ∂ω/∂u_r · T (a torque).
 template <int N>
-void addActiveForces(const ForceAtPoint<N>& load, KaneEquations<N>* eq) {
-  eq->active_forces.noalias() += load.partial_velocity.transpose() * load.force;
+void addActiveForces(const Load<N>& load, KaneEquations<N>* eq) {
+  eq->active_forces.noalias() += load.partials.transpose() * load.vector;
 }
 
-// Eq (16), one term: F_r += ∂ω/∂u_r · T.
+// The power of a load at speeds u: F · v_P, T · ω.
 template <int N>
-void addActiveForces(const TorqueOnFrame<N>& load, KaneEquations<N>* eq) {
-  eq->active_forces.noalias() += load.partial_angular_velocity.transpose() * load.torque;
-}
-
-// The power of a load at speeds u: F · v_P (= Σ_r F_r-share u_r), T · ω for a torque.
-template <int N>
-double power(const ForceAtPoint<N>& load, const Speeds<N>& u) {
-  return load.force.dot(load.partial_velocity * u);
-}
-template <int N>
-double power(const TorqueOnFrame<N>& load, const Speeds<N>& u) {
-  return load.torque.dot(load.partial_angular_velocity * u);
+double power(const Load<N>& load, const Speeds<N>& u) {
+  return load.vector.dot(load.partials * u);
 }
 
 // Kinetic energy: ½ M v·v, plus ½ ω·I·ω for a rigid body.

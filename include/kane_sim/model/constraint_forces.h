@@ -39,9 +39,10 @@ struct ConstraintForces {
 ConstraintForces constraintForces(const MechanismModel& model, const State& x,
                                   const SpeedVector& u_dot, double motor_command,
                                   double contact_force);
-// The same from the kinematics and loads of x already at hand (the snapshot has them).
+// The same from the kinematics and loads of x already at hand (the snapshot has them), the
+// contact's entries among the loads.
 ConstraintForces constraintForces(const MechanismKinematics& k, const MechanismLoads& loads,
-                                  const State& x, const SpeedVector& u_dot, double contact_force);
+                                  const State& x, const SpeedVector& u_dot);
 
 }  // namespace kane_sim
 

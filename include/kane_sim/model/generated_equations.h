@@ -23,6 +23,7 @@ struct Constants {
   double coupler_damping;     // c_A [N m s/rad], pin A
   double slider3_damping;     // c_B [N s/m], slider 3 on the rail
   double slider4_damping;     // c_C [N s/m], slider 4 on the rail
+  double spring_damping;      // c_S [N s/m], beside the spring between the sliders
 };
 
 // u1', u2' of F*_r + F_r = 0 (eq 18) and the dampers' dissipated power [W] at (q, u) under
@@ -33,7 +34,7 @@ struct Rates {
   double dissipated_power;
 };
 
-// Every term: the four joint dampers included.
+// Every term: the five dampers included.
 inline Rates rates(const Constants& p, double q1, double q2, double u1, double u2,
                    double M_m) {
   const double m = p.rod_mass;
@@ -48,6 +49,7 @@ inline Rates rates(const Constants& p, double q1, double q2, double u1, double u
   const double c_A = p.coupler_damping;
   const double c_B = p.slider3_damping;
   const double c_C = p.slider4_damping;
+  const double c_S = p.spring_damping;
   double sin_q1, cos_q1;
   __builtin_sincos(q1, &sin_q1, &cos_q1);
   const double t0 = L*L;
@@ -55,22 +57,27 @@ inline Rates rates(const Constants& p, double q1, double q2, double u1, double u
   const double t2 = sin_q1*sin_q1;
   const double t3 = 8*t0;
   const double t4 = t2*t3;
-  const double t5 = M1*sin_q1;
-  const double t6 = 2*L;
+  const double t5 = 2*L;
+  const double t6 = sin_q1*t5;
   const double t7 = g*t6;
-  const double t8 = k*sin_q1;
-  const double t9 = t6*t8;
-  const double t10 = cos_q1*t3;
-  const double t11 = u1*u1;
-  const double t12 = 4*t11;
-  const double t13 = 1.0/M2;
-  const double t14 = k*t13;
-  return {-(-1.0/2.0*M_m + 2*c_A*u1 + c_B*t4*u1 + (1.0/2.0)*c_O*u1 + cos_q1*sin_q1*t1*t12 + m*sin_q1*t7 + q2*t9 - s0*t9 + t10*t11*t5 - t10*t8 + t5*t7)/(I + M1*t4 + 4*t1*t2 + t1),
-          4*L*cos_q1*t14 - c_C*t13*u2 + g - q2*t14 + s0*t14,
-          c_A*t12 + 16*c_B*t0*t11*t2 + c_C*u2*u2 + c_O*t11};
+  const double t8 = c_S*u2;
+  const double t9 = k*sin_q1;
+  const double t10 = t5*t9;
+  const double t11 = cos_q1*t3;
+  const double t12 = t4*u1;
+  const double t13 = u1*u1;
+  const double t14 = 4*t13;
+  const double t15 = 1.0/M2;
+  const double t16 = t15*u2;
+  const double t17 = sin_q1*u1;
+  const double t18 = u2*u2;
+  const double t19 = 16*t0*t13*t2;
+  return {-(M1*sin_q1*t11*t13 + M1*t7 - 1.0/2.0*M_m + 2*c_A*u1 + c_B*t12 + (1.0/2.0)*c_O*u1 + c_S*t12 + cos_q1*sin_q1*t1*t14 + m*t7 + q2*t10 - s0*t10 - t11*t9 + t6*t8)/(I + M1*t4 + 4*t1*t2 + t1),
+          -4*L*c_S*t15*t17 + 4*L*cos_q1*k*t15 - c_C*t16 - c_S*t16 + g - k*q2*t15 + k*s0*t15,
+          8*L*t17*t8 + c_A*t14 + c_B*t19 + c_C*t18 + c_O*t13 + c_S*t18 + c_S*t19};
 }
 
-// The same with the four dampers zero (the textbook's model; the dissipated power is 0):
+// The same with the five dampers zero (the textbook's model; the dissipated power is 0):
 // fewer terms where no damper is configured. Only for Constants whose dampers are all 0.
 inline Rates ratesUndamped(const Constants& p, double q1, double q2, double u1, double u2,
                            double M_m) {

@@ -48,12 +48,13 @@ class GeneratedMechanism {
     c.coupler_damping = p.damping.coupler;  // c_A
     c.slider3_damping = p.damping.slider3;  // c_B
     c.slider4_damping = p.damping.slider4;  // c_C
+    c.spring_damping = p.damping.spring;    // c_S
     return c;
   }
 
   generated::Constants constants_;
   MotorLine motor_;
-  bool damped_;  // any joint damper non-zero
+  bool damped_;  // any damper non-zero
 };
 
 }  // namespace kane_sim

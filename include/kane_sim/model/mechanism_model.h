@@ -14,6 +14,7 @@
 #include <optional>
 
 #include <Eigen/Core>
+#include <boost/container/static_vector.hpp>
 
 #include "kane_sim/kane/kane_method.h"
 #include "kane_sim/model/joint_names.h"
@@ -61,21 +62,51 @@ struct MechanismKinematics {
   kane::Particle<kNumSpeeds> slider4;  // body 4 at C: v_C = u2 i
 };
 
-// The applied loads at one instant: eq (14), eq (15), the driver moment and the joint dampers
-// (zero when off), each with the partial (angular) velocities of the point (frame) it acts on.
-// Contact acts by impulses at instants (MechanismModel::sliderImpact), not as a load.
-struct MechanismLoads {
-  std::array<kane::ForceAtPoint<kNumSpeeds>, kNumBodies> gravity;  // G1 at C1 ... G4 at C
-  kane::ForceAtPoint<kNumSpeeds> spring_on_slider3;                // F_eB at B
-  kane::ForceAtPoint<kNumSpeeds> spring_on_slider4;                // F_eC = -F_eB at C
-  kane::TorqueOnFrame<kNumSpeeds> motor;                           // M_m k on rod 1
-  // Dissipative loads: every one takes power out (F · v <= 0).
-  kane::TorqueOnFrame<kNumSpeeds> crank_damper;            // -c_O w1 k on rod 1
-  kane::TorqueOnFrame<kNumSpeeds> coupler_damper_on_rod2;  // -c_A (w2 - w1) k on rod 2
-  kane::TorqueOnFrame<kNumSpeeds> coupler_damper_on_rod1;  // +c_A (w2 - w1) k on rod 1
-  kane::ForceAtPoint<kNumSpeeds> slider3_damper;           // -c_B v_B i at B
-  kane::ForceAtPoint<kNumSpeeds> slider4_damper;           // -c_C v_C i at C
+// The loads, one named list as SymPy's `kanes_equations(bodies, loads)` takes: each entry a force
+// at a point or a torque on a frame, under the name of the quantity it belongs to. Several entries
+// can share a name (gravity's four, the spring's pair, a damper's torque and its reaction): each
+// name's power is their sum. Every output that is per load (power flow, the ledger's dissipation,
+// the CSV's and the message's power columns, Python's Result.powers()) iterates this table, so a
+// new load is a row here and its entries in MechanismModel::loads().
+enum class LoadName {
+  kGravity,        // eq (14): G1 ... G4 at the mass centers
+  kSpring,         // eq (15): F_eB at B, F_eC = -F_eB at C
+  kMotor,          // the driver moment M_m k on rod 1 (through the motor line)
+  kCrankDamper,    // -c_O w1 k on rod 1
+  kCouplerDamper,  // -c_A (w2 - w1) k on rod 2, its reaction on rod 1
+  kSlider3Damper,  // -c_B v_B i at B
+  kSlider4Damper,  // -c_C v_C i at C
+  kSpringDamper,   // -c_S (v_C - v_B) i at C, the opposite at B
+  kContact,        // the resting contact's N i at C, -N i at B (added by the simulator)
+  kCount
 };
+constexpr int kNumLoadNames = static_cast<int>(LoadName::kCount);
+
+struct LoadInfo {
+  const char* name;  // snake_case: "spring_damper" (power column power_spring_damper, ...)
+  bool damper;       // dissipative: its power is <= 0 and counts in the ledger's D'
+};
+// Indexed by LoadName.
+constexpr LoadInfo kLoadInfo[kNumLoadNames] = {
+    {"gravity", false},       {"spring", false},        {"motor", false},
+    {"crank_damper", true},   {"coupler_damper", true}, {"slider3_damper", true},
+    {"slider4_damper", true}, {"spring_damper", true},  {"contact", false},
+};
+inline const LoadInfo& loadInfo(LoadName name) { return kLoadInfo[static_cast<int>(name)]; }
+
+// One entry of the list: the load, its name, and the body it acts on (for the reactions).
+struct MechanismLoad {
+  LoadName name;
+  Body body;
+  kane::Load<kNumSpeeds> load;
+};
+// The list at one instant, every entry present (zero when its option is off) so that the
+// layout never depends on the parameters. Fixed capacity: no allocation in the integrators.
+using MechanismLoads = boost::container::static_vector<MechanismLoad, 16>;
+
+// Σ of the vectors of the entries named `name` acting on `body` (e.g. the spring's force on
+// slider 4).
+Eigen::Vector3d loadVector(const MechanismLoads& loads, LoadName name, Body body);
 
 // One impact of the sliders (contact on): the speeds just after it.
 struct SliderImpact {
@@ -123,8 +154,12 @@ class MechanismModel {
   }
   MechanismKinematics kinematics(const State& x) const;
   // motor_command: M_m as commanded (already within the torque limit); the motor line, when
-  // on, limits it at u1 (appliedMotorTorque).
+  // on, limits it at u1 (appliedMotorTorque). The contact's entries are not in it (the
+  // simulator adds them once N is known: addContactLoads).
   MechanismLoads loads(const MechanismKinematics& k, const State& x, double motor_command) const;
+  // The resting contact's force N [N]: +N i on slider 4 at C, -N i on slider 3 at B.
+  static void addContactLoads(const MechanismKinematics& k, double contact_force,
+                              MechanismLoads* loads);
 
   // The torque the drive delivers at crank speed u1 for a command (MotorLine).
   double appliedMotorTorque(double command, double u1) const;

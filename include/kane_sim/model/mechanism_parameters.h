@@ -11,16 +11,18 @@
 
 namespace kane_sim {
 
-// Viscous damping at the four joints (joint_states' names); all zero in the textbook example.
+// Viscous damping at the four joints (joint_states' names) and in parallel with the spring; all
+// zero in the textbook example.
 struct JointDamping {
   double crank = 0.0;    // c_O [N m s/rad] pin O: torque -c_O w1 k on rod 1
   double coupler = 0.0;  // c_A [N m s/rad] pin A: -c_A (w2 - w1) k on rod 2, the opposite on rod 1
   double slider3 = 0.0;  // c_B [N s/m] slider 3 on the rail: -c_B v_B i at B
   double slider4 = 0.0;  // c_C [N s/m] slider 4 on the rail: -c_C v_C i at C
+  double spring = 0.0;  // c_S [N s/m] beside the spring: -c_S (v_C - v_B) i at C, the opposite at B
 
   // Every field, once: equality and any() derive from it (a damper added above and not here
   // fails test_generated_equations' every-parameter test).
-  auto fields() const { return std::tie(crank, coupler, slider3, slider4); }
+  auto fields() const { return std::tie(crank, coupler, slider3, slider4, spring); }
   bool any() const {
     return std::apply([](auto... c) { return ((c != 0.0) || ...); }, fields());
   }

@@ -13,25 +13,29 @@
 
 namespace kane_sim {
 
+// The power of each named load [W] (MechanismLoads' names): gravity's is -dV_g/dt, the spring's
+// -dV_s/dt, the motor's M_m u1, each damper's <= 0, the contact's N (v_C - v_B) (0 while the
+// sliders rest on each other).
 struct LoadPowers {
-  double gravity = 0.0;         // [W] Σ G_b · v_b (G1 ... G4), = -dV_g/dt
-  double spring = 0.0;          // [W] F_eB · v_B + F_eC · v_C, = -dV_s/dt
-  double motor = 0.0;           // [W] M_m u1
-  double crank_damper = 0.0;    // [W] <= 0, pin O
-  double coupler_damper = 0.0;  // [W] <= 0, pin A (its torques on both rods)
-  double slider3_damper = 0.0;  // [W] <= 0
-  double slider4_damper = 0.0;  // [W] <= 0
-  double contact = 0.0;         // [W] N (v_C - v_B): 0 while the sliders rest on each other
+  std::array<double, kNumLoadNames> by_name{};
 
-  double dampers() const { return crank_damper + coupler_damper + slider3_damper + slider4_damper; }
-  double total() const { return gravity + spring + motor + dampers() + contact; }  // = dT/dt
+  double operator[](LoadName name) const { return by_name[static_cast<int>(name)]; }
+  double& operator[](LoadName name) { return by_name[static_cast<int>(name)]; }
+  double dampers() const {  // <= 0
+    double sum = 0.0;
+    for (int n = 0; n < kNumLoadNames; ++n)
+      if (kLoadInfo[n].damper) sum += by_name[n];
+    return sum;
+  }
+  double total() const {  // = dT/dt
+    double sum = 0.0;
+    for (double p : by_name) sum += p;
+    return sum;
+  }
 };
 
-// The loads' powers at speeds u. `contact` is left 0: the resting contact's force is not one of
-// MechanismLoads (the simulator adds it, contactPower).
+// Each named load's power at speeds u: the sum over its entries of F · v_P (T · ω).
 LoadPowers loadPowers(const MechanismLoads& loads, const State& x);
-// N J u: the power of the resting contact's force N on slider 4 along +x (and -N on slider 3).
-double contactPower(const MechanismKinematics& k, const State& x, double contact_force);
 
 // T of rod 1, rod 2, slider 3, slider 4 (indexed by Body) [J].
 std::array<double, kNumBodies> bodyKineticEnergies(const MechanismKinematics& k, const State& x);

@@ -61,6 +61,9 @@ std::vector<geometry_msgs::TransformStamped> jointTransforms(const RobotDescript
                                                              const JointValues& joints,
                                                              const ros::Time& stamp);
 
+// MechanismState's power field of each load, indexed by LoadName ("<load>_power").
+extern double kane_sim::MechanismState::*const kLoadPowerFields[kNumLoadNames];
+
 // real_time_factor: sim time per wall time achieved by whoever produced the snapshot (0 offline).
 kane_sim::MechanismState mechanismStateMessage(const Snapshot& snapshot, double real_time_factor,
                                                const ros::Time& stamp, const std::string& frame_id);

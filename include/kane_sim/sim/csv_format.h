@@ -2,16 +2,27 @@
 #ifndef KANE_SIM_SIM_CSV_FORMAT_H
 #define KANE_SIM_SIM_CSV_FORMAT_H
 
+#include <functional>
 #include <ostream>
+#include <string>
+#include <vector>
 
 #include "kane_sim/sim/snapshot.h"
 
 namespace kane_sim {
 
-// One column: its name in the header and the value it holds.
+// One output quantity, named once: its CSV column (also Result's and the plots' name), its group
+// and key within the group (Python's Result.energies(), .powers(), ...), the /mechanism_state
+// field that carries it (plot_bag reads bags through it), and its value. The per-load and
+// per-body rows derive from the model's tables (kLoadInfo, the bodies), so a new load adds its
+// power column, its Python key and its message field name with no list here to edit.
 struct CsvColumn {
-  const char* name;
-  double (*value)(const Snapshot&);
+  std::string name;
+  std::string group;          // "state", "energy", "ledger", "reaction", "power", "kinetic", ...
+  std::string key;            // within the group: the load's or body's name, else the column's name
+  std::string message_field;  // MechanismState's field, "" when the message has none
+  int message_index = -1;     // the element of an array field, -1 for a scalar
+  std::function<double(const Snapshot&)> value;
 };
 // The columns in order: t,q1,q2,u1,u2,energy, then u1dot,u2dot,torque,motor_work,kinetic,
 // gravitational,spring,energy_minus_work,F1,F2,spring_elongation,motor_power, then the ledger
@@ -19,8 +30,7 @@ struct CsvColumn {
 // is the applied one), contact_impacts, then the reaction forces pin_o_x ... spring_force, the
 // loads' powers power_gravity ... power_contact (with motor_power: Σ = dT/dt), each body's
 // kinetic energy and impact_energy. The Python module's result arrays use the same table.
-const CsvColumn* csvColumnsBegin();
-const CsvColumn* csvColumnsEnd();
+const std::vector<CsvColumn>& csvColumns();
 
 void writeCsvHeader(std::ostream& out);
 void writeCsvRow(std::ostream& out, const Snapshot& snapshot);
