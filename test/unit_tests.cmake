@@ -84,6 +84,8 @@ add_test(NAME python_module COMMAND /usr/bin/python3 -m pytest -q -p no:cachepro
 set_tests_properties(python_module PROPERTIES TIMEOUT 300
   ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
 add_test(NAME layers COMMAND /usr/bin/python3 ${tools_dir}/layers_test.py ${PROJECT_SOURCE_DIR})
+add_test(NAME doc_links
+  COMMAND /usr/bin/python3 ${tools_dir}/doc_links_test.py ${PROJECT_SOURCE_DIR})
 add_test(NAME analyze_cli COMMAND /usr/bin/python3 ${tools_dir}/analyze_cli_test.py ${CMAKE_BINARY_DIR})
 add_test(NAME config_fuzz COMMAND /usr/bin/python3 ${tools_dir}/config_fuzz_test.py ${CMAKE_BINARY_DIR} 300)
 add_test(NAME plot_bag COMMAND bash ${tools_dir}/plot_bag_test.sh ${CMAKE_BINARY_DIR})

@@ -1,4 +1,5 @@
-// kane_sim_node: the virtual robot. Parameters: see config/mechanism.yaml and the README.
+// kane_sim_node: the virtual robot. Parameters: see config/mechanism.yaml and
+// doc/reference/parameters.md.
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -26,7 +27,7 @@ constexpr const char* kUsage =
     "  ~reset_event, ~input_log and ~checkpoint (for simulate --replay), robot_description\n"
     "Services:   ~reset, ~pause, ~unpause, ~step, ~step_with_command, ~set_state;\n"
     "  dynamic_reconfigure on ~set_parameters\n\n"
-    "See the README, section \"The node\".\n";
+    "See doc/guide/node.md.\n";
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -4,7 +4,8 @@
 //
 //   config_info urdf FILE [--frame-prefix P]   the robot_description (URDF) of FILE
 //   config_info use_sim_time FILE              true when FILE's simulation.publish_clock is
-//   config_info parameters                     every config parameter (the README's table)
+//   config_info parameters                     every config parameter (the table of
+//                                              doc/reference/parameters.md)
 //
 // launch/sim.launch sets robot_description and /use_sim_time from these before starting
 // robot_state_publisher and rviz, which read both once at start-up. Exit codes: 0 ok, 1 bad
@@ -27,7 +28,8 @@ constexpr const char* kUsage =
     "What kane_sim's launch files and docs read from a config, without a ROS master:\n"
     "  urdf FILE          the robot_description (URDF) of FILE's mechanism (sim.launch's)\n"
     "  use_sim_time FILE  true or false: FILE's simulation.publish_clock (/use_sim_time)\n"
-    "  parameters         every config parameter as the README's Markdown table;\n"
+    "  parameters         every config parameter as the Markdown table of\n"
+    "                     doc/reference/parameters.md;\n"
     "                     --text: the same for a terminal; KEY (e.g. mechanism.rod_mass): one\n"
     "Exit 0 on success, 1 for a config the loader refuses, 2 for a usage error.\n";
 

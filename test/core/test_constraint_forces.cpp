@@ -1,6 +1,7 @@
 // The reaction forces from Kane's method with auxiliary speeds (model/constraint_forces.h) against
 // Newton-Euler free-body balances of each body, written out here by hand from the geometry
-// (doc/mechanism.md), and the power flow (model/power_flow.h) against the work-energy theorem.
+// (doc/theory/mechanism.md), and the power flow (model/power_flow.h) against the work-energy
+// theorem.
 #include <cmath>
 #include <random>
 

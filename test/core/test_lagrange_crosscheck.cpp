@@ -1,5 +1,5 @@
 // An independent derivation: Lagrange's equations from T(q, u) and V(q), built only from the
-// body positions of the mechanism (written here again on purpose, from doc/mechanism.md)
+// body positions of the mechanism (written here again on purpose, from doc/theory/mechanism.md)
 // and numeric differentiation. Nothing in this file calls the Kane assembly except to compare.
 //
 //   M(q) u' = Q - dV/dq + dT/dq - d/dt(dT/du)|_(u' = 0)

@@ -1,6 +1,6 @@
 // The parameter schema is the one declaration of every config parameter: the loader reads exactly
 // its keys with its rules, its defaults obey its rules, every parameter of the equations reaches
-// the generated equations, and the README's table is what the schema prints.
+// the generated equations, and the table of doc/reference/parameters.md is what the schema prints.
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -150,12 +150,12 @@ TEST(ParameterSchema, EveryParameterOfTheEquationsReachesTheGeneratedOnes) {
   }
 }
 
-TEST(ParameterSchema, TheReadmeTableIsTheSchemas) {
-  std::ifstream file(std::string(KANE_SIM_CONFIG_DIR) + "/../README.md");
-  ASSERT_TRUE(file) << "README.md beside config/";
-  std::stringstream readme;
-  readme << file.rdbuf();
-  const std::string text = readme.str();
+TEST(ParameterSchema, TheDocumentedTableIsTheSchemas) {
+  std::ifstream file(std::string(KANE_SIM_CONFIG_DIR) + "/../doc/reference/parameters.md");
+  ASSERT_TRUE(file) << "doc/reference/parameters.md beside config/";
+  std::stringstream doc;
+  doc << file.rdbuf();
+  const std::string text = doc.str();
   const std::string begin = "<!-- generated: rosrun kane_sim config_info parameters";
   const std::string end = "<!-- end of generated table -->";
   const std::size_t a = text.find(begin);
@@ -164,7 +164,8 @@ TEST(ParameterSchema, TheReadmeTableIsTheSchemas) {
   const std::size_t b = text.find(end, table);
   ASSERT_NE(b, std::string::npos);
   EXPECT_EQ(text.substr(table, b - table), parameterTable())
-      << "regenerate the README's table: rosrun kane_sim config_info parameters";
+      << "regenerate the table of doc/reference/parameters.md: rosrun kane_sim config_info "
+         "parameters";
 }
 
 TEST(ParameterSchema, ChoicesParseByTheirSchemaNames) {

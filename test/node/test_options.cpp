@@ -122,7 +122,8 @@ TEST_F(Options, MotorLineSetAtRuntimeLimitsTheAppliedTorque) {
     }
     max_speed = std::max(max_speed, std::abs(u1));
   }
-  // Offline the same line swings u1 within [-38, 57] rad/s with rk4 (README); without it > 100.
+  // Offline the same line swings u1 within [-38, 57] rad/s with rk4 (doc/reference/parameters.md);
+  // without it > 100.
   EXPECT_LT(max_speed, 80.0);
   EXPECT_TRUE(std::any_of(ms.begin(), ms.end(), [](const MechanismState& m) {
     return m.applied_torque < 40.0;

@@ -1,7 +1,7 @@
 // Runtime reconfiguration through dynamic_reconfigure (test/node/reconfigure.test): the clamp
 // follows torque_limit at once, a physical parameter changes u' from the next step and its
 // energy jump lands in parameter_energy, a value the config loader refuses is reverted, and
-// `rosrun dynamic_reconfigure dynparam set` works as the README says.
+// `rosrun dynamic_reconfigure dynparam set` works as doc/guide/node.md says.
 #include <sched.h>
 #include <unistd.h>
 
@@ -66,8 +66,9 @@ TEST_F(Reconfigure, TorqueLimitClampsTheCommandInForce) {
 }
 
 // One name per parameter: after a change the parameter server holds the value in force under
-// the config's own name (and no flat duplicate), so the README's recipe `rosparam get /kane_sim >
-// now.yaml; analyze --config now.yaml` analyses the mechanism in force, without a warning.
+// the config's own name (and no flat duplicate), so the recipe of doc/guide/node.md `rosparam get
+// /kane_sim > now.yaml; analyze --config now.yaml` analyses the mechanism in force, without a
+// warning.
 TEST_F(Reconfigure, TheParameterServerHoldsTheConfigInForceUnderItsOwnNames) {
   ASSERT_EQ(set("spring_stiffness", 400.0), 400.0);
   double k = 0.0;

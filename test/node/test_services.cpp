@@ -164,8 +164,9 @@ TEST_F(Services, SetStateRefusesStatesThatCannotBeSimulated) {
                   std::isfinite(j.effort[k]));
 }
 
-// spring_at_rest: slider 4 placed where the spring is unstretched for the given q1 (the README's
-// example {q1: 1.0, q2: 1.2} stretched it 0.36 m and crossed the sliders in 0.15 s).
+// spring_at_rest: slider 4 placed where the spring is unstretched for the given q1 (the example
+// of doc/reference/ros_api.md {q1: 1.0, q2: 1.2} stretched it 0.36 m and crossed the sliders in
+// 0.15 s).
 TEST_F(Services, SetStateCanPutSlider4AtTheSpringsRestLength) {
   std_srvs::Empty empty;
   ASSERT_TRUE(call("kane_sim/pause", empty));

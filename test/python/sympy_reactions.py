@@ -1,5 +1,5 @@
 """The reaction forces of the textbook example's mechanism from SymPy's KanesMethod with
-auxiliary speeds (u_auxiliary), built from doc/mechanism.md only: a test oracle for
+auxiliary speeds (u_auxiliary), built from doc/theory/mechanism.md only: a test oracle for
 kane_sim's model/constraint_forces.cpp, independent of it (a different set of auxiliary motions:
 each pin released as a relative velocity along the chain O -> A -> B, SymPy forming every term).
 

@@ -1,6 +1,7 @@
 """kane_sim.animate and the plots from Python; the example script runs headless and writes its
 GIF and figures."""
 import os
+import re
 import subprocess
 import sys
 
@@ -75,35 +76,56 @@ def test_animate_refuses_what_it_cannot_draw():
         kane_sim.plot_result(r, kind="energy")
 
 
-def test_the_readmes_python_example_runs_as_written(tmp_path):
-    readme = open(os.path.join(os.path.dirname(EXAMPLE), "..", "..", "README.md")).read()
-    block = readme.split("```python\n", 1)[1].split("```", 1)[0]
-    script = tmp_path / "example.py"
-    script.write_text(block)
-    r = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
-                       text=True, timeout=240)
-    assert r.returncode == 0, r.stderr
+ROOT = os.path.join(os.path.dirname(EXAMPLE), "..", "..")
+
+
+def documentation():
+    """(path relative to the checkout, text) of README.md and every doc/**/*.md."""
+    pages = ["README.md"]
+    for folder, dirs, names in os.walk(os.path.join(ROOT, "doc")):
+        dirs.sort()
+        pages += [os.path.relpath(os.path.join(folder, n), ROOT) for n in sorted(names)
+                  if n.endswith(".md")]
+    return [(page, open(os.path.join(ROOT, page), encoding="utf-8").read()) for page in pages]
+
+
+def test_the_python_examples_of_the_docs_run_as_written(tmp_path):
+    """Every ```python block of README.md and doc/**/*.md runs; the Python guide's makes its GIF."""
+    blocks = [(page, i, block.split("```", 1)[0]) for page, text in documentation()
+              for i, block in enumerate(text.split("```python\n")[1:])]
+    assert any(page == os.path.join("doc", "guide", "python.md") for page, _, _ in blocks), \
+        "no ```python block in doc/guide/python.md"
+    for page, i, block in blocks:
+        script = tmp_path / ("example_%d.py" % i)
+        script.write_text(block)
+        r = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
+                           text=True, timeout=240)
+        assert r.returncode == 0, "%s, python block %d: %s" % (page, i + 1, r.stderr)
     assert Image.open(tmp_path / "swing.gif").n_frames > 10
 
 
-def test_every_figure_of_the_readme_has_its_command_and_it_runs(tmp_path):
-    """Each doc/*.png the README shows has the command that makes it beside it; the Python ones
-    run here into a scratch folder (the node's figures need a master: their commands are the
-    launch tests' own)."""
-    root = os.path.join(os.path.dirname(EXAMPLE), "..", "..")
-    readme = open(os.path.join(root, "README.md")).read()
+def test_every_figure_of_the_docs_has_its_command_and_it_runs(tmp_path):
+    """Each doc/*.png that README.md or a page of doc/ shows has the command that makes it
+    beside it, on that page; the Python ones run here into a scratch folder (the node's figures
+    need a master: their commands are the launch tests' own)."""
     commands = {
         "doc/power_flow.png": "python3 doc/power_flow.py",
         "doc/reactions_one_turn.png": "python3 examples/python/crank_animation.py doc",
         "doc/linear_response.png": "python3 doc/linear_response.py BUILD_DIR",
         "doc/sensors_vs_ideal.png": "rosrun kane_sim plot_bag noisy.bag --compare",
     }
+    shown = {}  # figure -> [(page, text, position of its link)]
+    for page, text in documentation():
+        for m in re.finditer(r"!\[[^\]]*\]\(([^)\s]+\.png)\)", text):
+            figure = os.path.normpath(os.path.join(os.path.dirname(page), m.group(1)))
+            shown.setdefault(figure.replace(os.sep, "/"), []).append((page, text, m.start()))
     for figure, command in commands.items():
-        at = readme.index("(%s)" % figure)
-        near = readme[max(0, at - 1500):at + 1500]
-        assert command in near, "%s: no '%s' beside it" % (figure, command)
+        assert figure in shown, "%s is shown nowhere in README.md or doc/" % figure
+        for page, text, at in shown[figure]:
+            near = text[max(0, at - 1500):at + 1500]
+            assert command in near, "%s in %s: no '%s' beside it" % (figure, page, command)
     out = tmp_path / "power_flow.png"
-    r = subprocess.run([sys.executable, os.path.join(root, "doc", "power_flow.py"), str(out)],
+    r = subprocess.run([sys.executable, os.path.join(ROOT, "doc", "power_flow.py"), str(out)],
                        capture_output=True, text=True, timeout=240)
     assert r.returncode == 0, r.stderr
     assert Image.open(out).size[0] > 800

@@ -2,8 +2,8 @@
 # The launch files as a user meets them, several launches on one master: a relaunch with
 # another config takes the new values (clear_params); a wall-clock launch after a sim-time one
 # stamps wall time (/use_sim_time set explicitly); a config file's publish_clock is honoured
-# without launch arguments; every `rosrun kane_sim X` in the README resolves to exactly one
-# executable; catkin_lint -W2 reports no warning or error.
+# without launch arguments; every `rosrun kane_sim X` in README.md and doc/**/*.md resolves to
+# exactly one executable; catkin_lint -W2 reports no warning or error.
 # Usage: launch_test.sh BUILD_DIR
 set -uo pipefail
 build_dir=$(cd "$1" && pwd)
@@ -80,17 +80,20 @@ config_publish_clock_is_honoured() {
   [ "$use_sim_time" = true ] && [ "${clock:-0}" -ge 1000000000 ]
 }
 
-readme_rosruns_resolve_once() {
-  local ok=0 names
-  names=$(grep -o 'rosrun kane_sim [A-Za-z_]*' "$pkg/README.md" | awk '{print $3}' | sort -u)
-  [ -n "$names" ] || { echo "     no rosrun in the README"; return 1; }
+doc_rosruns_resolve_once() {
+  local ok=0 names pages
+  pages=$(find "$pkg/README.md" "$pkg/doc" -name '*.md' | wc -l)
+  [ "$pages" -gt 1 ] || { echo "     no README.md and doc/**/*.md under $pkg"; return 1; }
+  names=$(find "$pkg/README.md" "$pkg/doc" -name '*.md' \
+    -exec grep -ho 'rosrun kane_sim [A-Za-z_]*' {} + | awk '{print $3}' | sort -u)
+  [ -n "$names" ] || { echo "     no rosrun in README.md or doc/"; return 1; }
   for exe in $names; do
     local found; found=$(rosrun --prefix echo kane_sim "$exe" </dev/null 2>&1)
     if [ "$(echo "$found" | wc -l)" -ne 1 ] || [ ! -x "$found" ]; then
       echo "     rosrun kane_sim $exe: $found"; ok=1
     fi
   done
-  echo "     $(echo "$names" | wc -w) executables: $(echo $names)"
+  echo "     $(echo "$names" | wc -w) executables in $pages pages: $(echo $names)"
   return $ok
 }
 
@@ -116,7 +119,7 @@ check "relaunch on the same master takes the new config" relaunch_takes_the_new_
 check "lockstep with the example controller runs at the controller's pace" lockstep_runs_with_the_controller
 check "wall-clock launch after a sim-time launch stamps wall time" wall_clock_after_sim_time
 check "the config file's publish_clock is honoured without launch arguments" config_publish_clock_is_honoured
-check "every rosrun in the README resolves to one executable" readme_rosruns_resolve_once
+check "every rosrun in README.md and doc/ resolves to one executable" doc_rosruns_resolve_once
 check "catkin_lint -W2: no warnings or errors" catkin_lint_clean
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -7,8 +7,8 @@ belongs to the library of its folder (include/kane_sim/<layer>/ -> kane_sim_<lay
 kane_sim/format_number.h is shared by all. Private headers a file includes from its own folder
 are scanned as part of its target. A ROS-free target (kane_sim_ros_free in CMake) may include no
 ROS header and no message header: on Debian ROS's headers are on the default include path, so
-the build alone would not notice. Also checks that doc/architecture.md names each library's
-dependencies as CMake declares them.
+the build alone would not notice. Also checks that doc/design/architecture.md names each
+library's dependencies as CMake declares them.
 
 Usage: layers_test.py [SOURCE_DIR]   (exit 1 with one line per violation)
 """
@@ -107,17 +107,18 @@ def main():
                         problems.append("%s:%d: %s of %s, which %s does not link"
                                         % (path, line_no, header, owner[header], target))
 
-    # doc/architecture.md's table of libraries says what each links.
-    doc = open(os.path.join(ROOT, "doc", "architecture.md")).read()
+    # doc/design/architecture.md's table of libraries says what each links.
+    doc = open(os.path.join(ROOT, "doc", "design", "architecture.md")).read()
     for target in sorted(libraries):
         m = re.search(r"^\s*\| `%s` \| ([^|]*) \|" % target, doc, re.M)
         if not m:
-            problems.append("doc/architecture.md: no row for %s in the table of libraries" % target)
+            problems.append("doc/design/architecture.md: no row for %s in the table of libraries"
+                            % target)
             continue
         documented = set(re.findall(r"kane_sim_\w+", m.group(1)))
         declared = links[target] - {"kane_sim_warnings"}
         if documented != declared:
-            problems.append("doc/architecture.md: %s links %s, the doc says %s"
+            problems.append("doc/design/architecture.md: %s links %s, the doc says %s"
                             % (target, sorted(declared) or "nothing of ours",
                                sorted(documented) or "nothing"))
     for p in problems:

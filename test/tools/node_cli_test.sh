@@ -36,8 +36,8 @@ for exe in kane_sim_node pd_controller crank_marker teleop_key simulate analyze 
   check "$exe --help" helps "$exe"
 done
 
-# The parameter table the README holds (test_parameter_schema compares the two), and a stray
-# argument refused as a usage error.
+# The parameter table doc/reference/parameters.md holds (test_parameter_schema compares the two),
+# and a stray argument refused as a usage error.
 parameter_table() {
   "$bin/config_info" parameters >"$work/out" 2>"$work/err" || { cat "$work/err"; return 1; }
   head -1 "$work/out" | grep -q "^| key | symbol | unit | default | rule |" &&

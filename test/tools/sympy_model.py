@@ -1,5 +1,5 @@
 """The textbook example's mechanism built independently with SymPy's KanesMethod (sympy.physics.mechanics),
-from the geometry in doc/mechanism.md only. Used by test/tools/sympy_crosscheck_test.py and
+from the geometry in doc/theory/mechanism.md only. Used by test/tools/sympy_crosscheck_test.py and
 bench/compare_sympy.py.
 
 Independent on purpose: this is a test oracle, so it shares nothing with the code it checks -

@@ -1,10 +1,11 @@
 // The config's parameters, each declared once: its key, the textbook's symbol, unit, rule,
 // default (or required), whether it can be reconfigured at run time, and a line of doc. From this
 // one list come the loader's reads and checks (config/load_config.h), the dynamic_reconfigure
-// description and bindings the node serves, and the README's parameter table (`config_info
-// parameters`, checked against the README by a test). Rules that tie two parameters together
-// (publish_rate divides physics_rate, rod_inertia's default from m and L, the motor line's stall
-// torque) stay in the loader, and `cross_rule` names them for the table.
+// description and bindings the node serves, and the parameter table of
+// doc/reference/parameters.md (`config_info parameters`, checked against it by a test). Rules
+// that tie two parameters together (publish_rate divides physics_rate, rod_inertia's default
+// from m and L, the motor line's stall torque) stay in the loader, and `cross_rule` names them
+// for the table.
 //
 // To add a parameter: a field in config.h's structs (its default is the field's initializer), one
 // entry in src/config/parameter_schema.cpp, and the physics that uses it.
@@ -95,7 +96,7 @@ double numericValue(const ParameterSpec& spec, const Config& config);
 // The value as the config file would spell it ("rk4", "true", "0.5").
 std::string valueText(const ParameterSpec& spec, const Config& config);
 
-// The README's parameter table (Markdown), one row per parameter.
+// The parameter table of doc/reference/parameters.md (Markdown), one row per parameter.
 std::string parameterTable();
 
 // One parameter as the table describes it, one "field: value" line each (config_info
