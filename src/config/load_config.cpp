@@ -38,13 +38,6 @@ void checkKeys(const YAML::Node& map, const std::string& path) {
   }
 }
 
-std::string formatValue(double value) {
-  std::ostringstream out;
-  out.precision(17);
-  out << value;
-  return out.str();
-}
-
 std::string describe(const YAML::Node& node) {
   switch (node.Type()) {
     case YAML::NodeType::Scalar:
@@ -148,18 +141,18 @@ class Section {
 };
 
 void requirePositive(const std::string& key, double value) {
-  if (!(value > 0.0)) throw ConfigError(key, "must be > 0, got " + formatValue(value));
+  if (!(value > 0.0)) throw ConfigError(key, "must be > 0, got " + formatNumber(value));
 }
 void requireNonNegative(const std::string& key, double value) {
-  if (!(value >= 0.0)) throw ConfigError(key, "must be >= 0, got " + formatValue(value));
+  if (!(value >= 0.0)) throw ConfigError(key, "must be >= 0, got " + formatNumber(value));
 }
 
 // lo <= value <= hi, written so that NaN fails.
 void requireRange(const std::string& key, double value, double lo, double hi,
                   const std::string& unit) {
   if (!(value >= lo && value <= hi))
-    throw ConfigError(key, "must be in [" + formatValue(lo) + ", " + formatValue(hi) + "]" +
-                               (unit.empty() ? "" : " " + unit) + ", got " + formatValue(value));
+    throw ConfigError(key, "must be in [" + formatNumber(lo) + ", " + formatNumber(hi) + "]" +
+                               (unit.empty() ? "" : " " + unit) + ", got " + formatNumber(value));
 }
 
 void requireFrameName(const std::string& key, const std::string& name, bool allow_empty) {
@@ -231,7 +224,7 @@ void readParameter(Section& s, const ParameterSpec& p, Config* config) {
     if (value != std::floor(value))
       throw ConfigError(key, "must be a whole number" +
                                  (*p.unit ? " of " + std::string(p.unit) : std::string()) +
-                                 ", got " + formatValue(value));
+                                 ", got " + formatNumber(value));
     f.whole(*config) = static_cast<int>(value);
   } else {
     f.number(*config) = value;
@@ -246,11 +239,11 @@ void checkMechanism(const Section& s, MechanismParameters* p) {
     if (!(p->rod_inertia > 0.0 && std::isfinite(p->rod_inertia)))
       throw ConfigError(s.keyPath("rod_half_length"),
                         "and mechanism.rod_mass give a rod inertia m (2L)^2/12 of " +
-                            formatValue(p->rod_inertia) +
+                            formatNumber(p->rod_inertia) +
                             " kg m^2, which is not a usable positive "
                             "number (rod_mass " +
-                            formatValue(p->rod_mass) + ", rod_half_length " +
-                            formatValue(p->rod_half_length) + ")");
+                            formatNumber(p->rod_mass) + ", rod_half_length " +
+                            formatNumber(p->rod_half_length) + ")");
   }
 }
 
@@ -259,9 +252,9 @@ void checkSimulation(const Section& s, const SimulationSettings& sim) {
                sim.physics_rate, "Hz");
   if (wholeStepsPerPeriod(sim.physics_rate, sim.publish_rate) == 0.0)
     throw ConfigError(s.keyPath("publish_rate"),
-                      "must divide simulation.physics_rate (" + formatValue(sim.physics_rate) +
+                      "must divide simulation.physics_rate (" + formatNumber(sim.physics_rate) +
                           " Hz) into a whole number of physics steps, got " +
-                          formatValue(sim.publish_rate));
+                          formatNumber(sim.publish_rate));
 }
 
 void checkSensors(const Section& s, const Config& config, std::vector<std::string>* warnings) {
@@ -272,9 +265,9 @@ void checkSensors(const Section& s, const Config& config, std::vector<std::strin
                  sim.physics_rate, "Hz (0 = simulation.publish_rate)");
     if (wholeStepsPerPeriod(sim.physics_rate, sensors.rate) == 0.0)
       throw ConfigError(s.keyPath("rate"), "must divide simulation.physics_rate (" +
-                                               formatValue(sim.physics_rate) +
+                                               formatNumber(sim.physics_rate) +
                                                " Hz) into a whole number of physics steps, got " +
-                                               formatValue(sensors.rate));
+                                               formatNumber(sensors.rate));
   }
   const double rate = sensors.rate > 0 ? sensors.rate : sim.publish_rate;
   const double in_flight = (sensors.latency + sensors.latency_jitter) * rate;

@@ -4,17 +4,11 @@
 #include <sstream>
 
 #include "kane_sim/analysis/stability.h"
+#include "kane_sim/format_number.h"
 #include "kane_sim/sim/simulator.h"
 
 namespace kane_sim {
 namespace {
-
-std::string formatValue(double value) {
-  std::ostringstream out;
-  out.precision(17);
-  out << value;
-  return out.str();
-}
 
 void checkIntegrable(const Config& c) {
   if (c.simulation.integrator != IntegratorType::kRk4) return;  // dopri5 adapts its step
@@ -30,24 +24,25 @@ void checkIntegrable(const Config& c) {
   if (!std::isfinite(stiffest.rate))
     throw ConfigError(
         "mechanism",
-        "gives equations of motion that are not finite at q1 = " + formatValue(stiffest.q1) +
+        "gives equations of motion that are not finite at q1 = " + formatNumber(stiffest.q1) +
             " rad: the masses, lengths, stiffness and damping are too far apart "
             "for double precision (rod_mass " +
-            formatValue(c.mechanism.rod_mass) + ", slider3_mass " +
-            formatValue(c.mechanism.slider3_mass) + ", slider4_mass " +
-            formatValue(c.mechanism.slider4_mass) + ", spring_stiffness " +
-            formatValue(c.mechanism.spring_stiffness) + ")");
+            formatNumber(c.mechanism.rod_mass) + ", slider3_mass " +
+            formatNumber(c.mechanism.slider3_mass) + ", slider4_mass " +
+            formatNumber(c.mechanism.slider4_mass) + ", spring_stiffness " +
+            formatNumber(c.mechanism.spring_stiffness) + ")");
   if (!(stiffest.rate * h <= kRk4StabilityLimit))
     throw ConfigError(
         "simulation.physics_rate",
-        "is too low for rk4 on this mechanism: its fastest rate (" + formatValue(stiffest.rate) +
-            " 1/s at q1 = " + formatValue(stiffest.q1) + " rad, u1 = " + formatValue(stiffest.u1) +
+        "is too low for rk4 on this mechanism: its fastest rate (" + formatNumber(stiffest.rate) +
+            " 1/s at q1 = " + formatNumber(stiffest.q1) +
+            " rad, u1 = " + formatNumber(stiffest.u1) +
             " rad/s, from spring_stiffness, the masses, damping and the motor line) needs rate h "
             "<= " +
-            formatValue(kRk4StabilityLimit) + ", got " + formatValue(stiffest.rate * h) + " at " +
-            formatValue(c.simulation.physics_rate) +
+            formatNumber(kRk4StabilityLimit) + ", got " + formatNumber(stiffest.rate * h) + " at " +
+            formatNumber(c.simulation.physics_rate) +
             " Hz; use simulation.integrator dopri5 or a physics_rate of at least " +
-            formatValue(std::ceil(stiffest.rate / kRk4StabilityLimit)) + " Hz");
+            formatNumber(std::ceil(stiffest.rate / kRk4StabilityLimit)) + " Hz");
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #include "kane_sim/sim/csv_format.h"
 
 #include <charconv>
+#include <map>
+#include <sstream>
 
 namespace kane_sim {
 
@@ -101,6 +103,29 @@ std::vector<CsvColumn> makeColumns() {
 const std::vector<CsvColumn>& csvColumns() {
   static const std::vector<CsvColumn> columns = makeColumns();
   return columns;
+}
+
+std::string outputTable() {
+  // Python's Result reaches each group through one property.
+  const std::map<std::string, std::string> result_property = {{"energy", "energies"},
+                                                              {"ledger", "ledger"},
+                                                              {"reaction", "reactions"},
+                                                              {"power", "powers"},
+                                                              {"kinetic", "kinetic_per_body"}};
+  std::ostringstream out;
+  out << "| CSV column / Result column | group | Python group access | mechanism_state field |\n"
+      << "|---|---|---|---|\n";
+  for (const CsvColumn& c : csvColumns()) {
+    const auto property = result_property.find(c.group);
+    std::string python;
+    if (property != result_property.end())
+      python = "`Result." + property->second + "[\"" + c.key + "\"]`";
+    std::string field = c.message_field.empty() ? "" : "`" + c.message_field;
+    if (!field.empty())
+      field += (c.message_index >= 0 ? "[" + std::to_string(c.message_index) + "]`" : "`");
+    out << "| `" << c.name << "` | " << c.group << " | " << python << " | " << field << " |\n";
+  }
+  return out.str();
 }
 
 void writeCsvHeader(std::ostream& out) {

@@ -6,6 +6,8 @@
 //   config_info use_sim_time FILE              true when FILE's simulation.publish_clock is
 //   config_info parameters                     every config parameter (the table of
 //                                              doc/reference/parameters.md)
+//   config_info outputs                        every output quantity (the table of
+//                                              doc/reference/outputs.md)
 //
 // launch/sim.launch sets robot_description and /use_sim_time from these before starting
 // robot_state_publisher and rviz, which read both once at start-up. Exit codes: 0 ok, 1 bad
@@ -18,19 +20,23 @@
 #include "kane_sim/config/parameter_schema.h"
 #include "kane_sim/description/robot_description.h"
 #include "kane_sim/description/urdf.h"
+#include "kane_sim/sim/csv_format.h"
 
 namespace {
 
 constexpr const char* kUsage =
     "usage: config_info urdf FILE [--frame-prefix PREFIX]\n"
     "       config_info use_sim_time FILE\n"
-    "       config_info parameters [--text | KEY]\n\n"
+    "       config_info parameters [--text | KEY]\n"
+    "       config_info outputs\n\n"
     "What kane_sim's launch files and docs read from a config, without a ROS master:\n"
     "  urdf FILE          the robot_description (URDF) of FILE's mechanism (sim.launch's)\n"
     "  use_sim_time FILE  true or false: FILE's simulation.publish_clock (/use_sim_time)\n"
     "  parameters         every config parameter as the Markdown table of\n"
     "                     doc/reference/parameters.md;\n"
     "                     --text: the same for a terminal; KEY (e.g. mechanism.rod_mass): one\n"
+    "  outputs            every output quantity (CSV column, Python name, mechanism_state\n"
+    "                     field) as the Markdown table of doc/reference/outputs.md\n"
     "Exit 0 on success, 1 for a config the loader refuses, 2 for a usage error.\n";
 
 int usage(const std::string& problem) {
@@ -44,6 +50,11 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (args.size() == 1 && (args[0] == "-h" || args[0] == "--help")) {
     std::cout << kUsage;
+    return 0;
+  }
+  if (!args.empty() && args[0] == "outputs") {
+    if (args.size() > 1) return usage("outputs takes no argument");
+    std::cout << kane_sim::outputTable();
     return 0;
   }
   if (!args.empty() && args[0] == "parameters") {
@@ -82,7 +93,7 @@ int main(int argc, char** argv) {
       std::cout << (loaded.config.simulation.publish_clock ? "true" : "false") << "\n";
       return 0;
     }
-    return usage("unknown command '" + command + "' (urdf, use_sim_time or parameters)");
+    return usage("unknown command '" + command + "' (urdf, use_sim_time, parameters or outputs)");
   } catch (const kane_sim::ConfigError& e) {
     std::cerr << "error: " << path << ": " << e.what() << "\n";
     return 1;

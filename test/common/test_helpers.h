@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,23 @@ namespace test {
 inline std::string configPath(const std::string& file) {
   return std::string(KANE_SIM_CONFIG_DIR) + "/" + file;
 }
+// The text of a doc page between its "<!-- generated: COMMAND ... -->" line and "<!-- end of
+// generated table -->" (throws when either is missing): what a test compares with the code
+// that generates it.
+inline std::string generatedDocSection(const std::string& page, const std::string& command) {
+  std::ifstream file(std::string(KANE_SIM_CONFIG_DIR) + "/../" + page);
+  if (!file) throw std::runtime_error(page + " not found beside config/");
+  std::stringstream doc;
+  doc << file.rdbuf();
+  const std::string text = doc.str();
+  const std::size_t a = text.find("<!-- generated: " + command);
+  if (a == std::string::npos) throw std::runtime_error(page + ": no generated: " + command);
+  const std::size_t table = text.find('\n', a) + 1;
+  const std::size_t b = text.find("<!-- end of generated table -->", table);
+  if (b == std::string::npos) throw std::runtime_error(page + ": no end of generated table");
+  return text.substr(table, b - table);
+}
+
 inline Config defaultConfig() { return loadConfigFile(configPath("mechanism.yaml")).config; }
 inline Config textbookConfig() { return loadConfigFile(configPath("textbook.yaml")).config; }
 

@@ -151,19 +151,9 @@ TEST(ParameterSchema, EveryParameterOfTheEquationsReachesTheGeneratedOnes) {
 }
 
 TEST(ParameterSchema, TheDocumentedTableIsTheSchemas) {
-  std::ifstream file(std::string(KANE_SIM_CONFIG_DIR) + "/../doc/reference/parameters.md");
-  ASSERT_TRUE(file) << "doc/reference/parameters.md beside config/";
-  std::stringstream doc;
-  doc << file.rdbuf();
-  const std::string text = doc.str();
-  const std::string begin = "<!-- generated: rosrun kane_sim config_info parameters";
-  const std::string end = "<!-- end of generated table -->";
-  const std::size_t a = text.find(begin);
-  ASSERT_NE(a, std::string::npos);
-  const std::size_t table = text.find('\n', a) + 1;
-  const std::size_t b = text.find(end, table);
-  ASSERT_NE(b, std::string::npos);
-  EXPECT_EQ(text.substr(table, b - table), parameterTable())
+  EXPECT_EQ(test::generatedDocSection("doc/reference/parameters.md",
+                                      "rosrun kane_sim config_info parameters"),
+            parameterTable())
       << "regenerate the table of doc/reference/parameters.md: rosrun kane_sim config_info "
          "parameters";
 }

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "kane_sim/sim/csv_format.h"
 #include "kane_sim/sim/simulator.h"
 #include "test_helpers.h"
 
@@ -229,6 +230,14 @@ TEST(Simulator, SnapshotCarriesKaneForcesThatCancel) {
   EXPECT_GT(s.active_forces.norm(), 0.1);
   EXPECT_NEAR(s.spring_elongation,
               sim.model().springElongation(sim.model().geometry(s.state.q1, s.state.q2)), 0.0);
+}
+
+// doc/reference/outputs.md's table is the output table's (a load added to the model adds its row).
+TEST(OutputTable, TheDocumentedTableIsTheCodes) {
+  EXPECT_EQ(
+      test::generatedDocSection("doc/reference/outputs.md", "rosrun kane_sim config_info outputs"),
+      outputTable())
+      << "regenerate the table of doc/reference/outputs.md: rosrun kane_sim config_info outputs";
 }
 
 }  // namespace

@@ -9,11 +9,11 @@
 #include <cmath>
 #include <string>
 
+#include "kane_sim/config/choices.h"
 #include "kane_sim/model/joint_names.h"
 #include "kane_sim/model/mechanism_model.h"
 #include "kane_sim/model/mechanism_parameters.h"
 #include "kane_sim/model/state.h"
-#include "kane_sim/sim/integration.h"
 
 namespace kane_sim {
 
@@ -24,12 +24,6 @@ inline double wholeStepsPerPeriod(double physics_rate, double rate) {
   const double ratio = physics_rate / rate;
   const double whole = std::round(ratio);
   return std::abs(ratio - whole) <= 1e-9 * ratio ? whole : 0.0;
-}
-
-// What lockstep does when no answer came in time: keep the last command, or command 0 N m.
-enum class LockstepFallback { kHold, kZero };
-constexpr const char* lockstepFallbackName(LockstepFallback f) {
-  return f == LockstepFallback::kHold ? "hold" : "zero";
 }
 
 struct SimulationSettings {
@@ -50,21 +44,6 @@ struct SimulationSettings {
   // > 0: the node's physics loop runs SCHED_FIFO at this priority with its memory locked.
   int realtime_priority = 0;
 };
-
-// What the crank's drive is commanded in (ros_control's habits): a torque (torque_command), or a
-// speed or an angle (servo_setpoint) that a servo in the drive turns into torque at every physics
-// step — through the same torque limit and motor line, never by moving the state.
-enum class CommandMode { kEffort, kVelocity, kPosition };
-constexpr const char* commandModeName(CommandMode m) {
-  return m == CommandMode::kEffort     ? "effort"
-         : m == CommandMode::kVelocity ? "velocity"
-                                       : "position";
-}
-// none, or the moment that holds gravity and the spring at the present configuration.
-enum class Feedforward { kNone, kHolding };
-constexpr const char* feedforwardName(Feedforward f) {
-  return f == Feedforward::kNone ? "none" : "holding";
-}
 
 struct CommandSettings {
   double torque_limit = 50.0;  // [N m] |M_m| is clamped to this

@@ -8,10 +8,11 @@
 // for the table.
 //
 // To add a parameter: a field in config.h's structs (its default is the field's initializer), one
-// entry in src/config/parameter_schema.cpp, and the physics that uses it.
+// row in src/config/parameter_schema.cpp, and the physics that uses it.
 #ifndef KANE_SIM_CONFIG_PARAMETER_SCHEMA_H
 #define KANE_SIM_CONFIG_PARAMETER_SCHEMA_H
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -46,8 +47,8 @@ struct ConfigField {
   bool& (*flag)(Config&) = nullptr;
   std::string& (*text)(Config&) = nullptr;
   // A choice (an enum): its index into ParameterSpec::choices.
-  int (*get_choice)(const Config&) = nullptr;
-  void (*set_choice)(Config&, int) = nullptr;
+  std::function<int(const Config&)> get_choice;
+  std::function<void(Config&, int)> set_choice;
 };
 
 // A parameter dynamic_reconfigure offers (dynparam, rqt_reconfigure). The GUI bounds only bound
@@ -59,19 +60,20 @@ struct ReconfigureSpec {
   double gui_max = 0.0;
 };
 
+// One row of the schema (src/config/parameter_schema.cpp writes them as a table, one row each).
 struct ParameterSpec {
-  const char* section;
-  const char* key;
-  const char* symbol;  // the textbook's, or ""
-  const char* unit;    // SI, or ""
+  const char* section = "";
+  const char* key = "";
+  const char* symbol = "";  // the textbook's, or ""
+  const char* unit = "";    // SI, or ""
   ValueRule rule;
   ConfigField field;
-  bool required;
-  const char* doc;                   // one line: what it is
-  const char* cross_rule;            // a rule involving other parameters (the loader's), or ""
-  const char* default_text;          // the default when it is not the field's initializer, or ""
+  bool required = false;
+  const char* doc = "";              // one line: what it is
+  const char* cross_rule = "";       // a rule involving other parameters (the loader's), or ""
+  const char* default_text = "";     // the default when it is not the field's initializer, or ""
   std::vector<std::string> choices;  // kChoice: the valid names, in the enum's order
-  const char* choice_noun;           // kChoice: "integrator" in "names an unknown integrator"
+  const char* choice_noun = "";      // kChoice: "an unknown integrator" (config/choices.h)
   ReconfigureSpec reconfigure;
 
   std::string path() const { return std::string(section) + "." + key; }

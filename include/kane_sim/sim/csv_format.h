@@ -32,6 +32,10 @@ struct CsvColumn {
 // kinetic energy and impact_energy. The Python module's result arrays use the same table.
 const std::vector<CsvColumn>& csvColumns();
 
+// The table as doc/reference/outputs.md shows it (Markdown, one row per column, in order):
+// `config_info outputs` prints it; a test keeps the page equal to it.
+std::string outputTable();
+
 void writeCsvHeader(std::ostream& out);
 void writeCsvRow(std::ostream& out, const Snapshot& snapshot);
 
