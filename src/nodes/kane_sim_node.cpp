@@ -14,6 +14,7 @@
 #include <sensor_msgs/JointState.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include "event_log.h"
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/ResetEvent.h"
 #include "kane_sim/config/load_config.h"
@@ -22,7 +23,6 @@
 #include "kane_sim/ros/messages.h"
 #include "kane_sim/ros/param_yaml.h"
 #include "kane_sim/sim/config_check.h"
-#include "kane_sim/sim/profile_commands.h"
 #include "loop/master_watch.h"
 #include "loop/realtime.h"
 
@@ -34,13 +34,10 @@ constexpr double kMaxCatchUp = 0.1;          // [s]
 constexpr double kDiagnosticsPeriod = 1.0;   // [s] wall
 constexpr double kPausedPoll = 0.002;        // [s] wall, callback wait while paused
 constexpr double kPausedRepeatPeriod = 1.0;  // [s] wall, the last state again in /clock mode
-// ~step_with_command advances at most this many steps per call (~0.1 s of rk4 at 1e6 steps; a
-// typo such as 4e9 is refused, not run), and for at most kStepCallBudget of wall time: dopri5
-// at a violent state once took 24.6 s for 2000 steps while ~pause and Ctrl-C waited. A call
-// that runs out answers the state it reached (success false, the reason).
-constexpr std::uint32_t kMaxStepsPerCall = 1000000;
-constexpr double kStepCallBudget = 2.0;   // [s] wall
-constexpr long kStepCallCheckEvery = 64;  // steps between two looks at the clock and ros::ok()
+// ~step_with_command runs for at most this much wall time (SimDriver::stepHeld bounds its
+// steps): dopri5 at a violent state once took 24.6 s for 2000 steps while ~pause and Ctrl-C
+// waited. A call that runs out answers the state it reached (success false, the reason).
+constexpr double kStepCallBudget = 2.0;  // [s] wall
 // A periodic ~checkpoint every this much sim time: a bag recorded from any point replays from
 // the last one before it (latched) at the cost of ~2 KB per checkpoint.
 constexpr double kCheckpointPeriod = 10.0;  // [s] sim
@@ -56,33 +53,13 @@ double wallSeconds(std::chrono::steady_clock::duration d) {
 
 }  // namespace
 
-YAML::Node KaneSimNode::readParameterTree(const ros::NodeHandle& private_nh) {
-  XmlRpc::XmlRpcValue params;
-  if (!ros::param::get(private_nh.getNamespace(), params) ||
-      params.getType() != XmlRpc::XmlRpcValue::TypeStruct)
-    throw std::invalid_argument("no parameters in " + private_nh.getNamespace() +
-                                ": load config/mechanism.yaml into the node's private namespace "
-                                "(launch/sim.launch does)");
-  YAML::Node tree = yamlFromXmlRpc(params);
-  for (const std::string& ignored : RuntimeParameters::removeServerKeys(&tree))
-    ROS_WARN("kane_sim: %s", ignored.c_str());
-  return tree;
-}
-
-Config KaneSimNode::loadParameters(const YAML::Node& tree, const ros::NodeHandle& private_nh) {
-  LoadedConfig loaded = loadSimulationConfig(tree);
-  for (const std::string& warning : loaded.warnings)
-    ROS_WARN("%s (in %s)", warning.c_str(), private_nh.getNamespace().c_str());
-  return loaded.config;
-}
-
 KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh)
     : nh_(nh),
       private_nh_(private_nh),
-      parameter_tree_(readParameterTree(private_nh)),
-      config_(loadParameters(parameter_tree_, private_nh)),
+      parameter_tree_(RuntimeParameters::readTree(private_nh)),
+      config_(RuntimeParameters::load(parameter_tree_, private_nh)),
       robot_(describeRobot(config_)),
-      driver_(config_, [this](const SimEvent& event) { onEvent(event); }),
+      driver_(config_, [this](const SimEvent& event) { logSimEvent(event, &diagnostics_); }),
       loop_(tickPeriod(config_.simulation), kMaxCatchUp),
       diagnostics_(config_.diagnostics),
       stamp_clock_(config_.simulation.publish_clock),
@@ -94,7 +71,7 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
                  std::llround(kCheckpointPeriod * config_.simulation.physics_rate)))) {
   connect();
   driver_.setInputHandler([this](const DriverInput& input) {
-    input_log_pub_.publish(inputLogMessage(input, stamp(), input_seq_++));
+    io_.input_log.publish(inputLogMessage(input, stamp(), input_seq_++));
   });
   runtime_parameters_ = std::make_unique<RuntimeParameters>(
       private_nh_, parameter_tree_, config_, [this](const Config& c) { onReconfigure(c); },
@@ -108,30 +85,29 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
 }
 
 void KaneSimNode::connect() {
-  torque_sub_ = nh_.subscribe("torque_command", 10, &KaneSimNode::onTorqueCommand, this,
-                              ros::TransportHints().tcpNoDelay());
-  torque_stamped_sub_ =
-      nh_.subscribe("torque_command_stamped", 10, &KaneSimNode::onTorqueCommandStamped, this,
-                    ros::TransportHints().tcpNoDelay());
-  servo_setpoint_sub_ = nh_.subscribe("servo_setpoint", 10, &KaneSimNode::onServoSetpoint, this,
-                                      ros::TransportHints().tcpNoDelay());
-  if (driver_.servoMode())
-    servo_state_pub_ = nh_.advertise<kane_sim::ServoState>("servo_state", 10);
-  joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>(kJointStatesTopic, 10);
+  const auto fast = ros::TransportHints().tcpNoDelay();
+  io_.torque_command =
+      nh_.subscribe("torque_command", 10, &KaneSimNode::onTorqueCommand, this, fast);
+  io_.torque_command_stamped =
+      nh_.subscribe("torque_command_stamped", 10, &KaneSimNode::onTorqueCommandStamped, this, fast);
+  io_.servo_setpoint =
+      nh_.subscribe("servo_setpoint", 10, &KaneSimNode::onServoSetpoint, this, fast);
+  if (driver_.servoMode()) io_.servo_state = nh_.advertise<ServoState>("servo_state", 10);
+  io_.joint_states = nh_.advertise<sensor_msgs::JointState>(kJointStatesTopic, 10);
   if (driver_.sensorsEnabled())
-    joint_state_true_pub_ = nh_.advertise<sensor_msgs::JointState>(truthJointStatesTopic(true), 10);
-  mechanism_state_pub_ = nh_.advertise<kane_sim::MechanismState>("mechanism_state", 10);
-  marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("visualization_markers", 10);
-  diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
-  reset_event_pub_ = private_nh_.advertise<kane_sim::ResetEvent>("reset_event", 10);
+    io_.joint_states_true = nh_.advertise<sensor_msgs::JointState>(truthJointStatesTopic(true), 10);
+  io_.mechanism_state = nh_.advertise<MechanismState>("mechanism_state", 10);
+  io_.markers = nh_.advertise<visualization_msgs::MarkerArray>("visualization_markers", 10);
+  io_.diagnostics = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  io_.reset_event = private_nh_.advertise<ResetEvent>("reset_event", 10);
   // A deep queue: a bag needs every input, and step_with_command can send bursts.
-  input_log_pub_ = private_nh_.advertise<kane_sim::InputLog>("input_log", 1000);
+  io_.input_log = private_nh_.advertise<InputLog>("input_log", 1000);
   // Latched: a recorder that starts mid-run gets the last one, and its bag replays from there.
-  checkpoint_pub_ = private_nh_.advertise<kane_sim::Checkpoint>("checkpoint", 1, true);
+  io_.checkpoint = private_nh_.advertise<Checkpoint>("checkpoint", 1, true);
   if (config_.simulation.publish_clock)
-    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+    io_.clock = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   // Private, as Gazebo's /gazebo/pause_physics: two sims (or turtlesim's /reset) never collide.
-  services_ = {
+  io_.services = {
       private_nh_.advertiseService("reset", &KaneSimNode::onReset, this),
       private_nh_.advertiseService("pause", &KaneSimNode::onPause, this),
       private_nh_.advertiseService("unpause", &KaneSimNode::onUnpause, this),
@@ -140,32 +116,22 @@ void KaneSimNode::connect() {
       private_nh_.advertiseService("step_with_command", &KaneSimNode::onStepWithCommand, this)};
   if (config_.frames.publish_tf) {
     // What tf2_ros::TransformBroadcaster does, with the publisher at hand: its subscriber count
-    // tells when a listener joined while the stamp stands still (see publishState).
-    tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", 100);
-    static_tf_broadcaster_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
+    // tells when a listener joined while the stamp stands still (NodeInterfaces::publishTf).
+    io_.tf = nh_.advertise<tf2_msgs::TFMessage>("/tf", 100);
+    io_.static_tf = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
   }
 }
 
 void KaneSimNode::publishRobotDescription() {
   // Relative: under ns:=robot_a it is /robot_a/robot_description, beside that robot's topics.
   nh_.setParam("robot_description", toUrdf(robot_));
-  if (static_tf_broadcaster_)
-    static_tf_broadcaster_->sendTransform(staticTransforms(robot_, stamp()));
+  if (io_.static_tf) io_.static_tf->sendTransform(staticTransforms(robot_, stamp()));
 }
 
 void KaneSimNode::reconnect() {
   // roscpp registers topics and services once; a new master knows nothing of them. Drop them
   // (unregistering from a dead master fails quietly) and register everything again.
-  torque_sub_.shutdown();
-  torque_stamped_sub_.shutdown();
-  servo_setpoint_sub_.shutdown();
-  for (ros::Publisher* pub : {&joint_state_pub_, &joint_state_true_pub_, &mechanism_state_pub_,
-                              &marker_pub_, &diagnostics_pub_, &clock_pub_, &reset_event_pub_,
-                              &servo_state_pub_, &input_log_pub_, &checkpoint_pub_})
-    pub->shutdown();
-  for (ros::ServiceServer& service : services_) service.shutdown();
-  tf_pub_.shutdown();
-  static_tf_broadcaster_.reset();
+  io_.shutdown();
   connect();
   if (runtime_parameters_) runtime_parameters_->advertise();
   publishRobotDescription();   // a new master has no parameters either
@@ -178,7 +144,15 @@ void KaneSimNode::reconnect() {
 
 void KaneSimNode::run() {
   MasterWatch master_watch;  // its thread first: it keeps the normal policy
-  applyRealtimePriority();
+  const RealtimePolicy realtime = applyRealtimePolicy(config_.simulation.realtime_priority,
+                                                      config_.simulation.real_time_factor);
+  realtime_scheduled_ = realtime.scheduled;
+  if (!realtime.report.empty()) {
+    if (realtime.warn)
+      ROS_WARN("kane_sim: %s", realtime.report.c_str());
+    else
+      ROS_INFO("kane_sim: %s", realtime.report.c_str());
+  }
   // Linux lets a sleeping thread wake up to 50 µs late by default ("timer slack") to batch
   // wake-ups; a 1 kHz loop wants its deadlines kept to the microsecond.
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
@@ -243,26 +217,6 @@ void KaneSimNode::runOneTick() {
   maybeReportLoopHealth();
 }
 
-void KaneSimNode::applyRealtimePriority() {
-  const int priority = config_.simulation.realtime_priority;
-  if (priority <= 0) return;
-  if (config_.simulation.real_time_factor == 0.0) {
-    ROS_WARN(
-        "kane_sim: simulation.realtime_priority %d ignored: with real_time_factor 0 the loop "
-        "never sleeps, and at real-time priority it would hold a core from everything else",
-        priority);
-    return;
-  }
-  const RealtimeResult r = makeRealtime(priority);
-  realtime_scheduled_ = r.scheduled;
-  if (r.problem.empty())
-    ROS_INFO("kane_sim: physics loop at SCHED_FIFO priority %d, memory locked", priority);
-  else
-    ROS_WARN("kane_sim: simulation.realtime_priority %d: %s; %s", priority, r.problem.c_str(),
-             r.scheduled ? "the loop runs SCHED_FIFO without locked memory"
-                         : "the loop runs at normal priority");
-}
-
 void KaneSimNode::waitWhilePaused() {
   ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(kPausedPoll));
   // Wall-stamped topics keep flowing while paused, so viewers keep a live tf tree. In /clock
@@ -278,31 +232,6 @@ void KaneSimNode::waitWhilePaused() {
   }
   loop_.anchor();  // resume on a fresh schedule
   maybeReportLoopHealth();
-}
-
-void KaneSimNode::onEvent(const SimEvent& event) {
-  // One throttled call site per kind: a flood of one kind never hides another.
-  const char* text = event.message.c_str();
-  switch (event.kind) {
-    case SimEvent::Kind::kCommandRejected:
-      ROS_WARN_THROTTLE(1.0, "kane_sim: %s", text);
-      break;
-    case SimEvent::Kind::kCommandClamped:
-      ROS_WARN_THROTTLE(1.0, "kane_sim: %s", text);
-      break;
-    case SimEvent::Kind::kStepRefused:
-      diagnostics_.stepRefused(event.message);
-      ROS_ERROR_THROTTLE(1.0,
-                         "kane_sim: %s. The last good state stays published; lower the torque or "
-                         "call the reset service",
-                         text);
-      break;
-    case SimEvent::Kind::kCommandTimedOut:
-    case SimEvent::Kind::kFirstSliderCrossing:
-    case SimEvent::Kind::kStepTooCoarse:
-      ROS_WARN("kane_sim: %s (t = %.3f s)", text, event.time);
-      break;
-  }
 }
 
 ros::Time KaneSimNode::stamp() {
@@ -333,11 +262,11 @@ void KaneSimNode::publishJointStates(const sensor_msgs::JointState& msg) {
   lockstep_.published(msg.header.stamp);
   last_joint_states_ = msg;
   lockstep_listeners_ = lockstepListeners();
-  joint_state_pub_.publish(msg);
+  io_.joint_states.publish(msg);
 }
 
 uint32_t KaneSimNode::lockstepListeners() const {
-  return joint_state_pub_.getNumSubscribers() + torque_stamped_sub_.getNumPublishers();
+  return io_.joint_states.getNumSubscribers() + io_.torque_command_stamped.getNumPublishers();
 }
 
 void KaneSimNode::publishDueSensorReadings() {
@@ -371,7 +300,7 @@ void KaneSimNode::publishState() {
   if (config_.simulation.publish_clock) {
     rosgraph_msgs::Clock clock;
     clock.clock = now;
-    clock_pub_.publish(clock);
+    io_.clock.publish(clock);
   }
   const Snapshot snapshot = driver_.snapshot();
   if (!snapshot.allFinite()) {
@@ -385,22 +314,14 @@ void KaneSimNode::publishState() {
   }
   const PublishedMessages msgs = buildMessages(snapshot, robot_, achieved_real_time_factor_, now);
   if (driver_.sensorsEnabled())
-    joint_state_true_pub_.publish(msgs.joint_state);
+    io_.joint_states_true.publish(msgs.joint_state);
   else
     publishJointStates(msgs.joint_state);
-  mechanism_state_pub_.publish(msgs.mechanism_state);
-  if (servo_state_pub_)
-    servo_state_pub_.publish(servoStateMessage(snapshot, config_.command.mode, now));
-  marker_pub_.publish(msgs.markers);
-  // Never two transforms of one frame with one stamp for a listener that has them (it would
-  // warn TF_REPEATED_DATA); a listener that joined since (paused in /clock mode, a late rviz)
-  // gets them again.
-  if (tf_pub_) {
-    const uint32_t subscribers = tf_pub_.getNumSubscribers();
-    if (now > last_tf_stamp_ || subscribers > tf_subscribers_) tf_pub_.publish(msgs.tf);
-    last_tf_stamp_ = std::max(last_tf_stamp_, now);
-    tf_subscribers_ = subscribers;
-  }
+  io_.mechanism_state.publish(msgs.mechanism_state);
+  if (io_.servo_state)
+    io_.servo_state.publish(servoStateMessage(snapshot, config_.command.mode, now));
+  io_.markers.publish(msgs.markers);
+  io_.publishTf(msgs.tf, now);
 }
 
 void KaneSimNode::maybeReportLoopHealth() {
@@ -420,7 +341,7 @@ void KaneSimNode::maybeReportLoopHealth() {
   array.status.push_back(
       diagnostics_.close(stats_.takeSummary(wall, driver_.time() - window_start_sim_), wall, loop));
   array.header.stamp = stamp();
-  diagnostics_pub_.publish(array);
+  io_.diagnostics.publish(array);
   window_start_wall_ = now;
   window_start_sim_ = driver_.time();
 }
@@ -458,7 +379,7 @@ bool KaneSimNode::waitForLockstepAnswer() {
     // never heard it: the state awaiting an answer goes out again for it.
     const uint32_t listeners = lockstepListeners();
     if (listeners > lockstep_listeners_ && lockstep_.hasState())
-      joint_state_pub_.publish(last_joint_states_);
+      io_.joint_states.publish(last_joint_states_);
     lockstep_listeners_ = listeners;
     if (SteadyClock::now() >= deadline) {
       diagnostics_.lockstepTimedOut();
@@ -540,7 +461,7 @@ void KaneSimNode::publishCheckpoint(const std::string& cause) {
         YAML::Dump(runtime_parameters_ ? runtime_parameters_->tree() : parameter_tree_);
   msg.config = checkpoint_config_;
   msg.state = checkpointText(driver_.checkpoint());
-  checkpoint_pub_.publish(msg);
+  io_.checkpoint.publish(msg);
 }
 
 void KaneSimNode::publishMovedState() {
@@ -556,14 +477,8 @@ void KaneSimNode::publishMovedState() {
 }
 
 void KaneSimNode::announceReset(const std::string& cause) {
-  const State& x = driver_.simulator().state();
-  ResetEvent event;
-  event.header.stamp = last_state_stamp_;  // the moved state's stamp: tf at it is the new pose
-  event.cause = cause;
-  event.sim_time = driver_.time();
-  event.q = {x.q1, x.q2};
-  event.u = {x.u1, x.u2};
-  reset_event_pub_.publish(event);
+  io_.reset_event.publish(
+      resetEventMessage(cause, driver_.time(), driver_.simulator().state(), last_state_stamp_));
 }
 
 std::string KaneSimNode::reconfigureVeto(const Config& config) const {
@@ -578,9 +493,7 @@ std::string KaneSimNode::reconfigureVeto(const Config& config) const {
 void KaneSimNode::onReconfigure(const Config& config) {
   const double old_factor = config_.simulation.real_time_factor;
   driver_.reconfigure(config);
-  config_.mechanism = config.mechanism;
-  config_.command = config.command;
-  config_.simulation.real_time_factor = config.simulation.real_time_factor;
+  config_ = config;                 // what cannot be reconfigured comes back as it was
   robot_ = describeRobot(config_);  // masses and inertia are in the URDF
   publishRobotDescription();
   if (config_.simulation.real_time_factor != old_factor)
@@ -625,73 +538,32 @@ bool KaneSimNode::onStep(std_srvs::Trigger::Request&, std_srvs::Trigger::Respons
 }
 
 bool KaneSimNode::onStepWithCommand(StepWithCommand::Request& req, StepWithCommand::Response& res) {
-  const auto refuse = [this, &res](const std::string& why) {
-    res.success = false;
-    res.message = why + "; nothing changed";
-    // The state as it is: a refusal never answers zeros.
-    const State& x = driver_.simulator().state();
-    res.time = driver_.time();
-    res.q1 = x.q1, res.q2 = x.q2, res.u1 = x.u1, res.u2 = x.u2;
-    res.applied_torque = driver_.snapshot().torque;
-    return true;
-  };
-  if (!paused_)
-    return refuse("not paused: call ~pause first (step_with_command advances a paused simulation)");
-  if (driver_.servoMode())
-    return refuse(std::string("command.mode is ") + commandModeName(config_.command.mode) +
-                  ": the drive takes servo_setpoint, not a torque (publish it, then call ~step)");
-  if (!std::isfinite(req.torque))
-    return refuse("torque = " + formatNumber(req.torque) + " is not finite");
-  if (req.steps < 1 || req.steps > kMaxStepsPerCall)
-    return refuse("steps = " + std::to_string(req.steps) + " must be in [1, " +
-                  std::to_string(kMaxStepsPerCall) + "]");
-  // The torque as a command stream held over every step of the call (re-sent before the command
-  // timeout could lapse), through the same clamp and motor line as torque_command.
-  const TorqueProfile held = TorqueProfile::constant(req.torque);
-  ProfileCommands commands(held, config_.command.timeout);
-  commands.update(driver_);
-  const double start = driver_.time();
-  const auto wall_start = SteadyClock::now();
-  std::atomic<bool> stop{false};
-  bool out_of_time = false;
-  const RunEnd end = runProfile(
-      driver_, commands, req.steps, req.steps, &stop,
-      [&](const SimDriver& d) {
-        if (d.ticks() % kStepCallCheckEvery != 0) return;
-        out_of_time = wallSeconds(SteadyClock::now() - wall_start) > kStepCallBudget;
-        if (out_of_time || !ros::ok() || ros::isShuttingDown()) stop = true;
-      },
-      [](const SimDriver&) {});
-  publishState();
-  publishDueSensorReadings();
+  SimDriver::HeldSteps held;
+  if (!paused_) {
+    held.message =
+        "not paused: call ~pause first (step_with_command advances a paused simulation); nothing "
+        "changed";
+  } else {
+    const auto wall_start = SteadyClock::now();
+    held = driver_.stepHeld(req.torque, req.steps, [&wall_start]() -> std::string {
+      if (wallSeconds(SteadyClock::now() - wall_start) > kStepCallBudget)
+        return "the call's wall-time budget of " + formatNumber(kStepCallBudget) +
+               " s ran out (ask for fewer steps per call)";
+      return !ros::ok() || ros::isShuttingDown() ? "the node is shutting down" : "";
+    });
+  }
+  if (!held.refused && paused_) {
+    publishState();
+    publishDueSensorReadings();
+  }
+  // The state as it is (a refusal never answers zeros).
   const Snapshot snapshot = driver_.snapshot();
   res.time = snapshot.time;
-  res.q1 = snapshot.state.q1;
-  res.q2 = snapshot.state.q2;
-  res.u1 = snapshot.state.u1;
-  res.u2 = snapshot.state.u2;
+  res.q1 = snapshot.state.q1, res.q2 = snapshot.state.q2;
+  res.u1 = snapshot.state.u1, res.u2 = snapshot.state.u2;
   res.applied_torque = snapshot.torque;
-  res.success = end == RunEnd::kFinished;
-  std::ostringstream msg;
-  const std::uint64_t done = static_cast<std::uint64_t>(
-      std::llround((res.time - start) * config_.simulation.physics_rate));
-  if (res.success)
-    msg << "advanced " << req.steps << " physics steps from t = " << formatNumber(start) << " s to "
-        << formatNumber(res.time) << " s";
-  else if (end == RunEnd::kStopped)
-    msg << "stopped after " << done << " of " << req.steps
-        << " physics steps at t = " << formatNumber(res.time) << " s: "
-        << (out_of_time ? "the call's wall-time budget of " + formatNumber(kStepCallBudget) +
-                              " s ran out (ask for fewer steps per call)"
-                        : std::string("the node is shutting down"))
-        << "; the state there is answered";
-  else
-    msg << "a physics step was refused after t = " << formatNumber(res.time)
-        << " s (see the log); the state there is answered";
-  if (std::abs(req.torque) > config_.command.torque_limit)
-    msg << "; torque " << formatNumber(req.torque) << " N m clamped to the limit "
-        << config_.command.torque_limit << " N m";
-  res.message = msg.str();
+  res.success = held.finished;
+  res.message = held.message;
   return true;
 }
 

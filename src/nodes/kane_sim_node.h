@@ -17,7 +17,6 @@
 #include <std_msgs/Float64.h>
 #include <std_srvs/Empty.h>
 #include <std_srvs/Trigger.h>
-#include <tf2_ros/static_transform_broadcaster.h>
 
 #include "kane_sim/Checkpoint.h"
 #include "kane_sim/SetState.h"
@@ -31,6 +30,7 @@
 #include "loop/loop_stats.h"
 #include "loop/paced_loop.h"
 #include "loop/stamp_clock.h"
+#include "node_interfaces.h"
 #include "runtime_parameters.h"
 
 namespace kane_sim {
@@ -45,10 +45,6 @@ class KaneSimNode {
 
  private:
   using SteadyClock = std::chrono::steady_clock;
-
-  // The node's private namespace as a YAML tree (what the config loader reads).
-  static YAML::Node readParameterTree(const ros::NodeHandle& private_nh);
-  static Config loadParameters(const YAML::Node& tree, const ros::NodeHandle& private_nh);
 
   void onTorqueCommand(const std_msgs::Float64::ConstPtr& msg);
   void onTorqueCommandStamped(const ros::MessageEvent<TorqueCommandStamped const>& event);
@@ -74,17 +70,15 @@ class KaneSimNode {
   void publishCheckpoint(const std::string& cause);
   uint32_t lockstepListeners() const;  // who could answer: see waitForLockstepAnswer
 
-  void connect();                       // advertise, subscribe, offer the services
-  void publishRobotDescription();       // robot_description (URDF) and the static tf
-  void reconnect();                     // the same again after the master restarted
-  void applyRealtimePriority();         // simulation.realtime_priority, or why not
-  void runOneTick();                    // paced physics tick (+ publishing on the publish grid)
-  void waitWhilePaused();               // serve callbacks, keep wall-clock topics alive
-  void onEvent(const SimEvent& event);  // the driver's events -> rosconsole (and diagnostics)
-  bool publishDueByWallClock() const;   // a publish period of wall time since the last one
-  void checkSimTimeSetting();           // warn once when /use_sim_time contradicts our stamps
-  void publishState();                  // joint_states, tf, mechanism_state (+ /clock)
-  void publishDueSensorReadings();      // sensors on: readings due by now on joint_states
+  void connect();                      // advertise, subscribe, offer the services (io_)
+  void publishRobotDescription();      // robot_description (URDF) and the static tf
+  void reconnect();                    // the same again after the master restarted
+  void runOneTick();                   // paced physics tick (+ publishing on the publish grid)
+  void waitWhilePaused();              // serve callbacks, keep wall-clock topics alive
+  bool publishDueByWallClock() const;  // a publish period of wall time since the last one
+  void checkSimTimeSetting();          // warn once when /use_sim_time contradicts our stamps
+  void publishState();                 // joint_states, tf, mechanism_state (+ /clock)
+  void publishDueSensorReadings();     // sensors on: readings due by now on joint_states
   // joint_states (sensor view or truth): in lockstep, a new stamp awaits its answer.
   void publishJointStates(const sensor_msgs::JointState& msg);
   void maybeReportLoopHealth();  // /diagnostics once per window
@@ -106,26 +100,9 @@ class KaneSimNode {
   std::string checkpoint_config_;    // the config in force as YAML ("" until written)
   bool realtime_scheduled_ = false;  // the physics loop's thread runs SCHED_FIFO
 
-  ros::Subscriber torque_sub_;
-  ros::Subscriber torque_stamped_sub_;
-  ros::Subscriber servo_setpoint_sub_;
-  ros::Publisher servo_state_pub_;  // command.mode velocity | position
-  ros::Publisher joint_state_pub_;
-  ros::Publisher joint_state_true_pub_;  // sensors on: the truth beside the sensor view
-  ros::Publisher mechanism_state_pub_;
-  ros::Publisher marker_pub_;
-  ros::Publisher clock_pub_;
-  ros::Publisher diagnostics_pub_;
-  ros::Publisher reset_event_pub_;
-  ros::Publisher input_log_pub_;
-  ros::Publisher checkpoint_pub_;  // every driver input, for simulate --replay
-  std::vector<ros::ServiceServer> services_;
-  ros::Publisher tf_pub_;        // /tf (empty with frames.publish_tf false)
-  uint32_t tf_subscribers_ = 0;  // /tf's subscribers when the transforms were last sent
-  std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_broadcaster_;
+  NodeInterfaces io_;
   std::unique_ptr<RuntimeParameters> runtime_parameters_;
 
-  ros::Time last_tf_stamp_;                    // never two transforms of one frame with one stamp
   ros::Time last_state_stamp_;                 // the stamp of the last published state
   LockstepGate lockstep_;                      // which joint_states stamp awaits its answer
   sensor_msgs::JointState last_joint_states_;  // re-sent to a controller that joins late

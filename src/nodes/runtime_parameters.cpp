@@ -10,6 +10,7 @@
 
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/config/parameter_schema.h"
+#include "kane_sim/ros/param_yaml.h"
 #include "kane_sim/sim/config_check.h"
 
 namespace kane_sim {
@@ -86,6 +87,26 @@ void RuntimeParameters::advertise() {
   descriptions_pub_.publish(descriptionMessage(start_));
   updates_pub_ = private_nh_.advertise<dynamic_reconfigure::Config>("parameter_updates", 1, true);
   updates_pub_.publish(configMessage(numericValue, config_));
+}
+
+YAML::Node RuntimeParameters::readTree(const ros::NodeHandle& private_nh) {
+  XmlRpc::XmlRpcValue params;
+  if (!ros::param::get(private_nh.getNamespace(), params) ||
+      params.getType() != XmlRpc::XmlRpcValue::TypeStruct)
+    throw std::invalid_argument("no parameters in " + private_nh.getNamespace() +
+                                ": load config/mechanism.yaml into the node's private namespace "
+                                "(launch/sim.launch does)");
+  YAML::Node tree = yamlFromXmlRpc(params);
+  for (const std::string& ignored : removeServerKeys(&tree))
+    ROS_WARN("kane_sim: %s", ignored.c_str());
+  return tree;
+}
+
+Config RuntimeParameters::load(const YAML::Node& tree, const ros::NodeHandle& private_nh) {
+  LoadedConfig loaded = loadSimulationConfig(tree);
+  for (const std::string& warning : loaded.warnings)
+    ROS_WARN("%s (in %s)", warning.c_str(), private_nh.getNamespace().c_str());
+  return loaded.config;
 }
 
 std::vector<std::string> RuntimeParameters::removeServerKeys(YAML::Node* tree) {

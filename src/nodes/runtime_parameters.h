@@ -45,6 +45,13 @@ class RuntimeParameters {
   // accepted (or nothing changed), else why it was refused (nothing changed then).
   std::string change(const std::vector<std::pair<std::string, double>>& changes);
 
+  // The node's private namespace as the YAML tree the config loader reads (the server keys
+  // below left out, each named in a warning); std::invalid_argument when it holds none.
+  static YAML::Node readTree(const ros::NodeHandle& private_nh);
+  // The simulation's config from that tree (the loader's warnings logged); ConfigError names
+  // a bad value.
+  static Config load(const YAML::Node& tree, const ros::NodeHandle& private_nh);
+
   // Names the node's parameter namespace may hold that are not config keys: what older
   // kane_sim versions (and dynamic_reconfigure::Server) mirrored there. A config read from that
   // namespace leaves them out; returned, one line each, for a warning (a user who sets

@@ -119,6 +119,17 @@ kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_ti
   return msg;
 }
 
+kane_sim::ResetEvent resetEventMessage(const std::string& cause, double sim_time, const State& x,
+                                       const ros::Time& stamp) {
+  kane_sim::ResetEvent event;
+  event.header.stamp = stamp;
+  event.cause = cause;
+  event.sim_time = sim_time;
+  event.q = {x.q1, x.q2};
+  event.u = {x.u1, x.u2};
+  return event;
+}
+
 kane_sim::ServoState servoStateMessage(const Snapshot& s, CommandMode mode,
                                        const ros::Time& stamp) {
   kane_sim::ServoState msg;

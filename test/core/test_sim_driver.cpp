@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include <tuple>
+
 #include <gtest/gtest.h>
 
 #include "kane_sim/model/generated_mechanism.h"
@@ -48,6 +50,57 @@ TEST_F(SimDriverTest, CommandIsInForceFromThisInstantAndShowsInTheSnapshot) {
   ASSERT_TRUE(driver.step());
   EXPECT_GT(driver.snapshot().state.q1, q1 - 1e-3);
   EXPECT_TRUE(events_.empty());
+}
+
+// ~step_with_command's work: refusals name the value and move nothing; a held torque runs the
+// steps through the same clamp; a stop reason ends the call where it was asked.
+TEST_F(SimDriverTest, StepHeldRefusesBadRequestsAndAccountsForWhatRan) {
+  SimDriver driver = makeDriver(test::defaultConfig());
+  const auto never = [] { return std::string(); };
+  const State before = driver.simulator().state();
+  for (const auto& [torque, steps, why] :
+       {std::tuple<double, std::uint64_t, const char*>{std::nan(""), 10,
+                                                       "torque = nan is not finite"},
+        {INFINITY, 10, "torque = inf is not finite"},
+        {1.0, 0, "steps = 0 must be in [1, 1000000]"},
+        {1.0, 4000000000ULL, "steps = 4000000000 must be in [1, 1000000]"}}) {
+    const SimDriver::HeldSteps r = driver.stepHeld(torque, steps, never);
+    EXPECT_TRUE(r.refused);
+    EXPECT_FALSE(r.finished);
+    EXPECT_NE(r.message.find(why), std::string::npos) << r.message;
+    EXPECT_NE(r.message.find("nothing changed"), std::string::npos) << r.message;
+  }
+  EXPECT_EQ(driver.ticks(), 0u);
+  EXPECT_EQ(driver.simulator().state().q1, before.q1);
+
+  const SimDriver::HeldSteps done = driver.stepHeld(80.0, 100, never);  // beyond the 50 N m limit
+  EXPECT_TRUE(done.finished);
+  EXPECT_EQ(driver.ticks(), 100u);
+  EXPECT_EQ(driver.snapshot().torque, 50.0);
+  EXPECT_NE(done.message.find("advanced 100 physics steps from t = 0 s to 0.1 s"),
+            std::string::npos)
+      << done.message;
+  EXPECT_NE(done.message.find("torque 80 N m clamped to the limit 50 N m"), std::string::npos)
+      << done.message;
+
+  int asked = 0;
+  const SimDriver::HeldSteps stopped =
+      driver.stepHeld(1.0, 1000, [&asked] { return ++asked == 2 ? "enough" : ""; });
+  EXPECT_FALSE(stopped.finished);
+  EXPECT_FALSE(stopped.refused);
+  // Asked at ticks 128 and 192 (every kHeldStepsCheckEvery = 64 ticks): 92 steps ran.
+  EXPECT_EQ(driver.ticks(), 3u * SimDriver::kHeldStepsCheckEvery);
+  EXPECT_NE(stopped.message.find("stopped after 92 of 1000 physics steps"), std::string::npos)
+      << stopped.message;
+  EXPECT_NE(stopped.message.find(": enough; the state there is answered"), std::string::npos)
+      << stopped.message;
+
+  Config servo = test::defaultConfig();
+  servo.command.mode = CommandMode::kVelocity;
+  SimDriver servo_driver = makeDriver(servo);
+  const SimDriver::HeldSteps r = servo_driver.stepHeld(1.0, 10, never);
+  EXPECT_TRUE(r.refused);
+  EXPECT_NE(r.message.find("command.mode is velocity"), std::string::npos) << r.message;
 }
 
 TEST_F(SimDriverTest, NonFiniteCommandsAreRejectedAndClampingReportedEveryTime) {

@@ -315,4 +315,17 @@ TEST_F(NodeLoop, PacedWaitServesCallbacksAndKeepsTheDeadline) {
 }
 
 }  // namespace
+// The node's realtime policy: off at 0; never with real_time_factor 0 (said why); otherwise
+// what makeRealtime achieved, said either way.
+TEST(RealtimePolicy, OffAtZeroAndRefusedWhenTheLoopNeverSleeps) {
+  const RealtimePolicy off = applyRealtimePolicy(0, 1.0);
+  EXPECT_FALSE(off.scheduled);
+  EXPECT_TRUE(off.report.empty());
+  const RealtimePolicy free_running = applyRealtimePolicy(10, 0.0);
+  EXPECT_FALSE(free_running.scheduled);
+  EXPECT_TRUE(free_running.warn);
+  EXPECT_NE(free_running.report.find("simulation.realtime_priority 10 ignored"), std::string::npos)
+      << free_running.report;
+}
+
 }  // namespace kane_sim

@@ -300,4 +300,16 @@ TEST(SimStamp, FixedEpochPlusSimTime) {
 }
 
 }  // namespace
+TEST(ResetEventMessage, CarriesTheMovedStateAndItsStamp) {
+  const kane_sim::ResetEvent e =
+      resetEventMessage("set_state", 12.5, State{0.1, 1.2, -3.0, 0.5}, ros::Time(7, 9));
+  EXPECT_EQ(e.cause, "set_state");
+  EXPECT_EQ(e.sim_time, 12.5);
+  EXPECT_EQ(e.header.stamp, ros::Time(7, 9));
+  EXPECT_EQ(e.q[0], 0.1);
+  EXPECT_EQ(e.q[1], 1.2);
+  EXPECT_EQ(e.u[0], -3.0);
+  EXPECT_EQ(e.u[1], 0.5);
+}
+
 }  // namespace kane_sim

@@ -16,6 +16,7 @@
 
 #include "kane_sim/InputLog.h"
 #include "kane_sim/MechanismState.h"
+#include "kane_sim/ResetEvent.h"
 #include "kane_sim/ServoState.h"
 #include "kane_sim/config/config.h"
 #include "kane_sim/description/robot_description.h"
@@ -67,6 +68,11 @@ extern double kane_sim::MechanismState::*const kLoadPowerFields[kNumLoadNames];
 // real_time_factor: sim time per wall time achieved by whoever produced the snapshot (0 offline).
 kane_sim::MechanismState mechanismStateMessage(const Snapshot& snapshot, double real_time_factor,
                                                const ros::Time& stamp, const std::string& frame_id);
+
+// ~reset_event: the state moved (cause "reset" or "set_state") to x at sim time t, stamped with
+// the moved state's stamp (tf at it is the new pose).
+kane_sim::ResetEvent resetEventMessage(const std::string& cause, double sim_time, const State& x,
+                                       const ros::Time& stamp);
 
 // The servo's update in the snapshot (command.mode velocity | position).
 kane_sim::ServoState servoStateMessage(const Snapshot& snapshot, CommandMode mode,

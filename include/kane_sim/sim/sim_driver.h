@@ -67,6 +67,21 @@ class SimDriver {
   // new instant (the command may have timed out).
   bool step();
 
+  // What ~step_with_command does, ROS-free: `steps` physics steps with `torque` held (a command
+  // stream re-sent before the command timeout could lapse, through the same clamp and motor line
+  // as command()). `stop_reason` is asked every kHeldStepsCheckEvery steps; a reason ends the
+  // call there. A bad request (effort mode only; torque finite; steps in [1, kMaxHeldSteps]) is
+  // refused before anything moves. `message` says what happened, for the caller's answer.
+  struct HeldSteps {
+    bool refused = false;   // nothing ran
+    bool finished = false;  // every step ran
+    std::string message;
+  };
+  static constexpr std::uint64_t kMaxHeldSteps = 1000000;  // a typo such as 4e9 is refused
+  static constexpr long kHeldStepsCheckEvery = 64;
+  HeldSteps stepHeld(double torque, std::uint64_t steps,
+                     const std::function<std::string()>& stop_reason);
+
   // Initial state, motor work 0, command forgotten (and any still delayed); sim time runs on.
   // Sensor readings in flight are dropped: they show the state before.
   void reset();

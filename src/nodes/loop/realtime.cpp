@@ -31,4 +31,26 @@ RealtimeResult makeRealtime(int priority) {
   return r;
 }
 
+RealtimePolicy applyRealtimePolicy(int priority, double real_time_factor) {
+  RealtimePolicy policy;
+  const std::string setting = "simulation.realtime_priority " + std::to_string(priority);
+  if (priority <= 0) return policy;
+  policy.warn = true;
+  if (real_time_factor == 0.0) {
+    policy.report = setting +
+                    " ignored: with real_time_factor 0 the loop never sleeps, and at real-time "
+                    "priority it would hold a core from everything else";
+    return policy;
+  }
+  const RealtimeResult r = makeRealtime(priority);
+  policy.scheduled = r.scheduled;
+  policy.warn = !r.problem.empty();
+  policy.report = policy.warn ? setting + ": " + r.problem + "; " +
+                                    (r.scheduled ? "the loop runs SCHED_FIFO without locked memory"
+                                                 : "the loop runs at normal priority")
+                              : "physics loop at SCHED_FIFO priority " + std::to_string(priority) +
+                                    ", memory locked";
+  return policy;
+}
+
 }  // namespace kane_sim

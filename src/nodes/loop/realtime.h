@@ -18,6 +18,16 @@ struct RealtimeResult {
 // For the calling thread (the other threads keep their policy). priority in [1, 99].
 RealtimeResult makeRealtime(int priority);
 
+// simulation.realtime_priority as the node applies it to its physics loop: nothing at 0; not
+// with real_time_factor 0 (a loop that never sleeps would hold a core at real-time priority).
+// `report` is the line to log ("" for none), `warn` its level.
+struct RealtimePolicy {
+  bool scheduled = false;
+  bool warn = false;
+  std::string report;
+};
+RealtimePolicy applyRealtimePolicy(int priority, double real_time_factor);
+
 }  // namespace kane_sim
 
 #endif  // KANE_SIM_NODES_LOOP_REALTIME_H
