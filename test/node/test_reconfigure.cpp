@@ -100,12 +100,14 @@ TEST_F(Reconfigure, ValuesReachTheLoaderUnclamped) {
   test::sleepWall(0.5);
   EXPECT_EQ(set("torque_limit", -50.0), 50.0);
   EXPECT_EQ(set("crank_damping", -5.0), 0.0);
+  EXPECT_EQ(set("spring_damping", NAN), 0.0);
   EXPECT_EQ(set("gravity", INFINITY), 9.81);
   EXPECT_EQ(set("rod_mass", -1.0), 1.0);
   EXPECT_EQ(set("gravity", 150.0), 150.0) << "beyond the slider's 100 but a valid config";
   EXPECT_EQ(set("gravity", 9.81), 9.81);
   const char* messages[] = {"config key 'command.torque_limit' must be >= 0, got -50",
                             "config key 'damping.crank_joint' must be >= 0, got -5",
+                            "config key 'damping.spring' must be finite, got",
                             "config key 'mechanism.gravity' must be finite, got '.inf'",
                             "config key 'mechanism.rod_mass' must be > 0, got -1"};
   for (const char* text : messages)
@@ -117,6 +119,19 @@ TEST_F(Reconfigure, ValuesReachTheLoaderUnclamped) {
         },
         5.0))
         << "no log line with: " << text;
+}
+
+// The damper beside the spring, switched on at run time: it takes power out of the sliders'
+// relative motion (its own power field, <= 0), booked in D, and the ledger holds.
+TEST_F(Reconfigure, TheSpringDamperTakesPowerOnceSwitchedOn) {
+  ASSERT_TRUE(
+      waitForState([](const MechanismState& m) { return m.spring_damper_power == 0.0; }, 5));
+  EXPECT_EQ(set("spring_damping", 3.0), 3.0);
+  ASSERT_TRUE(waitForState([](const MechanismState& m) { return m.spring_damper_power < 0.0; }, 5))
+      << "the sliders move relative to each other in the free swing";
+  const MechanismState m = state_.last();
+  EXPECT_GT(m.dissipated_energy, 0.0);
+  EXPECT_EQ(set("spring_damping", 0.0), 0.0);
 }
 
 // Gravity 0 and a heavier slider 4 at rest: slider 4's u2' becomes the spring's force / M2

@@ -1,7 +1,7 @@
 """One case, one answer, through every offline door: `simulate` (a single run's last CSV row),
 `simulate --sweep` (the case's row), Python's Simulator.run and Python's sweep row, over every
 command mode (effort, velocity, position), with and without a profile, sensors on and off,
-contact on and off. All four run the one driver, so they agree bit for bit; a door that
+the physics options off and on (contact, and the five dampers: the joints' and the spring's). All four run the one driver, so they agree bit for bit; a door that
 applies a different command stream (a servo driven to setpoint 0 because no profile was given,
 say) shows up as a different final state. A new option or door joins this matrix."""
 import itertools
@@ -24,6 +24,9 @@ def case_config(tmp_path, mode, sensors, contact):
         cfg = yaml.safe_load(f)
     cfg["command"]["mode"] = mode
     cfg["contact"]["enabled"] = contact
+    if contact:  # the options together: every damper, the one beside the spring too
+        cfg["damping"] = {"crank_joint": 0.2, "coupler_joint": 0.1, "slider3_joint": 0.5,
+                          "slider4_joint": 0.5, "spring": 0.8}
     if sensors:
         with open(config_path("sensors.yaml")) as f:
             cfg["sensors"] = yaml.safe_load(f)["sensors"]
