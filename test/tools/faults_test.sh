@@ -57,7 +57,12 @@ recording_survives_sigint() {
   local bag="$work/interrupted.bag"
   roslaunch -p "$port" kane_sim demo.launch duration:=60 bag:="$bag" >"$work/demo.log" 2>&1 &
   local launch=$!
-  sleep 6
+  # Recording under way (rosbag has opened its .active file and the sim publishes), then 2 s of it.
+  for _ in $(seq 100); do
+    [ -s "$bag.active" ] && timeout 2 rostopic echo -n 1 /mechanism_state/sim_time >/dev/null 2>&1 && break
+    sleep 0.2
+  done
+  sleep 2
   kill -INT "$launch"
   wait "$launch"
   [ -f "$bag" ] && [ ! -e "$bag.active" ] && rosbag info "$bag" >"$work/info" 2>&1 &&

@@ -26,6 +26,20 @@ export ROS_MASTER_URI="http://localhost:$port"
 rosrun kane_sim simulate --config "$here/../../config/mechanism.yaml" --duration 4 \
   --torque-sine 12,0.5 --bag "$work/run.bag" 2>/dev/null
 
+export KANE_SIM_CHECK_SCREENSHOT="$here/check_screenshot.py"
+# wait_until_drawn PROBE [CHECK_FLAGS...]: inside xvfb-run, screenshots the display once a second
+# until check_screenshot.py sees the mechanism (rviz and the launch take 5-15 s to come up on a
+# busy 2-core machine), for at most 40 s; PROBE holds the last shot.
+wait_until_drawn() {
+  local probe=$1; shift
+  for _ in $(seq 40); do
+    sleep 1
+    import -window root "$probe" 2>/dev/null || continue
+    /usr/bin/python3 "$KANE_SIM_CHECK_SCREENSHOT" "$probe" "$@" >/dev/null && return 0
+  done
+  return 1
+}
+
 # replay_shots BAG NAME LOG GAP COUNT: replays BAG through view_bag.launch into rviz under Xvfb and
 # takes COUNT screenshots GAP s apart from the second pass on, as $work/NAME_{1..COUNT}.png.
 # loop_bag restamps each pass after the one before (/clock never goes back), so rviz keeps its
@@ -36,7 +50,7 @@ replay_shots() {
   xvfb-run -a -s "-screen 0 1280x800x24" bash -c "
     roslaunch -p $port kane_sim view_bag.launch bag:=$1 > '$3' 2>&1 &
     launch=\$!
-    sleep 12
+    $(declare -f wait_until_drawn); wait_until_drawn '$work/$2_probe.png'
     for i in \$(seq $5); do import -window root '$work/$2'_\$i.png; sleep $4; done
     kill -INT \$launch
     wait \$launch || true
@@ -115,7 +129,8 @@ rm -f "$ns_shot"
 xvfb-run -a -s "-screen 0 1280x800x24" bash -c "
   roslaunch -p $port kane_sim sim.launch ns:=robot_a frame_prefix:=robot_a rviz:=true interactive_marker:=true > '$ns_log' 2>&1 &
   launch=\$!
-  sleep 14
+  $(declare -f wait_until_drawn); wait_until_drawn '$ns_shot' --setpoint
+  sleep 1  # rviz's warnings about the marker, if any, come with its first frames
   import -window root '$ns_shot'
   kill -INT \$launch
   wait \$launch || true
