@@ -82,7 +82,10 @@ def arrow_touches_a_rod(r, g, b, inside, view):
 
 
 def main(path, setpoint=False, attached=False):
-    image = matplotlib.image.imread(path)[:, :, :3].astype(float)
+    image = matplotlib.image.imread(path)
+    if image.ndim == 2:  # ImageMagick writes a grey screen (rviz not up yet) as a grey PNG
+        image = np.stack([image] * 3, axis=2)
+    image = image[:, :, :3].astype(float)
     if image.max() > 1.0:
         image /= 255.0
     r, g, b = image[:, :, 0], image[:, :, 1], image[:, :, 2]

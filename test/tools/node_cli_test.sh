@@ -61,6 +61,19 @@ parameter_table() {
 }
 check "config_info parameters prints the table, one KEY or --text; a wrong key or stray arguments are usage errors" parameter_table
 
+# The output table doc/reference/outputs.md holds (test_simulator compares the two): a load's
+# power row names its CSV column, Python key and message field; an argument is a usage error.
+output_table() {
+  "$bin/config_info" outputs >"$work/out" 2>"$work/err" || { cat "$work/err"; return 1; }
+  grep -qF '| `power_spring_damper` | power | `Result.powers["spring_damper"]` | `spring_damper_power` |' "$work/out" ||
+    { head -3 "$work/out"; return 1; }
+  "$bin/config_info" outputs --text >"$work/out" 2>"$work/err"
+  local code=$?
+  [ "$code" -eq 2 ] && grep -q "outputs takes no argument" "$work/err" ||
+    { echo "     exit $code"; cat "$work/err"; return 1; }
+}
+check "config_info outputs prints the output table; an argument is a usage error" output_table
+
 # loop_bag refuses what it cannot play before it contacts a master (no master runs here).
 loop_bag_refusals() {
   "$bin/simulate" --duration 0.1 --bag "$work/run.bag" 2>/dev/null || return 1

@@ -32,11 +32,16 @@ export KANE_SIM_CHECK_SCREENSHOT="$here/check_screenshot.py"
 # busy 2-core machine), for at most 40 s; PROBE holds the last shot.
 wait_until_drawn() {
   local probe=$1; shift
-  for _ in $(seq 40); do
+  local start=$SECONDS
+  while [ $((SECONDS - start)) -lt 40 ]; do
     sleep 1
     import -window root "$probe" 2>/dev/null || continue
-    /usr/bin/python3 "$KANE_SIM_CHECK_SCREENSHOT" "$probe" "$@" >/dev/null && return 0
+    if /usr/bin/python3 "$KANE_SIM_CHECK_SCREENSHOT" "$probe" "$@" >/dev/null 2>&1; then
+      echo "     drawn after $((SECONDS - start)) s"
+      return 0
+    fi
   done
+  echo "     not drawn within 40 s"
   return 1
 }
 
