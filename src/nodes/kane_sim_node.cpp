@@ -385,22 +385,10 @@ bool KaneSimNode::waitForLockstepAnswer() {
       diagnostics_.lockstepTimedOut();
       const bool zero = config_.simulation.lockstep_fallback == LockstepFallback::kZero;
       if (zero) driver_.command(0.0);
-      if (lockstep_.unknownSinceState() > 0)
-        ROS_WARN_THROTTLE(5.0,
-                          "kane_sim: lockstep: %llu torque_command_stamped arrived for the state "
-                          "at t = %.6f s (stamped %.9f) but matched no published state (the "
-                          "last stamped %.9f): controllers must copy the joint_states stamp; "
-                          "%s and stepping on",
-                          static_cast<unsigned long long>(lockstep_.unknownSinceState()),
-                          driver_.time(), lockstep_.awaiting().toSec(),
-                          lockstep_.lastUnknownStamp().toSec(),
-                          zero ? "commanding 0 N m" : "holding the last command");
-      else
-        ROS_WARN_THROTTLE(5.0,
-                          "kane_sim: lockstep: no torque_command_stamped for the state at t = "
-                          "%.6f s within %g s; %s and stepping on",
-                          driver_.time(), config_.simulation.lockstep_timeout,
-                          zero ? "commanding 0 N m" : "holding the last command");
+      ROS_WARN_THROTTLE(
+          5.0, "kane_sim: %s",
+          lockstep_.timeoutReport(driver_.time(), config_.simulation.lockstep_timeout, zero)
+              .c_str());
       lockstep_.release();
       break;
     }

@@ -55,6 +55,23 @@ TEST_F(NodeLoop, AMovedStateIsStampedAfterEveryEarlierStamp) {
 // Lockstep: the first answer to the state awaiting one is applied; a second controller's
 // answer (or another torque) is dropped and said once; an answer to an earlier state is late;
 // one stamped with a time never published (now()) is named, with the stamp awaited.
+// The timeout's report: that nothing came, or that commands came but matched no state.
+TEST_F(NodeLoop, LockstepGateTimeoutReportSaysWhetherCommandsCame) {
+  LockstepGate gate;
+  gate.published(ros::Time(10, 0));
+  EXPECT_EQ(gate.timeoutReport(1.5, 1.0, false),
+            "lockstep: no torque_command_stamped for the state at t = 1.500000 s within 1 s; "
+            "holding the last command and stepping on");
+  EXPECT_EQ(gate.answer(ros::Time(99, 0), "/ctrl", 1.0), LockstepGate::Verdict::kUnknown);
+  const std::string report = gate.timeoutReport(1.5, 1.0, true);
+  EXPECT_NE(report.find("1 torque_command_stamped arrived for the state at t = 1.500000 s "
+                        "(stamped 10.000000000) but matched no published state (the last "
+                        "stamped 99.000000000)"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("commanding 0 N m"), std::string::npos) << report;
+}
+
 TEST_F(NodeLoop, LockstepGateAppliesTheFirstAnswerAndNamesTheRest) {
   LockstepGate gate;
   EXPECT_TRUE(gate.answered()) << "nothing published: nothing awaits an answer";

@@ -1,6 +1,7 @@
 #include "loop/lockstep_gate.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <sstream>
 
 #include "kane_sim/format_number.h"
@@ -62,6 +63,24 @@ LockstepGate::Verdict LockstepGate::answer(const ros::Time& stamp, const std::st
              "): copy the header.stamp of the joint_states message you answer, do not stamp "
              "with now()";
   return Verdict::kUnknown;
+}
+
+std::string LockstepGate::timeoutReport(double sim_time, double timeout, bool zero) const {
+  const char* fallback = zero ? "commanding 0 N m" : "holding the last command";
+  char text[512];
+  if (unknown_since_state_ > 0)
+    std::snprintf(text, sizeof text,
+                  "lockstep: %llu torque_command_stamped arrived for the state at t = %.6f s "
+                  "(stamped %.9f) but matched no published state (the last stamped %.9f): "
+                  "controllers must copy the joint_states stamp; %s and stepping on",
+                  static_cast<unsigned long long>(unknown_since_state_), sim_time, current_.toSec(),
+                  last_unknown_.toSec(), fallback);
+  else
+    std::snprintf(text, sizeof text,
+                  "lockstep: no torque_command_stamped for the state at t = %.6f s within %g s; "
+                  "%s and stepping on",
+                  sim_time, timeout, fallback);
+  return text;
 }
 
 }  // namespace kane_sim

@@ -48,6 +48,10 @@ class LockstepGate {
   std::uint64_t unknownSinceState() const { return unknown_since_state_; }
   const ros::Time& lastUnknownStamp() const { return last_unknown_; }
 
+  // What to say when no answer came within `timeout` [s] for the state at sim time `sim_time`:
+  // that commands came but matched no published state (when they did), else that none came;
+  // `zero` names the fallback (commanding 0 N m, else holding the last command).
+  std::string timeoutReport(double sim_time, double timeout, bool zero) const;
   // How many recent stamps tell a late answer from an unknown one.
   static constexpr size_t kRecentStamps = 256;
 
