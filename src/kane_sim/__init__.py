@@ -22,6 +22,9 @@ def __getattr__(name):
     if name == "animate":
         from kane_sim.animation import animate
         return animate
+    if name == "columns":  # the output table's groups (reads the core)
+        import importlib
+        return importlib.import_module("kane_sim.columns")
     if name == "plot_result":
         from kane_sim.plotting import plot_result
         return plot_result

@@ -29,8 +29,17 @@ REACTIONS = columns.REACTIONS
 _BAG_FIELDS = columns.BAG_FIELDS
 
 
+def require_regular_file(path):
+    """Refuses what is not a regular file (a device such as /dev/zero, a pipe, a folder): read
+    as a bag or a CSV it would never end and grow without bound."""
+    if not os.path.isfile(path):
+        raise ValueError("not a regular file (a bag or a CSV): %s" % (
+            "no such file" if not os.path.exists(path) else "a device, a pipe or a folder"))
+
+
 def read_run(path):
     """A bag (/mechanism_state, and the sensors' /joint_states) or a simulate CSV as columns."""
+    require_regular_file(path)
     return read_csv(path) if path.endswith(".csv") else read_bag(path)
 
 

@@ -4,11 +4,40 @@
 #include <sstream>
 
 #include "kane_sim/analysis/stability.h"
+#include "kane_sim/config/parameter_schema.h"
 #include "kane_sim/format_number.h"
 #include "kane_sim/sim/simulator.h"
 
 namespace kane_sim {
 namespace {
+
+// ", damping.spring 1e+308" for every damper that is on (schema order): what else can make
+// the equations stiff or overflow.
+std::string dampersOn(const Config& c) {
+  std::string text;
+  for (const ParameterSpec& p : parameterSchema())
+    if (std::string(p.section) == "damping" && numericValue(p, c) != 0.0)
+      text += ", " + p.path() + " " + formatNumber(numericValue(p, c));
+  return text;
+}
+
+// What to do when rk4 at the configured rate cannot follow the fastest rate: a physics_rate
+// that can, or, when none within the rate's own limit can, dopri5 or a softer mechanism.
+std::string rk4Remedy(double fastest_rate, const Config& c) {
+  const double needed = std::ceil(fastest_rate / kRk4StabilityLimit);
+  const double limit = findParameter("simulation", "physics_rate")->rule.hi;
+  if (needed <= limit)
+    return "use simulation.integrator dopri5 or a physics_rate of at least " +
+           formatNumber(needed) + " Hz";
+  const std::string dampers = dampersOn(c);  // ", damping.spring 1e+12, ..."
+  return "no physics_rate up to its limit of " + formatNumber(limit) +
+         " Hz is enough (it would "
+         "take " +
+         formatNumber(needed) +
+         " Hz): use simulation.integrator dopri5, or a softer "
+         "spring_stiffness or less damping" +
+         (dampers.empty() ? "" : " (" + dampers.substr(2) + ")");
+}
 
 void checkIntegrable(const Config& c) {
   if (c.simulation.integrator != IntegratorType::kRk4) return;  // dopri5 adapts its step
@@ -30,7 +59,7 @@ void checkIntegrable(const Config& c) {
             formatNumber(c.mechanism.rod_mass) + ", slider3_mass " +
             formatNumber(c.mechanism.slider3_mass) + ", slider4_mass " +
             formatNumber(c.mechanism.slider4_mass) + ", spring_stiffness " +
-            formatNumber(c.mechanism.spring_stiffness) + ")");
+            formatNumber(c.mechanism.spring_stiffness) + dampersOn(c) + ")");
   if (!(stiffest.rate * h <= kRk4StabilityLimit))
     throw ConfigError(
         "simulation.physics_rate",
@@ -40,9 +69,7 @@ void checkIntegrable(const Config& c) {
             " rad/s, from spring_stiffness, the masses, damping and the motor line) needs rate h "
             "<= " +
             formatNumber(kRk4StabilityLimit) + ", got " + formatNumber(stiffest.rate * h) + " at " +
-            formatNumber(c.simulation.physics_rate) +
-            " Hz; use simulation.integrator dopri5 or a physics_rate of at least " +
-            formatNumber(std::ceil(stiffest.rate / kRk4StabilityLimit)) + " Hz");
+            formatNumber(c.simulation.physics_rate) + " Hz; " + rk4Remedy(stiffest.rate, c));
 }
 
 }  // namespace

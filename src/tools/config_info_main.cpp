@@ -37,21 +37,26 @@ constexpr const char* kUsage =
     "                     --text: the same for a terminal; KEY (e.g. mechanism.rod_mass): one\n"
     "  outputs            every output quantity (CSV column, Python name, mechanism_state\n"
     "                     field) as the Markdown table of doc/reference/outputs.md\n"
-    "Exit 0 on success, 1 for a config the loader refuses, 2 for a usage error.\n";
+    "Exit 0 on success, 1 for a config the loader refuses, 2 for a usage error, 4 when the\n"
+    "output cannot be written.\n";
 
 int usage(const std::string& problem) {
   std::cerr << "error: " << problem << "\n" << kUsage;
   return 2;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  const std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.size() == 1 && (args[0] == "-h" || args[0] == "--help")) {
-    std::cout << kUsage;
-    return 0;
+int run(const std::vector<std::string>& args) {
+  for (const std::string& arg : args) {
+    if (arg == "-h" || arg == "--help") {
+      std::cout << kUsage;
+      return 0;
+    }
   }
+  if (args.empty()) return usage("a command is needed");
+  const std::string& command = args[0];
+  if (command != "urdf" && command != "use_sim_time" && command != "parameters" &&
+      command != "outputs")
+    return usage("unknown command '" + command + "' (urdf, use_sim_time, parameters or outputs)");
   if (!args.empty() && args[0] == "outputs") {
     if (args.size() > 1) return usage("outputs takes no argument");
     std::cout << kane_sim::outputTable();
@@ -72,8 +77,7 @@ int main(int argc, char** argv) {
     }
     return 0;
   }
-  if (args.size() < 2) return usage("a command and a config FILE are needed");
-  const std::string& command = args[0];
+  if (args.size() < 2) return usage(command + " needs a config FILE");
   const std::string& path = args[1];
   try {
     YAML::Node tree = kane_sim::loadYamlFile(path);
@@ -93,7 +97,7 @@ int main(int argc, char** argv) {
       std::cout << (loaded.config.simulation.publish_clock ? "true" : "false") << "\n";
       return 0;
     }
-    return usage("unknown command '" + command + "' (urdf, use_sim_time, parameters or outputs)");
+    return usage("unknown command '" + command + "'");  // not reached: checked above
   } catch (const kane_sim::ConfigError& e) {
     std::cerr << "error: " << path << ": " << e.what() << "\n";
     return 1;
@@ -101,4 +105,16 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << path << ": " << e.what() << "\n";
     return 1;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int code = run(std::vector<std::string>(argv + 1, argv + argc));
+  std::cout.flush();
+  if (!std::cout) {  // a full disk or a closed pipe: the table or URDF did not arrive
+    std::cerr << "error: could not write the output\n";
+    return 4;
+  }
+  return code;
 }

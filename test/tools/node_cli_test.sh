@@ -71,8 +71,13 @@ output_table() {
   local code=$?
   [ "$code" -eq 2 ] && grep -q "outputs takes no argument" "$work/err" ||
     { echo "     exit $code"; cat "$work/err"; return 1; }
+  # A table that cannot be written (full disk) is an error, not a silent success.
+  "$bin/config_info" outputs >/dev/full 2>"$work/err"
+  code=$?
+  [ "$code" -eq 4 ] && grep -q "could not write the output" "$work/err" ||
+    { echo "     /dev/full: exit $code"; cat "$work/err"; return 1; }
 }
-check "config_info outputs prints the output table; an argument is a usage error" output_table
+check "config_info outputs prints the output table; an argument is a usage error; a write error exits 4" output_table
 
 # loop_bag refuses what it cannot play before it contacts a master (no master runs here).
 loop_bag_refusals() {
