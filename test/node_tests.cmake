@@ -38,7 +38,8 @@ if(TARGET node_tests)
   target_compile_definitions(node_tests PRIVATE
     KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config"
     KANE_SIM_SIMULATE_EXE="$<TARGET_FILE:simulate>"
-    KANE_SIM_TELEOP_EXE="$<TARGET_FILE:teleop_key>")
+    KANE_SIM_TELEOP_EXE="$<TARGET_FILE:teleop_key>"
+    KANE_SIM_NODE_EXE="$<TARGET_FILE:kane_sim_node>")
   foreach(case topics torque commands services clock_mode bad_param namespaces controller robustness
       stalled leftover_sim_time slow_ticks robot_description robot_description_textbook rsp_tf
       reconfigure crank_marker teleop options fuzz resets resets_rsp lockstep lockstep_hog

@@ -1,7 +1,9 @@
 // A bad parameter stops the node with a non-zero exit and a message naming it
 // (test/node/bad_param.test puts the bad values on the parameter server).
+#include <future>
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -14,10 +16,25 @@ struct Outcome {
   std::string output;  // stdout and stderr
 };
 
-Outcome runNode(const std::string& name) {
-  const kane_sim::test::CommandResult r =
-      kane_sim::test::runCommand("timeout 30 rosrun kane_sim kane_sim_node __name:=" + name);
+Outcome runCommand(const std::string& command) {
+  const kane_sim::test::CommandResult r = kane_sim::test::runCommand(command);
   return {r.exit_code, r.out + r.err};
+}
+
+// The node binary itself (rosrun's lookup is checked by node_cli and the launch tests): each
+// start here ends at the config check, so the cases run side by side.
+Outcome runNode(const std::string& name) {
+  return runCommand(std::string("timeout 30 ") + KANE_SIM_NODE_EXE + " __name:=" + name);
+}
+
+// Every command at once; their outcomes in the same order.
+std::vector<Outcome> runAll(const std::vector<std::string>& commands) {
+  std::vector<std::future<Outcome>> running;
+  for (const std::string& c : commands)
+    running.push_back(std::async(std::launch::async, runCommand, c));
+  std::vector<Outcome> outcomes;
+  for (auto& r : running) outcomes.push_back(r.get());
+  return outcomes;
 }
 
 struct BadCase {
@@ -26,8 +43,13 @@ struct BadCase {
 };
 
 void expectEachStopsTheNode(std::initializer_list<BadCase> cases) {
+  std::vector<std::string> commands;
+  for (const BadCase& c : cases)
+    commands.push_back(std::string("timeout 30 ") + KANE_SIM_NODE_EXE + " __name:=" + c.node);
+  const std::vector<Outcome> outcomes = runAll(commands);
+  size_t i = 0;
   for (const BadCase& c : cases) {
-    const Outcome out = runNode(c.node);
+    const Outcome& out = outcomes[i++];
     EXPECT_EQ(out.exit_code, 1) << c.node << ": " << out.output;
     EXPECT_NE(out.output.find(c.message), std::string::npos) << c.node << ": " << out.output;
   }
@@ -120,12 +142,14 @@ TEST(BadParam, SmallNodesRefuseBadNumbersNamingThem) {
       {"pd_controller __name:=pd_stamped _stamped:=yes",
        "parameter /pd_stamped/stamped must be true or false"},
   };
-  for (const Case& c : cases) {
-    const kane_sim::test::CommandResult r = kane_sim::test::runCommand(
-        std::string("timeout 30 rosrun kane_sim ") + c.command + " </dev/null");
-    EXPECT_EQ(r.exit_code, 1) << c.command << ": " << r.out << r.err;
-    EXPECT_NE((r.out + r.err).find(c.message), std::string::npos)
-        << c.command << ": " << r.out << r.err;
+  std::vector<std::string> commands;
+  for (const Case& c : cases)
+    commands.push_back(std::string("timeout 30 rosrun kane_sim ") + c.command + " </dev/null");
+  const std::vector<Outcome> outcomes = runAll(commands);
+  for (size_t i = 0; i < commands.size(); ++i) {
+    EXPECT_EQ(outcomes[i].exit_code, 1) << commands[i] << ": " << outcomes[i].output;
+    EXPECT_NE(outcomes[i].output.find(cases[i].message), std::string::npos)
+        << commands[i] << ": " << outcomes[i].output;
   }
 }
 
