@@ -8,6 +8,7 @@
 
 #include "kane_sim/config/frame_names.h"
 #include "kane_sim/description/body_shapes.h"
+#include "kane_sim/model/joint_names.h"
 #include "kane_sim/ros/node_params.h"
 #include "kane_sim/teleop/crank_angle.h"
 
@@ -136,7 +137,7 @@ void CrankMarkerNode::moveMarker() {
 
 void CrankMarkerNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
   if (placed_) return;
-  const auto it = std::find(msg->name.begin(), msg->name.end(), "crank_joint");
+  const auto it = std::find(msg->name.begin(), msg->name.end(), kJointNames[kCrankJoint]);
   const size_t i = static_cast<size_t>(it - msg->name.begin());
   if (it == msg->name.end() || i >= msg->position.size() || !std::isfinite(msg->position[i]))
     return;

@@ -10,6 +10,7 @@
 #include <std_msgs/Float64.h>
 
 #include "kane_sim/format_number.h"
+#include "kane_sim/model/joint_names.h"
 #include "kane_sim/ros/node_params.h"
 
 namespace kane_sim {
@@ -50,7 +51,7 @@ TeleopKeyNode::TeleopKeyNode(const ros::NodeHandle& nh, const TeleopKeyParams& p
 }
 
 void TeleopKeyNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
-  const auto it = std::find(msg->name.begin(), msg->name.end(), "crank_joint");
+  const auto it = std::find(msg->name.begin(), msg->name.end(), kJointNames[kCrankJoint]);
   const size_t i = static_cast<size_t>(it - msg->name.begin());
   if (it != msg->name.end() && i < msg->position.size() && std::isfinite(msg->position[i]))
     teleop_.setCrankAngle(msg->position[i]);

@@ -27,12 +27,9 @@ Snapshot Simulator::snapshot() const {
   snap.command.commanded = torque_;
   // u' as the integrators step it: from the generated equations on that path (so a check of
   // the published u' checks the equations in use), else from the assembly; equal to rounding.
-  if (equations_ == EquationsSource::kGenerated) {
-    const OdeState dx = generated_.stateDerivative(state_, torque_);
-    snap.u_dot = SpeedVector(dx[2], dx[3]);
-  } else {
-    snap.u_dot = equations.solveAccelerations();
-  }
+  const OdeState dx = withEquations(
+      [this](const auto& equations) { return equations.stateDerivative(state_, torque_); });
+  snap.u_dot = SpeedVector(dx[2], dx[3]);
   snap.active_forces = equations.active_forces;
   if (resting_contact_) {
     // Held together: the contact force is one more load, J^T N in F_r, and u' is constrained.
