@@ -42,7 +42,7 @@ std::vector<CsvColumn> makeColumns() {
              [](const Snapshot& s) { return s.active_forces[0]; }),
       column("F2", "equations", "active_forces", 1,
              [](const Snapshot& s) { return s.active_forces[1]; }),
-      column("spring_elongation", "contact", "spring_elongation", -1,
+      column("spring_elongation", "geometry", "spring_elongation", -1,
              [](const Snapshot& s) { return s.spring_elongation; }),
   };
   // The loads' powers [W], one per name of the model's load list (Σ = dT/dt). The motor's
