@@ -68,7 +68,8 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
       paused_(config_.simulation.start_paused),
       checkpoint_ticks_(std::max<std::uint64_t>(
           1, static_cast<std::uint64_t>(
-                 std::llround(kCheckpointPeriod * config_.simulation.physics_rate)))) {
+                 std::llround(kCheckpointPeriod * config_.simulation.physics_rate)))),
+      pace_(config_.simulation.publish_rate) {
   connect();
   driver_.setInputHandler([this](const DriverInput& input) {
     io_.input_log.publish(inputLogMessage(input, stamp(), input_seq_++));
@@ -163,8 +164,7 @@ void KaneSimNode::run() {
   publishCheckpoint("start");
   const auto now = SteadyClock::now();
   loop_.anchor();
-  window_start_wall_ = last_publish_wall_ = now;
-  window_start_sim_ = last_publish_sim_ = driver_.time();
+  pace_.start(now, driver_.time());
   while (ros::ok()) {
     if (master_watch.restarted()) reconnect();
     ros::getGlobalCallbackQueue()->callAvailable();
@@ -174,11 +174,6 @@ void KaneSimNode::run() {
     }
     runOneTick();
   }
-}
-
-bool KaneSimNode::publishDueByWallClock() const {
-  return wallSeconds(SteadyClock::now() - last_publish_wall_) >=
-         1.0 / config_.simulation.publish_rate;
 }
 
 void KaneSimNode::runOneTick() {
@@ -209,7 +204,7 @@ void KaneSimNode::runOneTick() {
     if (driver_.ticks() % ticks_per_publish_ == 0) publishState();
     publishDueSensorReadings();
     if (driver_.ticks() % checkpoint_ticks_ == 0) publishCheckpoint("periodic");
-  } else if (publishDueByWallClock()) {
+  } else if (pace_.dueByWallClock(SteadyClock::now())) {
     // Refused steps: the last good state keeps flowing, freshly stamped (on the wall clock).
     if (!config_.simulation.publish_clock) stamp_valid_ = false;
     publishState();
@@ -223,11 +218,11 @@ void KaneSimNode::waitWhilePaused() {
   // mode time stands still: the last state and /clock are repeated with their stamp, slowly, so
   // that a late subscriber (rviz, rostopic echo /clock) sees the robot and the time.
   if (!config_.simulation.publish_clock) {
-    if (publishDueByWallClock()) {
+    if (pace_.dueByWallClock(SteadyClock::now())) {
       stamp_valid_ = false;  // a repeat at a later wall time: a later stamp
       publishState();
     }
-  } else if (wallSeconds(SteadyClock::now() - last_publish_wall_) >= kPausedRepeatPeriod) {
+  } else if (pace_.sinceLastPublish(SteadyClock::now()) >= kPausedRepeatPeriod) {
     publishState();  // the same stamp: /tf goes only to listeners that joined since
   }
   loop_.anchor();  // resume on a fresh schedule
@@ -290,12 +285,7 @@ void KaneSimNode::publishDueSensorReadings() {
 void KaneSimNode::publishState() {
   const ros::Time now = stamp();
   last_state_stamp_ = now;
-  const auto wall_now = SteadyClock::now();
-  const double wall_elapsed = wallSeconds(wall_now - last_publish_wall_);
-  if (wall_elapsed > 0)
-    achieved_real_time_factor_ = (driver_.time() - last_publish_sim_) / wall_elapsed;
-  last_publish_wall_ = wall_now;
-  last_publish_sim_ = driver_.time();
+  pace_.published(SteadyClock::now(), driver_.time());
 
   if (config_.simulation.publish_clock) {
     rosgraph_msgs::Clock clock;
@@ -312,7 +302,7 @@ void KaneSimNode::publishState() {
                        driver_.time());
     return;
   }
-  const PublishedMessages msgs = buildMessages(snapshot, robot_, achieved_real_time_factor_, now);
+  const PublishedMessages msgs = buildMessages(snapshot, robot_, pace_.realTimeFactor(), now);
   if (driver_.sensorsEnabled())
     io_.joint_states_true.publish(msgs.joint_state);
   else
@@ -326,7 +316,7 @@ void KaneSimNode::publishState() {
 
 void KaneSimNode::maybeReportLoopHealth() {
   const auto now = SteadyClock::now();
-  const double wall = wallSeconds(now - window_start_wall_);
+  const double wall = pace_.windowWall(now);
   if (wall < kDiagnosticsPeriod) return;
   checkSimTimeSetting();
   const SimulationSettings& cfg = config_.simulation;
@@ -338,12 +328,10 @@ void KaneSimNode::maybeReportLoopHealth() {
                                         cfg.real_time_factor,
                                         driver_.time()};
   diagnostic_msgs::DiagnosticArray array;
-  array.status.push_back(
-      diagnostics_.close(stats_.takeSummary(wall, driver_.time() - window_start_sim_), wall, loop));
+  array.status.push_back(diagnostics_.close(
+      stats_.takeSummary(wall, pace_.closeWindow(now, driver_.time())), wall, loop));
   array.header.stamp = stamp();
   io_.diagnostics.publish(array);
-  window_start_wall_ = now;
-  window_start_sim_ = driver_.time();
 }
 
 void KaneSimNode::onTorqueCommandStamped(

@@ -29,6 +29,7 @@
 #include "loop/loop_diagnostics.h"
 #include "loop/loop_stats.h"
 #include "loop/paced_loop.h"
+#include "loop/publish_pace.h"
 #include "loop/stamp_clock.h"
 #include "node_interfaces.h"
 #include "runtime_parameters.h"
@@ -70,15 +71,14 @@ class KaneSimNode {
   void publishCheckpoint(const std::string& cause);
   uint32_t lockstepListeners() const;  // who could answer: see waitForLockstepAnswer
 
-  void connect();                      // advertise, subscribe, offer the services (io_)
-  void publishRobotDescription();      // robot_description (URDF) and the static tf
-  void reconnect();                    // the same again after the master restarted
-  void runOneTick();                   // paced physics tick (+ publishing on the publish grid)
-  void waitWhilePaused();              // serve callbacks, keep wall-clock topics alive
-  bool publishDueByWallClock() const;  // a publish period of wall time since the last one
-  void checkSimTimeSetting();          // warn once when /use_sim_time contradicts our stamps
-  void publishState();                 // joint_states, tf, mechanism_state (+ /clock)
-  void publishDueSensorReadings();     // sensors on: readings due by now on joint_states
+  void connect();                   // advertise, subscribe, offer the services (io_)
+  void publishRobotDescription();   // robot_description (URDF) and the static tf
+  void reconnect();                 // the same again after the master restarted
+  void runOneTick();                // paced physics tick (+ publishing on the publish grid)
+  void waitWhilePaused();           // serve callbacks, keep wall-clock topics alive
+  void checkSimTimeSetting();       // warn once when /use_sim_time contradicts our stamps
+  void publishState();              // joint_states, tf, mechanism_state (+ /clock)
+  void publishDueSensorReadings();  // sensors on: readings due by now on joint_states
   // joint_states (sensor view or truth): in lockstep, a new stamp awaits its answer.
   void publishJointStates(const sensor_msgs::JointState& msg);
   void maybeReportLoopHealth();  // /diagnostics once per window
@@ -112,11 +112,7 @@ class KaneSimNode {
   bool stamp_valid_ = false;
   std::uint64_t input_seq_ = 0;  // ~input_log's sequence number of the next input
   bool stopped_at_time_limit_ = false;
-  SteadyClock::time_point last_publish_wall_;
-  double last_publish_sim_ = 0.0;
-  double achieved_real_time_factor_ = 0.0;
-  SteadyClock::time_point window_start_wall_;
-  double window_start_sim_ = 0.0;
+  PublishPace pace_;  // achieved real-time factor, wall-clock publishes, diagnostics window
 };
 
 }  // namespace kane_sim

@@ -20,6 +20,7 @@
 #include "loop/loop_diagnostics.h"
 #include "loop/master_watch.h"
 #include "loop/paced_loop.h"
+#include "loop/publish_pace.h"
 #include "loop/realtime.h"
 #include "loop/stamp_clock.h"
 
@@ -343,6 +344,24 @@ TEST(RealtimePolicy, OffAtZeroAndRefusedWhenTheLoopNeverSleeps) {
   EXPECT_TRUE(free_running.warn);
   EXPECT_NE(free_running.report.find("simulation.realtime_priority 10 ignored"), std::string::npos)
       << free_running.report;
+}
+
+// The publish pace on a fake clock: the real-time factor between two publishes, the wall-clock
+// publish period, the diagnostics window's wall length and the sim time it covered.
+TEST(PublishPace, RealTimeFactorWallClockPeriodAndWindow) {
+  using Clock = PublishPace::Clock;
+  const Clock::time_point t0{};
+  PublishPace pace(100.0);  // 10 ms
+  pace.start(t0, 5.0);
+  EXPECT_FALSE(pace.dueByWallClock(t0 + std::chrono::milliseconds(9)));
+  EXPECT_TRUE(pace.dueByWallClock(t0 + std::chrono::milliseconds(10)));
+  EXPECT_DOUBLE_EQ(pace.published(t0 + std::chrono::milliseconds(20), 5.04), 2.0);
+  EXPECT_DOUBLE_EQ(pace.published(t0 + std::chrono::milliseconds(20), 5.04), 2.0)
+      << "no wall time passed: the last figure stands";
+  EXPECT_NEAR(pace.sinceLastPublish(t0 + std::chrono::milliseconds(25)), 0.005, 1e-12);
+  EXPECT_NEAR(pace.windowWall(t0 + std::chrono::seconds(1)), 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(pace.closeWindow(t0 + std::chrono::seconds(1), 7.0), 2.0);
+  EXPECT_NEAR(pace.windowWall(t0 + std::chrono::milliseconds(1500)), 0.5, 1e-12);
 }
 
 }  // namespace kane_sim
