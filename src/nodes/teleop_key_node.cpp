@@ -10,7 +10,6 @@
 #include <std_msgs/Float64.h>
 
 #include "kane_sim/format_number.h"
-#include "kane_sim/model/joint_names.h"
 #include "kane_sim/ros/node_params.h"
 
 namespace kane_sim {
@@ -51,7 +50,8 @@ TeleopKeyNode::TeleopKeyNode(const ros::NodeHandle& nh, const TeleopKeyParams& p
 }
 
 void TeleopKeyNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
-  const auto it = std::find(msg->name.begin(), msg->name.end(), kJointNames[kCrankJoint]);
+  // joint_states' name of the crank (model/joint_names.h; teleop_key links no model library).
+  const auto it = std::find(msg->name.begin(), msg->name.end(), "crank_joint");
   const size_t i = static_cast<size_t>(it - msg->name.begin());
   if (it != msg->name.end() && i < msg->position.size() && std::isfinite(msg->position[i]))
     teleop_.setCrankAngle(msg->position[i]);
