@@ -160,7 +160,9 @@ def plot_run(data, out=None, title="", compare=None, compare_label=""):
     for factor, name in ((1e-3, "mJ"), (1e-6, "µJ"), (1e-9, "nJ"), (1e-12, "pJ")):
         if largest < 1000 * factor:
             scale, unit = factor, name
-    axes[-1].plot(t, [v / scale for v in drift], color="black", label="E + D - W, drift")
+    # energy_balance books runtime parameter changes' jumps too (P; 0 in offline runs).
+    axes[-1].plot(t, [v / scale for v in drift], color="black",
+                  label="E + D - W - P, drift\n(P: parameter changes)")
     axes[-1].set_ylabel("ledger drift\n[%s]" % unit)
     axes[-1].set_xlabel("sim time [s]")
     for a in axes:
