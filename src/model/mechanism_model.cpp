@@ -187,7 +187,6 @@ RestingContact MechanismModel::restingContact(const State& x, const SpeedVector&
   contact.closing_acceleration = -(J.dot(u_dot_free) + bias);
   contact.force = contact.closing_acceleration / J.dot(minv_j);
   contact.u_dot = u_dot_free + minv_j * contact.force;
-  contact.generalized_force = J * contact.force;
   return contact;
 }
 

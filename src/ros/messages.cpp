@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include <Eigen/Geometry>
 #include <string>
@@ -62,7 +63,7 @@ std::vector<geometry_msgs::TransformStamped> jointTransforms(const RobotDescript
 // The message's load-power fields, indexed by LoadName: "<load>_power", as the output table
 // (sim/csv_format.h) names them; a .msg is static, so this is the one place a load meets its
 // field (test_ros_messages checks each against the table's name and value).
-double kane_sim::MechanismState::*const kLoadPowerFields[kNumLoadNames] = {
+double kane_sim::MechanismState::*const kLoadPowerFields[] = {
     &kane_sim::MechanismState::gravity_power,
     &kane_sim::MechanismState::spring_power,
     &kane_sim::MechanismState::motor_power,
@@ -73,6 +74,10 @@ double kane_sim::MechanismState::*const kLoadPowerFields[kNumLoadNames] = {
     &kane_sim::MechanismState::spring_damper_power,
     &kane_sim::MechanismState::contact_power,
 };
+// A load added to the model without its message field stops the build here (a missing entry
+// would otherwise be a null member pointer).
+static_assert(std::size(kLoadPowerFields) == kNumLoadNames,
+              "every LoadName needs its <load>_power field in MechanismState.msg and here");
 
 kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_time_factor,
                                                const ros::Time& stamp,

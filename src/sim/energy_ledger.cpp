@@ -17,9 +17,6 @@ void Simulator::setParameters(const MechanismParameters& parameters) {
 
 Snapshot Simulator::snapshot() const {
   const MechanismKinematics k = model_.kinematics(state_);
-  MechanismLoads loads = model_.loads(k, state_, torque_);
-  const MechanismModel::Equations equations = MechanismModel::equations(k, loads, state_);
-  const PowerTerms power = MechanismModel::power(loads, state_);
   Snapshot snap;
   snap.time = time();
   snap.state = state_;
@@ -30,31 +27,33 @@ Snapshot Simulator::snapshot() const {
   const OdeState dx = withEquations(
       [this](const auto& equations) { return equations.stateDerivative(state_, torque_); });
   snap.u_dot = SpeedVector(dx[2], dx[3]);
-  snap.active_forces = equations.active_forces;
   if (resting_contact_) {
-    // Held together: the contact force is one more load, J^T N in F_r, and u' is constrained.
+    // Held together: u' is constrained, and the contact's force N is one more load.
     const RestingContact contact = model_.restingContact(state_, snap.u_dot, torque_);
     snap.u_dot = contact.u_dot;
-    snap.active_forces += contact.generalized_force;
     snap.contact_force = contact.force;
     snap.resting_contact = true;
   }
+  // The loads with the contact's entries (zero when apart): F_r, the reactions and the powers
+  // all come from this one list.
+  MechanismLoads loads = model_.loads(k, state_, torque_);
+  MechanismModel::addContactLoads(k, snap.contact_force, &loads);
+  const MechanismModel::Equations equations = MechanismModel::equations(k, loads, state_);
+  snap.active_forces = equations.active_forces;
   snap.inertia_forces = equations.inertiaForces(snap.u_dot);
   snap.energy = model_.energy(k, state_);
   snap.motor_work = motor_work_;
   snap.dissipated_energy = dissipated_energy_;
   snap.parameter_energy = parameter_energy_;
   snap.parameter_changes = parameter_changes_;
-  snap.motor_power = power.motor;
-  snap.dissipated_power = power.dissipated;
+  snap.load_powers = loadPowers(loads, state_);
+  snap.motor_power = snap.load_powers[LoadName::kMotor];
+  snap.dissipated_power = -snap.load_powers.dampers();
   snap.contact_impacts = contact_impacts_;
   snap.spring_elongation = model_.springElongation(k.geometry);
   snap.slider_separation = k.geometry.sliderSeparation();
   snap.slider_crossings = slider_crossings_;
-  // The contact's force joins the list (zero when apart) for the reactions and the powers.
-  MechanismModel::addContactLoads(k, snap.contact_force, &loads);
   snap.constraint_forces = constraintForces(k, loads, state_, snap.u_dot);
-  snap.load_powers = loadPowers(loads, state_);
   snap.body_kinetic_energy = bodyKineticEnergies(k, state_);
   snap.impact_energy = impact_energy_;
   snap.geometry = k.geometry;

@@ -124,7 +124,6 @@ struct RestingContact {
   SpeedVector u_dot = SpeedVector::Zero();  // u' with the sliders held together
   double force = 0.0;  // N [N] on slider 4 along +i (pushing it away from slider 3; the
                        // opposite on slider 3); < 0 would pull: the contact lets go
-  SpeedVector generalized_force = SpeedVector::Zero();  // J^T N: its share of F_r
   // -(J u'_free + J' u) [m/s^2]: how fast the free motion would close the gap (> 0: N > 0).
   double closing_acceleration = 0.0;
 };

@@ -63,7 +63,7 @@ std::vector<geometry_msgs::TransformStamped> jointTransforms(const RobotDescript
                                                              const ros::Time& stamp);
 
 // MechanismState's power field of each load, indexed by LoadName ("<load>_power").
-extern double kane_sim::MechanismState::*const kLoadPowerFields[kNumLoadNames];
+extern double kane_sim::MechanismState::*const kLoadPowerFields[];  // kNumLoadNames entries
 
 // real_time_factor: sim time per wall time achieved by whoever produced the snapshot (0 offline).
 kane_sim::MechanismState mechanismStateMessage(const Snapshot& snapshot, double real_time_factor,
