@@ -17,7 +17,7 @@ PACKAGES=(
   # robot_description: robot_state_publisher, check_urdf; package checks: catkin_lint
   ros-robot-state-publisher liburdfdom-tools catkin-lint
   # rviz (also headless under Xvfb for the smoke test), plots
-  rviz xvfb xauth imagemagick python3-matplotlib python3-numpy python3-rosgraph-msgs
+  rviz xvfb xauth imagemagick python3-matplotlib python3-numpy python3-scipy python3-rosgraph-msgs
   # the independent SymPy derivation test; tools the test scripts call
   python3-sympy python3-yaml python3-rosservice bc procps
   # the Python module (pybind11) and its tests

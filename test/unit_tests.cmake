@@ -80,8 +80,13 @@ add_test(NAME codegen COMMAND bash ${tools_dir}/codegen_test.sh)
 # The Python module (kane_sim._core and the kane_sim package): pytest, against simulate and
 # analyze, and SymPy's KanesMethod with auxiliary speeds for the reaction forces.
 add_test(NAME python_module COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
-  ${PROJECT_SOURCE_DIR}/test/python)
+  --ignore=${PROJECT_SOURCE_DIR}/test/python/identify ${PROJECT_SOURCE_DIR}/test/python)
 set_tests_properties(python_module PROPERTIES TIMEOUT 300
+  ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
+# Identification (kane_sim.identify, rosrun kane_sim identify): its own test, to run beside the rest.
+add_test(NAME python_identify COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
+  ${PROJECT_SOURCE_DIR}/test/python/identify)
+set_tests_properties(python_identify PROPERTIES TIMEOUT 300
   ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
 add_test(NAME layers COMMAND /usr/bin/python3 ${tools_dir}/layers_test.py ${PROJECT_SOURCE_DIR})
 add_test(NAME doc_links

@@ -240,3 +240,31 @@ def plot_result(result, out=None, kind="run", title=""):
     if kind != "run":
         raise ValueError("kind must be 'run' or 'reactions', got %r" % (kind,))
     return plot_run(result, out, title)
+
+
+def plot_identification(fit, out, title=""):
+    """identify --plot: the recorded q1 and q2 against the fitted model and the base model, each
+    driven by the recorded torque from the recorded start (kane_sim.identify's validation)."""
+    v = fit.validation
+    if not v:
+        raise ValueError("plot_identification: the fit was not validated (validate=True)")
+    fig, axes = plt.subplots(2, 1, figsize=(10, 6), sharex=True)
+    rec = v["recorded"]
+    t0 = rec["t"][0]
+    for k, (ax, label, unit) in enumerate(zip(axes, ("q1", "q2"), ("rad", "m"))):
+        ax.plot(rec["t"] - t0, rec["q"][:, k], color="black", lw=2.2, label="recorded")
+        for which, style in (("fitted", dict(color="tab:green", lw=1.0)),
+                             ("base", dict(color="tab:red", lw=0.8, ls="--"))):
+            run = v[which]
+            if "t" in run:
+                ax.plot(run["t"] - t0, run["q"][:, k], label="%s model (RMS %.3g %s)"
+                        % (which, run["%s_rms" % label], unit), **style)
+        ax.set_ylabel("%s [%s]" % (label, unit))
+        ax.grid(True, alpha=0.3)
+        _legend_outside(ax)
+    axes[-1].set_xlabel("t [s]")
+    fig.suptitle(title or "identification: recorded motion, fitted and base models")
+    fig.tight_layout()
+    fig.savefig(out, dpi=100, bbox_inches="tight")
+    plt.close(fig)
+    return out

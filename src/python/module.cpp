@@ -10,4 +10,5 @@ PYBIND11_MODULE(_core, m) {
   kane_sim::python::bindConfig(m);
   kane_sim::python::bindSimulator(m);
   kane_sim::python::bindAnalysis(m);
+  kane_sim::python::bindIdentify(m);
 }

@@ -49,6 +49,7 @@ class PythonConfig {
 void bindConfig(py::module_& m);
 void bindSimulator(py::module_& m);
 void bindAnalysis(py::module_& m);
+void bindIdentify(py::module_& m);
 
 }  // namespace python
 }  // namespace kane_sim

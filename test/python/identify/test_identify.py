@@ -1,0 +1,249 @@
+"""kane_sim.identify and `rosrun kane_sim identify`: parameters of a config the tool was not told,
+recovered from its motion; what a motion cannot tell, named; hostile data refused by name."""
+import os
+import signal
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import kane_sim
+from kane_sim import identify as ki
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+from conftest import config_path, tool  # noqa: E402
+
+# A config nobody told the tool: every identifiable default parameter away from mechanism.yaml.
+TRUTH = {"mechanism.rod_mass": 1.3, "mechanism.slider3_mass": 0.7, "mechanism.slider4_mass": 0.6,
+         "mechanism.spring_stiffness": 260.0, "damping.crank_joint": 0.05,
+         "damping.slider3_joint": 0.8, "damping.slider4_joint": 1.1, "damping.spring": 0.5}
+NAMES = list(TRUTH) + ["torque_offset"]
+
+
+@pytest.fixture(scope="module")
+def excitation():
+    t, torque, cond = ki.excitation(None, 20.0)
+    return t, torque, cond
+
+
+@pytest.fixture(scope="module")
+def truth_run(excitation):
+    _, torque, _ = excitation
+    sim = kane_sim.Simulator(kane_sim.Config(config_path()).with_values(
+        dict(TRUTH, **{"command.torque_limit": 60.0})))
+    r = sim.run(20.0, torque=torque)
+    return {k: np.array(r[k]) for k in ("t", "q1", "q2", "u1", "u2", "torque")}
+
+
+def test_excitation_keeps_the_sliders_apart_and_within_the_limit(excitation):
+    t, torque, cond = excitation
+    assert len(t) == 20000 and np.all(np.diff(t) > 0)
+    assert np.max(np.abs(torque)) <= kane_sim.Config()["command.torque_limit"]
+    assert np.max(np.abs(torque)) > 0.1  # it excites
+    # Everything the mechanism can tell is told well (the dampers at O and A act alike: dropped).
+    assert cond < 1e3
+
+
+def test_noise_free_data_gives_every_parameter(truth_run):
+    fit = ki.identify(truth_run, config_path(), params=NAMES, validate=False)
+    assert fit.bandwidth is None  # noise-free: used as recorded
+    for name, value in TRUTH.items():
+        # Masses and k to 1e-6; the dampers' power integrals (Simpson over 0.1 s windows across
+        # the held torque's kinks) to 1e-5.
+        tol = 1e-5 if name.startswith("damping.") else 1e-6
+        assert fit.estimates[name] == pytest.approx(value, rel=tol), name
+        assert fit.std_errors[name] < tol * value, name
+    assert abs(fit.estimates["torque_offset"]) < 1e-6
+    assert not fit.unidentifiable
+    for name, value in TRUTH.items():
+        assert fit.config[name] == pytest.approx(value, rel=1e-5)
+    # The rod's shape is measured: its inertia follows m through the base's radius of gyration.
+    assert fit.config["mechanism.rod_inertia"] == pytest.approx(1.3 * 0.5 ** 2 / 12, rel=1e-6)
+
+
+def test_the_equations_form_agrees(truth_run):
+    fit = ki.identify(truth_run, config_path(), params=NAMES, method="equations", validate=False)
+    for name, value in TRUTH.items():
+        # u' from a 7-point derivative across the held torque's kinks: 0.1 % measured.
+        assert fit.estimates[name] == pytest.approx(value, rel=0.05 if "damping" in name else 5e-3)
+
+
+def test_rest_length_and_inertia_when_asked(truth_run):
+    fit = ki.identify(truth_run, config_path(), params=NAMES + ["mechanism.rod_inertia",
+                                                                "spring_rest_length"],
+                      validate=False)
+    base = kane_sim.Config(config_path())
+    rest = base["initial_state.q2"] - 4 * 0.25 * np.cos(base["initial_state.q1"])
+    assert fit.estimates["spring_rest_length"] == pytest.approx(rest, rel=1e-6)
+    assert fit.estimates["mechanism.rod_inertia"] == pytest.approx(1.3 * 0.25 / 12, rel=1e-5)
+
+
+def test_crank_and_coupler_dampers_are_named_not_separable(truth_run):
+    fit = ki.identify(truth_run, config_path(), validate=False)  # the default set has both
+    assert len(fit.kept) == 1 and fit.kept[0] in ("damping.crank_joint", "damping.coupler_joint")
+    message = " ".join(fit.unidentifiable)
+    assert "damping.crank_joint" in message and "damping.coupler_joint" in message
+    assert "not separately identifiable" in message
+    kept = fit.kept[0]
+    assert fit.config[kept] == kane_sim.Config(config_path())[kept]  # the base's value stays
+
+
+@pytest.mark.xfail(strict=True, reason="known limitation: with the crank held by a stiff servo the "
+                   "crank's columns are tiny but not collinear to 1e-7, and the fit returns a "
+                   "wrong crank damper (-3.7 +- 0.004) instead of naming it (issue 30 stays open)")
+def test_a_held_crank_reports_what_it_cannot_tell():
+    # A stiff position servo holds the crank: slider 4 swings on its spring, the crank's masses
+    # and dampers are never excited as such.
+    cfg = kane_sim.Config(config_path()).with_values(
+        dict(TRUTH, **{"command.mode": "position", "command.position_kp": 5e4,
+                       "command.position_kd": 500.0, "initial_state.u2": 0.5}))
+    r = kane_sim.Simulator(cfg).run(10.0)
+    data = {k: np.array(r[k]) for k in ("t", "q1", "q2", "u1", "u2", "torque")}
+    fit = ki.identify(data, config_path(), params=NAMES, bandwidth=None, validate=False)
+    text = " ".join(fit.unidentifiable)
+    assert "the crank hardly moved" in text
+    for name in fit.kept:
+        assert fit.estimates[name] == fit.base_values[name]  # not a wrong number
+    assert "mechanism.rod_mass" in fit.kept or "mechanism.slider3_mass" in fit.kept
+    # What slider 4 shows is still identified.
+    assert fit.estimates["mechanism.slider4_mass"] == pytest.approx(0.6, rel=1e-3)
+
+
+@pytest.mark.parametrize("mutate, words", [
+    (lambda d: d["q1"].__setitem__(100, np.nan), "q1[100] = nan is not finite"),
+    (lambda d: d["torque"].__setitem__(7, np.inf), "torque[7] = inf is not finite"),
+    (lambda d: d["q2"].__setitem__(5, 1e308), "q2[5] = 1e+308 is beyond any rig's reading"),
+    (lambda d: d["t"].__setitem__(51, d["t"][50]), "time t[51]"),
+    (lambda d: d["t"].__setitem__(51, d["t"][40]), "goes backward"),
+    (lambda d: d.pop("torque"), "has no column 'torque'"),
+])
+def test_hostile_arrays_are_refused_by_name(truth_run, mutate, words):
+    data = {k: v.copy() for k, v in truth_run.items()}
+    mutate(data)
+    with pytest.raises(ValueError, match=words.replace("[", r"\[").replace("]", r"\]")
+                       .replace("+", r"\+")):
+        ki.identify(data, config_path(), validate=False)
+
+
+def test_short_still_and_bad_arguments(truth_run):
+    short = {k: v[:20] for k, v in truth_run.items()}
+    with pytest.raises(ValueError, match="too short"):
+        ki.identify(short, config_path())
+    still = {k: (np.zeros(2000) if k != "t" else truth_run["t"][:2000]) for k in truth_run}
+    still["q2"] = np.full(2000, 1.2)
+    with pytest.raises(ValueError, match="no motion"):
+        ki.identify(still, config_path())
+    with pytest.raises(ValueError, match="'mechanism.rod_mas' is not an identifiable"):
+        ki.identify(truth_run, config_path(), params=["mechanism.rod_mas"])
+    with pytest.raises(ValueError, match="spring_stiffness too"):
+        ki.identify(truth_run, config_path(), params=["spring_rest_length"])
+    for bad in (float("nan"), -1.0, float("inf"), 1e308):
+        with pytest.raises(ValueError, match="bandwidth"):
+            ki.identify(truth_run, config_path(), bandwidth=bad)
+    with pytest.raises(ValueError, match="method"):
+        ki.identify(truth_run, config_path(), method="energi")
+    with pytest.raises(ValueError, match="holdout"):
+        ki.identify(truth_run, config_path(), holdout=float("nan"))
+
+
+def test_files_refused_by_name(tmp_path):
+    for path, words in (("/dev/zero", "not a regular file"), (str(tmp_path), "not a regular file"),
+                        (str(tmp_path / "none.bag"), "does not exist")):
+        with pytest.raises(ValueError, match=words):
+            ki.load_motion(path)
+    empty = tmp_path / "empty.csv"
+    empty.write_text("")
+    with pytest.raises(ValueError, match="is empty"):
+        ki.load_motion(str(empty))
+    garbage = tmp_path / "garbage.bag"
+    garbage.write_bytes(os.urandom(4096))
+    with pytest.raises(ValueError, match="not a readable bag"):
+        ki.load_motion(str(garbage))
+
+
+@pytest.fixture(scope="module")
+def rig_bag(tmp_path_factory, excitation):
+    """The node's bag of a sensors.yaml rig playing the excitation: simulate --bag."""
+    folder = tmp_path_factory.mktemp("rig")
+    t, torque, _ = excitation
+    csv = folder / "torque.csv"
+    csv.write_text("t,torque\n" + "".join("%r,%r\n" % row for row in zip(t, torque)))
+    import yaml
+    cfg = yaml.safe_load(open(config_path()))
+    cfg["sensors"].update(yaml.safe_load(open(config_path("sensors.yaml")))["sensors"])
+    for name, value in TRUTH.items():
+        section, key = name.split(".")
+        cfg[section][key] = value
+    truth = folder / "truth.yaml"
+    truth.write_text(yaml.safe_dump(cfg))
+    bag = folder / "rig.bag"
+    subprocess.run([tool("simulate"), "--config", str(truth), "--duration", "20", "--torque-csv",
+                    str(csv), "--bag", str(bag)], check=True, capture_output=True, timeout=120)
+    return bag
+
+
+def test_cli_fits_a_sensor_bag_and_the_fit_loads(rig_bag, tmp_path):
+    fitted, plot = tmp_path / "fitted.yaml", tmp_path / "fit.png"
+    r = subprocess.run([tool("identify"), str(rig_bag), "--config", config_path(), "-o",
+                        str(fitted), "--plot", str(plot)], capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert "stamps jitter" in r.stdout  # arrival stamps, taken as the regular sampling
+    fit = kane_sim.Config(str(fitted))
+    # With sensors.yaml's noise (0.002 rad, 12-bit encoders, 100 Hz) over 20 s the masses and k
+    # land within 15 % (measured 2-7 % over 60 s: doc/guide/identification.md).
+    for name in ("mechanism.rod_mass", "mechanism.slider3_mass", "mechanism.slider4_mass",
+                 "mechanism.spring_stiffness"):
+        assert fit[name] == pytest.approx(TRUTH[name], rel=0.15), name
+    assert plot.stat().st_size > 10000
+    # The fitted model follows the recorded motion far better than the base.
+    line = [s for s in r.stdout.splitlines() if s.startswith("re-simulated")][0]
+    numbers = [float(w.rstrip(",")) for w in line.split() if w.replace(".", "").replace("e-", "")
+               .rstrip(",").isdigit()]
+    fitted_q1, base_q1 = numbers[1], numbers[3]
+    assert fitted_q1 < 0.2 * base_q1, line
+
+
+def test_cli_bag_without_effort_and_wrong_names(tmp_path, rig_bag):
+    import rosbag
+    from sensor_msgs.msg import JointState
+    for label, edit, words in (("noeffort", lambda m: setattr(m, "effort", []), "carries no effort"),
+                               ("names", lambda m: setattr(m, "name", ["a", "b", "c", "d"]),
+                                "has no joint 'crank_joint'")):
+        out = tmp_path / ("%s.bag" % label)
+        with rosbag.Bag(str(rig_bag)) as src, rosbag.Bag(str(out), "w") as dst:
+            for topic, msg, stamp in src.read_messages(topics=["/joint_states"]):
+                edit(msg)
+                dst.write(topic, msg, stamp)
+        r = subprocess.run([tool("identify"), str(out), "--config", config_path()],
+                           capture_output=True, text=True, timeout=60)
+        assert r.returncode == 3 and words in r.stderr, r.stderr
+
+
+def test_cli_arguments_and_ctrl_c(tmp_path, rig_bag):
+    for args, code, words in (
+            (["--bandwidth", "nan"], 2, "--bandwidth"),
+            (["--holdout", "-1"], 2, "--holdout"),
+            (["--excite", "1e308", "-o", str(tmp_path / "x.csv")], 2, "--excite"),
+            (["--config", "/dev/zero"], 1, ""),
+            (["-o", "/proc/nope/fitted.yaml", "--no-validate"], 4, "cannot write")):
+        r = subprocess.run([tool("identify")] + ([] if "--excite" in args else [str(rig_bag)])
+                           + args, capture_output=True, text=True, timeout=120)
+        assert r.returncode == code and words in r.stderr, (args, r.returncode, r.stderr)
+    p = subprocess.Popen([tool("identify"), "--excite", "3600", "-o", str(tmp_path / "t.csv")],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    import time
+    time.sleep(3.0)
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=30)
+    assert p.returncode == 130 and "interrupted" in err
+
+
+def test_excite_writes_a_profile_simulate_plays(tmp_path):
+    out = tmp_path / "torque.csv"
+    r = subprocess.run([tool("identify"), "--excite", "5", "-o", str(out)], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    table = kane_sim.TorqueProfile.from_csv(str(out))
+    assert table.at(2.0) != 0.0
