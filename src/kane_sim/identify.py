@@ -48,11 +48,6 @@ class Motion:
     def __len__(self):
         return len(self.t)
 
-    def slice(self, start, stop):
-        u = None if self.u is None else self.u[start:stop]
-        return Motion(self.t[start:stop], self.q[start:stop], u, self.torque[start:stop],
-                      self.source, self.notes)
-
     @property
     def rate(self):
         return (len(self.t) - 1) / (self.t[-1] - self.t[0])
@@ -400,7 +395,7 @@ def _fit(y, b, weights):
     dof = max(len(bw) - y.shape[1], 1)
     sigma2 = residual @ residual / dof
     inv = np.linalg.inv(a.T @ a)
-    return theta_s / norms, sigma2 * inv / np.outer(norms, norms), residual
+    return theta_s / norms, sigma2 * inv / np.outer(norms, norms)
 
 
 METHODS = ("energy", "equations")
@@ -466,13 +461,18 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
     return result
 
 
+def _separation(base, q1, q2):
+    """x_C - x_B [m] at each (q1, q2): the model's geometry (mechanismGeometry)."""
+    points = _core.mechanism_points(base["mechanism.rod_half_length"], np.ascontiguousarray(q1),
+                                    np.ascontiguousarray(q2))
+    return points["C"][:, 0] - points["B"][:, 0]
+
+
 def _usable(base, states):
     """Samples away from the sliders' contact (an unmeasured force acts there)."""
     keep = np.ones(len(states), dtype=bool)
     if base["contact.enabled"]:
-        L = base["mechanism.rod_half_length"]
-        separation = states[:, 1] - 4 * L * np.cos(states[:, 0])
-        keep &= separation > base["contact.gap"] + 2e-3
+        keep &= _separation(base, states[:, 0], states[:, 1]) > base["contact.gap"] + 2e-3
     return keep
 
 
@@ -571,7 +571,7 @@ def _estimate(base, names, y, b, groups, states):
     b_free = b - y[:, fixed] @ base_theta[fixed]
     a = y[:, free]
     weights = np.ones(len(b_free))
-    theta_free, cov_free, _ = _fit(a, b_free, weights)
+    theta_free, cov_free = _fit(a, b_free, weights)
     if groups > 1:
         # Equations of different units (N m, N): weight each by its residual's spread from the
         # unweighted fit, then fit again (feasible generalised least squares).
@@ -580,7 +580,7 @@ def _estimate(base, names, y, b, groups, states):
             spread = np.sqrt(np.mean(residual[r::groups] ** 2))
             floor = 1e-12 * (1 + np.sqrt(np.mean(b_free[r::groups] ** 2)))
             weights[r::groups] = 1.0 / max(spread, floor)
-        theta_free, cov_free, _ = _fit(a, b_free, weights)
+        theta_free, cov_free = _fit(a, b_free, weights)
     wres = (b_free - a @ theta_free) * weights
     # Filtered data's errors are correlated over the filter's window: widen the errors by the
     # residual's integrated autocorrelation (per equation, the larger).
@@ -620,12 +620,11 @@ def _rest_length(names, theta, cov):
 
 
 def _motion_reasons(base, states):
-    L = base["mechanism.rod_half_length"]
     parts = []
     span = np.ptp(states[:, 0])
     if span < 0.05:
         parts.append("the crank hardly moved (q1 spanned %.3g rad)" % span)
-    separation = states[:, 1] - 4 * L * np.cos(states[:, 0])
+    separation = _separation(base, states[:, 0], states[:, 1])
     if np.ptp(separation) < 1e-3:
         parts.append("slider 4 never moved relative to slider 3 (x_C - x_B spanned %.3g m)"
                      % np.ptp(separation))
@@ -670,8 +669,8 @@ def fitted_config(base, estimates, std_errors=None):
         if name == "torque_offset":
             continue
         if name == "spring_rest_length":
-            L = base["mechanism.rod_half_length"]
-            values["initial_state.q2"] = 4 * L * math.cos(base["initial_state.q1"]) + value
+            q1 = np.array([base["initial_state.q1"]])
+            values["initial_state.q2"] = float(value - _separation(base, q1, np.zeros(1))[0])
             continue
         bound = 0.0
         if value < bound or (value <= bound and not name.startswith("damping.")):
@@ -769,9 +768,7 @@ def _excitation_score(base, names, t, torque):
         run = sim.run(len(t) * step, torque=torque[index], output_rate=100.0)
     except (RuntimeError, ValueError):
         return None
-    L = base["mechanism.rod_half_length"]
-    separation = run.q[:, 1] - 4 * L * np.cos(run.q[:, 0])
-    if np.min(separation) < base["contact.gap"] + 0.02:
+    if np.min(_separation(base, run.q[:, 0], run.q[:, 1])) < base["contact.gap"] + 0.02:
         return None
     states = np.ascontiguousarray(np.column_stack([run.q, run.u]))
     y, _ = _core.identification_rows(base._core, names, states, np.ascontiguousarray(run.u_dot),
