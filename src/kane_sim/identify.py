@@ -342,6 +342,7 @@ class Identification:
         self.method = DEFAULT_METHOD
         self.rows = 0
         self.clipped = []
+        self.refined = None
         self.validation = None
 
     def report(self):
@@ -366,6 +367,11 @@ class Identification:
                          % (name, value, unit, err, rel, self.base_values[name], bound))
         for message in self.unidentifiable:
             lines.append("  not identifiable: " + message)
+        if self.refined:
+            lines.append("refined by output error (%d evaluations): positions fitted to %.3g rad, "
+                         "%.3g m RMS (their noise %.3g rad, %.3g m)"
+                         % ((self.refined["evaluations"],) + self.refined["position_rms"]
+                            + self.refined["noise"]))
         if self.method == "energy":
             lines.append("residual RMS: %.4g J per window" % self.residual_rms)
         else:
@@ -408,14 +414,17 @@ ENERGY_WINDOW_RECORDED = 0.1
 
 
 def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="auto",
-             holdout=0.25, topic=None, validate=True):
+             holdout=0.25, topic=None, validate=True, refine="auto"):
     """Identifies `params` (default: every parameter identifiable by default, parameters()) from
     `data` (a bag, a CSV, arrays or a Motion) over the base `config` (a Config, path or dict: its
     L, g, rod shape and initial state are taken as measured, its other values as the starting
     point and the fallback). method: "energy" (the work-energy form over 1 s windows: no
     accelerations) or "equations" (Kane's equations at every sample, u' from the filter).
     bandwidth: the derivative filter's [Hz], None (the data as recorded) or "auto" (None on
-    noise-free data, DEFAULT_BANDWIDTH otherwise). Returns an Identification."""
+    noise-free data, DEFAULT_BANDWIDTH otherwise). refine: after the least squares, fit the
+    re-simulated positions to the recorded ones (output error, _refine); "auto" does on measured
+    (filtered) data, where the least squares is biased by the noise in its regressor. Returns an
+    Identification."""
     base = Config(config)
     names = list(params) if params is not None else \
         [p["name"] for p in _core.identifiable_parameters() if p["by_default"]]
@@ -429,6 +438,8 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
         raise ValueError("method must be one of %s, got %r" % (", ".join(METHODS), method))
     if not (isinstance(holdout, (int, float)) and 0 <= holdout < 0.9):
         raise ValueError("holdout must be a fraction in [0, 0.9), got %r" % (holdout,))
+    if refine not in ("auto", True, False):
+        raise ValueError("refine must be 'auto', True or False, got %r" % (refine,))
     motion = load_motion(data, topic)
     prepared = estimate_rates(motion, bandwidth)
     prepared = prepared.select(_usable(base, prepared.states))
@@ -446,6 +457,12 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
     y, b, groups = _system(base, names, prepared, method)
     theta, cov, kept, messages, cond, rms = _estimate(base, names, y, b, groups, prepared.states)
     theta, cov = _rest_length(names, theta, cov)
+    if refine is True or (refine == "auto" and prepared.bandwidth is not None):
+        if len(kept) < len(names):
+            ls_theta = dict(zip(names, theta))
+            theta, cov, result.refined = _refine(base, names, theta, kept, motion,
+                                                 estimate_rates(motion, bandwidth))
+            result.refined["least_squares"] = ls_theta
     result.samples, result.rows = len(prepared), len(b)
     result.condition_number, result.residual_rms = cond, rms
     result.kept, result.unidentifiable = kept, messages
@@ -540,8 +557,8 @@ def _estimate(base, names, y, b, groups, states):
     reasons = _motion_reasons(base, states)
     # Rank: on unit-norm columns, a singular value below 1e-7 of the largest is a combination
     # the motion cannot tell apart (noise-free data reaches 1e-12; measured data's smallest
-    # informative ones stay above 1e-4). Keep the most involved parameter at its base value,
-    # and look again.
+    # informative ones stay above 1e-4). Keep one of the combination at its base value, and look
+    # again.
     while free:
         a = y[:, free]
         norms = np.linalg.norm(a, axis=0)
@@ -557,7 +574,9 @@ def _estimate(base, names, y, b, groups, states):
             break
         v = vt[-1]
         involved = [free[i] for i in np.argsort(-np.abs(v)) if abs(v[i]) > 0.05]
-        j = involved[0]
+        # Keep the last in the parameter order of those that carry the combination (|v| within
+        # half the largest): the same one whatever the noise (c_A, and c_O is estimated).
+        j = max(free[i] for i in range(len(free)) if abs(v[i]) >= 0.5 * np.max(np.abs(v)))
         messages.append("%s are not separately identifiable%s: kept %s at the base's value"
                         % (" and ".join(names[i] for i in involved), reasons, names[j]))
         kept.append(names[j])
@@ -690,21 +709,111 @@ def fitted_config(base, estimates, std_errors=None):
     return base.with_values(values), clipped
 
 
-def simulate_motion(config, motion, torque_offset=0.0, bandwidth="auto"):
-    """Re-simulates `motion`'s recorded torque (plus `torque_offset`, held between samples) with
-    `config`, from the recorded state where the derivative filter's output starts. Returns
-    (t, q (M, 2)) on the physics grid."""
-    prepared = estimate_rates(motion, bandwidth)
+def _torque_on_grid(motion, times, step):
+    """The recorded torque at the physics steps starting at `times`: held from each sample to the
+    next when the data is sampled at the physics rate (the simulator's own samples); otherwise
+    the torque between samples by a cubic spline (linear interpolation's error, (w h)^2 / 8 of a
+    4 Hz torque sampled at 100 Hz, biased the dampers by several per cent), at each step's start:
+    a sample is the torque in force from its instant, as a driver holds a command for its step
+    (at the step's middle the replay ran half a step early and the spring damper came out 5 %
+    low)."""
+    if motion.rate * step > 0.999:
+        index = np.searchsorted(motion.t, times + 1e-9 * step, side="right") - 1
+        return motion.torque[np.clip(index, 0, len(motion) - 1)]
+    from scipy.interpolate import CubicSpline
+    return CubicSpline(motion.t, motion.torque)(np.clip(times, motion.t[0], motion.t[-1]))
+
+
+def _replay(config, motion, x0, start, torque_offset=0.0):
+    """`config` driven by the recorded torque (plus `torque_offset`) from state x0 at time
+    `start` to the end of the recording: (t, q (M, 2)), rows at the data's rate when it divides
+    the physics rate, else every physics step."""
     limit = float(np.max(np.abs(motion.torque)) + abs(torque_offset) + 1.0)
     sim = Simulator(Config(config).with_values(
         {"sensors.enabled": False, "command.mode": "effort", "command.torque_limit": limit}))
-    sim.set_state([float(v) for v in prepared.states[0]])
-    start = prepared.t[0]
+    sim.set_state([float(v) for v in x0])
     step = sim.step_size
     n = int(math.floor((motion.t[-1] - start) / step + 1e-9))
-    index = np.searchsorted(motion.t, start + step * np.arange(n) + 1e-9 * step, side="right") - 1
-    run = sim.run(n * step, torque=motion.torque[np.clip(index, 0, len(motion) - 1)] + torque_offset)
+    steps_per_sample = round(1.0 / (motion.rate * step))
+    output_rate = None
+    if steps_per_sample >= 1 and abs(steps_per_sample * motion.rate * step - 1) < 1e-3:
+        output_rate = 1.0 / (steps_per_sample * step)
+        n -= n % steps_per_sample  # a whole number of output periods
+    torque = _torque_on_grid(motion, start + step * np.arange(n), step) + torque_offset
+    run = sim.run(n * step, torque=torque, output_rate=output_rate)
     return run.t + start, run.q
+
+
+def simulate_motion(config, motion, torque_offset=0.0, bandwidth="auto"):
+    """Re-simulates `motion`'s recorded torque (plus `torque_offset`) with `config`, from the
+    recorded state where the derivative filter's output starts. Returns (t, q (M, 2))."""
+    prepared = estimate_rates(motion, bandwidth)
+    return _replay(config, motion, prepared.states[0], prepared.t[0], torque_offset)
+
+
+def _refine(base, names, theta, kept, motion, prepared, max_evaluations=50):
+    """Output error: the parameters (and the start state) that make the model, driven by the
+    recorded torque, pass closest to the recorded positions, each coordinate weighted by its
+    noise (the filter's residual). Position noise enters only the residual here, not the
+    regressor, so it does not bias the estimate as it biases the least squares. Starts from the
+    least-squares theta; parameters kept at the base stay there. Returns (theta, cov, report)."""
+    from scipy.optimize import least_squares
+    free = [i for i, n in enumerate(names) if n not in kept]
+    keep = prepared.keep
+    sigma = np.sqrt(np.mean((motion.q[keep] - prepared.states[:, :2]) ** 2, axis=0))
+    sigma = np.maximum(sigma, 1e-9)
+    start = prepared.t[0]
+    measured = slice(keep.start, None)
+    t_data, q_data = motion.t[measured], motion.q[measured]
+    x0 = np.concatenate([theta[free], prepared.states[0]])
+    floors = [0.01 if names[i].startswith("damping.") or names[i] == "torque_offset" else 1e-3
+              for i in free] + [0.1, 0.01, 0.5, 0.1]
+    scale = np.maximum(np.abs(x0), floors)
+    lower = np.array([0.0 if names[i].startswith("damping.")
+                      else (-np.inf if names[i] == "torque_offset" else 1e-6 * scale[k])
+                      for k, i in enumerate(free)] + [-np.inf] * 4) / scale
+    z0 = np.maximum(x0 / scale, lower + 1e-12)
+
+    def estimates(z):
+        out = dict(zip(names, theta))
+        out.update({names[i]: float(v) for i, v in zip(free, z[:len(free)] * scale[:len(free)])})
+        return out
+
+    def residual(z, tolerant=True):
+        est = estimates(z)
+        try:
+            config, _ = fitted_config(base, est)
+            t, q = _replay(config, motion, z[len(free):] * scale[len(free):], start,
+                           est.get("torque_offset", 0.0))
+        except (ValueError, RuntimeError):  # a refused config or step: far from the data
+            if not tolerant:
+                raise
+            return np.full(2 * len(t_data), 1e3)
+        return np.concatenate([(np.interp(t_data, t, q[:, k]) - q_data[:, k]) / sigma[k]
+                               for k in (0, 1)])
+
+    residual(z0, tolerant=False)  # the start must simulate: a failure here is named, not hidden
+    solution = least_squares(residual, z0, bounds=(lower, np.inf), diff_step=1e-6,
+                             max_nfev=max_evaluations, ftol=1e-10, xtol=1e-10, gtol=1e-10)
+    z = solution.x
+    out = theta.copy()
+    out[free] = z[:len(free)] * scale[:len(free)]
+    r = solution.fun
+    dof = max(len(r) - len(z), 1)
+    jtj = solution.jac.T @ solution.jac
+    cov_z = (r @ r / dof) * np.linalg.pinv(jtj)
+    # Correlated residuals (a sensor's bias walk, unmodelled dynamics) widen the errors.
+    half = len(r) // 2
+    inflation = max(_effective_samples_factor(r[:half]), _effective_samples_factor(r[half:]))
+    cov_z *= inflation ** 2
+    cov = np.zeros((len(names), len(names)))
+    scaled = cov_z[:len(free), :len(free)] * np.outer(scale[:len(free)], scale[:len(free)])
+    for a_i, i in enumerate(free):
+        cov[i, free] = scaled[a_i]
+    rms = tuple(float(np.sqrt(np.mean((r[k * half:(k + 1) * half] * sigma[k]) ** 2)))
+                for k in (0, 1))
+    return out, cov, {"evaluations": int(solution.nfev), "position_rms": rms,
+                      "noise": tuple(float(x) for x in sigma)}
 
 
 def validation(motion, base, fitted, torque_offset=0.0, bandwidth="auto"):
@@ -725,35 +834,58 @@ def validation(motion, base, fitted, torque_offset=0.0, bandwidth="auto"):
     return out
 
 
-def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=8):
-    """A torque profile (t, torque) that identifies every default parameter well: a multisine
-    (0.2-4 Hz, random phases) around no bias, the best of `candidates` phase draws by the
-    regressor's condition number on the base config, scaled so that the base mechanism keeps
-    its sliders apart (x_C - x_B above contact.gap + 2 cm) and within command.torque_limit."""
+def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=4):
+    """A torque profile (t, torque) that identifies every default parameter well: a slow bias
+    sine (3 periods over the run, at least 0.05 Hz) that swings the crank's mean angle, so that
+    slider 3 moves (v_B = -4 L u1 sin q1), plus a multisine (0.2-4 Hz, random phases). Of
+    `candidates` phase draws and the bias amplitudes 0, 2, 4, 8, 16 % of command.torque_limit,
+    the best by the regressor's condition number on the base config, each with the largest
+    multisine amplitude (a bisection) that keeps the base mechanism's sliders apart (x_C - x_B
+    above contact.gap + 2 cm); |torque| within command.torque_limit. Returns (t, torque, the
+    condition number)."""
     base = Config(config)
     if not (isinstance(duration, (int, float)) and math.isfinite(duration) and 2 <= duration <= 3600):
         raise ValueError("excite: duration must be in [2, 3600] s, got %r" % (duration,))
     rng = np.random.default_rng(seed)
     t = np.arange(0.0, duration, 1.0 / rate)
     freqs = np.linspace(0.2, 4.0, 12)
-    limit = base["command.torque_limit"]
+    limit = min(base["command.torque_limit"], 40.0)
+    slow = np.sin(2 * np.pi * max(3.0 / duration, 0.05) * t)
     names = [p["name"] for p in _core.identifiable_parameters() if p["by_default"]]
     best = None
     for _ in range(candidates):
         phases = rng.uniform(0, 2 * np.pi, len(freqs))
         shape = np.sum(np.sin(2 * np.pi * freqs[:, None] * t + phases[:, None]), axis=0)
         shape /= np.max(np.abs(shape))
-        for amplitude in (min(limit, 40.0) * 0.8 ** k for k in range(25)):
-            torque = amplitude * shape
-            score = _excitation_score(base, names, t, torque)
-            if score is None:
-                continue
-            if best is None or score < best[0]:
-                best = (score, torque)
-            break
+        for bias in (0.0, 0.02, 0.04, 0.08, 0.16):
+            found = _largest_feasible(base, names, t, bias * limit * slow, shape,
+                                      limit * (1 - bias))
+            if found and (best is None or found[0] < best[0]):
+                best = found
     if best is None:
         raise ValueError("excite: no multisine keeps the sliders apart on this config")
     return t, best[1], best[0]
+
+
+def _largest_feasible(base, names, t, bias, shape, most):
+    """(score, torque) of bias + a shape, its amplitude the largest up to `most` that keeps the
+    sliders apart (to ~10 %: a bisection in log amplitude), or None."""
+    def attempt(amplitude):
+        torque = bias + amplitude * shape
+        score = _excitation_score(base, names, t, torque)
+        return None if score is None else (score, torque)
+    found = attempt(most)
+    if found:
+        return found
+    low, high = math.log(1e-3 * most), math.log(most)
+    for _ in range(7):
+        middle = 0.5 * (low + high)
+        trial = attempt(math.exp(middle))
+        if trial:
+            found, low = trial, middle
+        else:
+            high = middle
+    return found
 
 
 def _excitation_score(base, names, t, torque):

@@ -65,8 +65,9 @@ def test_noise_free_data_gives_every_parameter(truth_run):
 def test_the_equations_form_agrees(truth_run):
     fit = ki.identify(truth_run, config_path(), params=NAMES, method="equations", validate=False)
     for name, value in TRUTH.items():
-        # u' from a 7-point derivative across the held torque's kinks: 0.1 % measured.
-        assert fit.estimates[name] == pytest.approx(value, rel=0.05 if "damping" in name else 5e-3)
+        # u' from a 7-point derivative across the held torque's kinks (every step): masses and k
+        # within 0.2 %, the dampers (small forces beside the inertia's) within 6 % measured.
+        assert fit.estimates[name] == pytest.approx(value, rel=0.1 if "damping" in name else 5e-3)
 
 
 def test_rest_length_and_inertia_when_asked(truth_run):
@@ -81,12 +82,14 @@ def test_rest_length_and_inertia_when_asked(truth_run):
 
 def test_crank_and_coupler_dampers_are_named_not_separable(truth_run):
     fit = ki.identify(truth_run, config_path(), validate=False)  # the default set has both
-    assert len(fit.kept) == 1 and fit.kept[0] in ("damping.crank_joint", "damping.coupler_joint")
+    assert fit.kept == ["damping.coupler_joint"]  # the later of the two, whatever the noise
     message = " ".join(fit.unidentifiable)
     assert "damping.crank_joint" in message and "damping.coupler_joint" in message
     assert "not separately identifiable" in message
-    kept = fit.kept[0]
-    assert fit.config[kept] == kane_sim.Config(config_path())[kept]  # the base's value stays
+    assert fit.config["damping.coupler_joint"] == kane_sim.Config(config_path())[
+        "damping.coupler_joint"]  # the base's value stays
+    # Both give the crank -(c_O + 4 c_A) u1: the estimate carries the sum.
+    assert fit.estimates["damping.crank_joint"] == pytest.approx(0.05, rel=1e-5)
 
 
 @pytest.mark.xfail(strict=True, reason="known limitation: with the crank held by a stiff servo the "
@@ -163,10 +166,10 @@ def test_files_refused_by_name(tmp_path):
 
 
 @pytest.fixture(scope="module")
-def rig_bag(tmp_path_factory, excitation):
-    """The node's bag of a sensors.yaml rig playing the excitation: simulate --bag."""
+def rig_bag(tmp_path_factory):
+    """The node's bag of a sensors.yaml rig playing a 60 s excitation: simulate --bag."""
     folder = tmp_path_factory.mktemp("rig")
-    t, torque, _ = excitation
+    t, torque, _ = ki.excitation(None, 60.0)
     csv = folder / "torque.csv"
     csv.write_text("t,torque\n" + "".join("%r,%r\n" % row for row in zip(t, torque)))
     import yaml
@@ -178,7 +181,7 @@ def rig_bag(tmp_path_factory, excitation):
     truth = folder / "truth.yaml"
     truth.write_text(yaml.safe_dump(cfg))
     bag = folder / "rig.bag"
-    subprocess.run([tool("simulate"), "--config", str(truth), "--duration", "20", "--torque-csv",
+    subprocess.run([tool("simulate"), "--config", str(truth), "--duration", "60", "--torque-csv",
                     str(csv), "--bag", str(bag)], check=True, capture_output=True, timeout=120)
     return bag
 
@@ -190,19 +193,25 @@ def test_cli_fits_a_sensor_bag_and_the_fit_loads(rig_bag, tmp_path):
                        timeout=120)
     assert r.returncode == 0, r.stderr
     assert "stamps jitter" in r.stdout  # arrival stamps, taken as the regular sampling
+    assert "refined by output error" in r.stdout  # measured data: the output-error stage ran
     fit = kane_sim.Config(str(fitted))
-    # With sensors.yaml's noise (0.002 rad, 12-bit encoders, 100 Hz) over 20 s the masses and k
-    # land within 15 % (measured 2-7 % over 60 s: doc/guide/identification.md).
+    # sensors.yaml's noise (0.002 rad, 12-bit encoders, 100 Hz, latency and jitter), 60 s of the
+    # excitation: the issue's 1 % for masses and k, 5 % for dampers (c_O + 4 c_A for the pair the
+    # mechanism cannot separate); measured: doc/guide/identification.md.
     for name in ("mechanism.rod_mass", "mechanism.slider3_mass", "mechanism.slider4_mass",
                  "mechanism.spring_stiffness"):
-        assert fit[name] == pytest.approx(TRUTH[name], rel=0.15), name
+        assert fit[name] == pytest.approx(TRUTH[name], rel=0.01), name
+    for name in ("damping.slider3_joint", "damping.slider4_joint", "damping.spring"):
+        assert fit[name] == pytest.approx(TRUTH[name], rel=0.05), name
+    pin_o = fit["damping.crank_joint"] + 4 * fit["damping.coupler_joint"]
+    assert pin_o == pytest.approx(TRUTH["damping.crank_joint"], rel=0.05)
     assert plot.stat().st_size > 10000
     # The fitted model follows the recorded motion far better than the base.
     line = [s for s in r.stdout.splitlines() if s.startswith("re-simulated")][0]
     numbers = [float(w.rstrip(",")) for w in line.split() if w.replace(".", "").replace("e-", "")
                .rstrip(",").isdigit()]
     fitted_q1, base_q1 = numbers[1], numbers[3]
-    assert fitted_q1 < 0.2 * base_q1, line
+    assert fitted_q1 < 0.05 * base_q1, line
 
 
 def test_cli_bag_without_effort_and_wrong_names(tmp_path, rig_bag):
