@@ -3,25 +3,19 @@
 #include <sys/prctl.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
-#include <sstream>
-#include <thread>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <ros/callback_queue.h>
-#include <ros/master.h>
 #include <rosgraph_msgs/Clock.h>
-#include <sensor_msgs/JointState.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include "event_log.h"
+#include "kane_sim/Checkpoint.h"
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/ResetEvent.h"
-#include "kane_sim/config/load_config.h"
-#include "kane_sim/description/urdf.h"
-#include "kane_sim/format_number.h"
 #include "kane_sim/ros/messages.h"
-#include "kane_sim/ros/param_yaml.h"
 #include "kane_sim/sim/config_check.h"
 #include "loop/master_watch.h"
 #include "loop/realtime.h"
@@ -29,15 +23,13 @@
 namespace kane_sim {
 namespace {
 
+using SteadyClock = std::chrono::steady_clock;
+
 // Behind schedule by more than this, the loop stops bursting to catch up and re-anchors.
 constexpr double kMaxCatchUp = 0.1;          // [s]
 constexpr double kDiagnosticsPeriod = 1.0;   // [s] wall
 constexpr double kPausedPoll = 0.002;        // [s] wall, callback wait while paused
 constexpr double kPausedRepeatPeriod = 1.0;  // [s] wall, the last state again in /clock mode
-// ~step_with_command runs for at most this much wall time (SimDriver::stepHeld bounds its
-// steps): dopri5 at a violent state once took 24.6 s for 2000 steps while ~pause and Ctrl-C
-// waited. A call that runs out answers the state it reached (success false, the reason).
-constexpr double kStepCallBudget = 2.0;  // [s] wall
 // A periodic ~checkpoint every this much sim time: a bag recorded from any point replays from
 // the last one before it (latched) at the cost of ~2 KB per checkpoint.
 constexpr double kCheckpointPeriod = 10.0;  // [s] sim
@@ -45,10 +37,6 @@ constexpr double kCheckpointPeriod = 10.0;  // [s] sim
 // Wall seconds per physics tick; 0 runs free (real_time_factor 0).
 double tickPeriod(const SimulationSettings& s) {
   return s.real_time_factor > 0 ? 1.0 / (s.physics_rate * s.real_time_factor) : 0.0;
-}
-
-double wallSeconds(std::chrono::steady_clock::duration d) {
-  return std::chrono::duration<double>(d).count();
 }
 
 }  // namespace
@@ -59,30 +47,30 @@ KaneSimNode::KaneSimNode(const ros::NodeHandle& nh, const ros::NodeHandle& priva
       parameter_tree_(RuntimeParameters::readTree(private_nh)),
       config_(RuntimeParameters::load(parameter_tree_, private_nh)),
       robot_(describeRobot(config_)),
+      diagnostics_(config_.diagnostics),
       driver_(config_, [this](const SimEvent& event) { logSimEvent(event, &diagnostics_); }),
       loop_(tickPeriod(config_.simulation), kMaxCatchUp),
-      diagnostics_(config_.diagnostics),
-      stamp_clock_(config_.simulation.publish_clock),
       ticks_per_publish_(static_cast<std::uint64_t>(
           wholeStepsPerPeriod(config_.simulation.physics_rate, config_.simulation.publish_rate))),
-      paused_(config_.simulation.start_paused),
       checkpoint_ticks_(std::max<std::uint64_t>(
           1, static_cast<std::uint64_t>(
                  std::llround(kCheckpointPeriod * config_.simulation.physics_rate)))),
-      pace_(config_.simulation.publish_rate) {
+      lockstep_(config_, &driver_, &diagnostics_, &io_),
+      publisher_(config_, robot_, &driver_, &io_, &lockstep_),
+      services_(&driver_, &publisher_, &loop_, config_.simulation.start_paused,
+                ticks_per_publish_) {
   connect();
-  driver_.setInputHandler([this](const DriverInput& input) {
-    io_.input_log.publish(inputLogMessage(input, stamp(), input_seq_++));
-  });
+  driver_.setInputHandler([this](const DriverInput& input) { publisher_.logInput(input); });
   runtime_parameters_ = std::make_unique<RuntimeParameters>(
       private_nh_, parameter_tree_, config_, [this](const Config& c) { onReconfigure(c); },
       [this](const Config& c) { return reconfigureVeto(c); });
+  publisher_.setConfigTree(runtime_parameters_->tree());
 
   const SimulationSettings& s = config_.simulation;
   ROS_INFO("kane_sim: %s at %g Hz, publishing every %lu steps (%g Hz), real_time_factor %g%s%s",
            integratorName(s.integrator), s.physics_rate,
            static_cast<unsigned long>(ticks_per_publish_), s.publish_rate, s.real_time_factor,
-           s.publish_clock ? ", publishing /clock" : "", paused_ ? ", paused" : "");
+           s.publish_clock ? ", publishing /clock" : "", services_.paused() ? ", paused" : "");
 }
 
 void KaneSimNode::connect() {
@@ -90,7 +78,7 @@ void KaneSimNode::connect() {
   io_.torque_command =
       nh_.subscribe("torque_command", 10, &KaneSimNode::onTorqueCommand, this, fast);
   io_.torque_command_stamped =
-      nh_.subscribe("torque_command_stamped", 10, &KaneSimNode::onTorqueCommandStamped, this, fast);
+      nh_.subscribe("torque_command_stamped", 10, &LockstepLink::onCommand, &lockstep_, fast);
   io_.servo_setpoint =
       nh_.subscribe("servo_setpoint", 10, &KaneSimNode::onServoSetpoint, this, fast);
   if (driver_.servoMode()) io_.servo_state = nh_.advertise<ServoState>("servo_state", 10);
@@ -107,14 +95,7 @@ void KaneSimNode::connect() {
   io_.checkpoint = private_nh_.advertise<Checkpoint>("checkpoint", 1, true);
   if (config_.simulation.publish_clock)
     io_.clock = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
-  // Private, as Gazebo's /gazebo/pause_physics: two sims (or turtlesim's /reset) never collide.
-  io_.services = {
-      private_nh_.advertiseService("reset", &KaneSimNode::onReset, this),
-      private_nh_.advertiseService("pause", &KaneSimNode::onPause, this),
-      private_nh_.advertiseService("unpause", &KaneSimNode::onUnpause, this),
-      private_nh_.advertiseService("step", &KaneSimNode::onStep, this),
-      private_nh_.advertiseService("set_state", &KaneSimNode::onSetState, this),
-      private_nh_.advertiseService("step_with_command", &KaneSimNode::onStepWithCommand, this)};
+  io_.services = services_.advertise(private_nh_);
   if (config_.frames.publish_tf) {
     // What tf2_ros::TransformBroadcaster does, with the publisher at hand: its subscriber count
     // tells when a listener joined while the stamp stands still (NodeInterfaces::publishTf).
@@ -123,20 +104,14 @@ void KaneSimNode::connect() {
   }
 }
 
-void KaneSimNode::publishRobotDescription() {
-  // Relative: under ns:=robot_a it is /robot_a/robot_description, beside that robot's topics.
-  nh_.setParam("robot_description", toUrdf(robot_));
-  if (io_.static_tf) io_.static_tf->sendTransform(staticTransforms(robot_, stamp()));
-}
-
 void KaneSimNode::reconnect() {
   // roscpp registers topics and services once; a new master knows nothing of them. Drop them
   // (unregistering from a dead master fails quietly) and register everything again.
   io_.shutdown();
   connect();
   if (runtime_parameters_) runtime_parameters_->advertise();
-  publishRobotDescription();   // a new master has no parameters either
-  publishCheckpoint("start");  // the latched one went with the old master
+  publisher_.publishRobotDescription(nh_);  // a new master has no parameters either
+  publisher_.publishCheckpoint("start");    // the latched one went with the old master
   ROS_WARN(
       "kane_sim: the ROS master restarted; topics and services registered again "
       "(sim time %.3f s, state kept)",
@@ -157,18 +132,17 @@ void KaneSimNode::run() {
   // Linux lets a sleeping thread wake up to 50 µs late by default ("timer slack") to batch
   // wake-ups; a 1 kHz loop wants its deadlines kept to the microsecond.
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-  checkSimTimeSetting();
-  publishRobotDescription();
-  publishState();
-  publishDueSensorReadings();  // the reading at start, when it has no latency
-  publishCheckpoint("start");
-  const auto now = SteadyClock::now();
+  publisher_.checkSimTimeSetting();
+  publisher_.publishRobotDescription(nh_);
+  publisher_.publishState();
+  publisher_.publishDueSensorReadings();  // the reading at start, when it has no latency
+  publisher_.publishCheckpoint("start");
   loop_.anchor();
-  pace_.start(now, driver_.time());
+  publisher_.pace().start(SteadyClock::now(), driver_.time());
   while (ros::ok()) {
     if (master_watch.restarted()) reconnect();
     ros::getGlobalCallbackQueue()->callAvailable();
-    if (paused_) {
+    if (services_.paused()) {
       waitWhilePaused();
       continue;
     }
@@ -177,8 +151,8 @@ void KaneSimNode::run() {
 }
 
 void KaneSimNode::runOneTick() {
-  if (!loop_.waitForTick(*ros::getGlobalCallbackQueue(), [this] { return !ros::ok() || paused_; }))
-    return;
+  const auto interrupted = [this] { return !ros::ok() || services_.paused(); };
+  if (!loop_.waitForTick(*ros::getGlobalCallbackQueue(), interrupted)) return;
   if (!isStampable(driver_.time() + 1.0 / config_.simulation.physics_rate)) {
     // Stamps would leave ROS's time range: stop stepping, say why, keep serving.
     if (!stopped_at_time_limit_)
@@ -186,11 +160,12 @@ void KaneSimNode::runOneTick() {
           "kane_sim: sim time %.0f s reached the largest ROS can stamp (%.0f s after the sim "
           "epoch): physics stopped, the last state stays published; restart the node",
           driver_.time(), kMaxStampableSimTime);
-    stopped_at_time_limit_ = paused_ = true;
+    stopped_at_time_limit_ = true;
+    services_.pause();
     return;
   }
-  if (config_.simulation.lockstep && !lockstep_.answered()) {
-    if (!waitForLockstepAnswer()) return;
+  if (!lockstep_.released()) {
+    if (!lockstep_.waitForAnswer(interrupted, [this] { maybeReportLoopHealth(); })) return;
     loop_.anchor();  // waiting for the controller is not lateness
   }
   const TickScheduler::Timing timing = loop_.startTick();
@@ -201,13 +176,13 @@ void KaneSimNode::runOneTick() {
                       "time now runs that much behind wall time (see /diagnostics)",
                       timing.skipped, config_.simulation.physics_rate);
   if (driver_.step()) {
-    if (driver_.ticks() % ticks_per_publish_ == 0) publishState();
-    publishDueSensorReadings();
-    if (driver_.ticks() % checkpoint_ticks_ == 0) publishCheckpoint("periodic");
-  } else if (pace_.dueByWallClock(SteadyClock::now())) {
+    if (driver_.ticks() % ticks_per_publish_ == 0) publisher_.publishState();
+    publisher_.publishDueSensorReadings();
+    if (driver_.ticks() % checkpoint_ticks_ == 0) publisher_.publishCheckpoint("periodic");
+  } else if (publisher_.pace().dueByWallClock(SteadyClock::now())) {
     // Refused steps: the last good state keeps flowing, freshly stamped (on the wall clock).
-    if (!config_.simulation.publish_clock) stamp_valid_ = false;
-    publishState();
+    if (!config_.simulation.publish_clock) publisher_.restamp();
+    publisher_.publishState();
   }
   maybeReportLoopHealth();
 }
@@ -217,173 +192,38 @@ void KaneSimNode::waitWhilePaused() {
   // Wall-stamped topics keep flowing while paused, so viewers keep a live tf tree. In /clock
   // mode time stands still: the last state and /clock are repeated with their stamp, slowly, so
   // that a late subscriber (rviz, rostopic echo /clock) sees the robot and the time.
+  const PublishPace& pace = publisher_.pace();
   if (!config_.simulation.publish_clock) {
-    if (pace_.dueByWallClock(SteadyClock::now())) {
-      stamp_valid_ = false;  // a repeat at a later wall time: a later stamp
-      publishState();
+    if (pace.dueByWallClock(SteadyClock::now())) {
+      publisher_.restamp();  // a repeat at a later wall time: a later stamp
+      publisher_.publishState();
     }
-  } else if (pace_.sinceLastPublish(SteadyClock::now()) >= kPausedRepeatPeriod) {
-    publishState();  // the same stamp: /tf goes only to listeners that joined since
+  } else if (pace.sinceLastPublish(SteadyClock::now()) >= kPausedRepeatPeriod) {
+    publisher_.publishState();  // the same stamp: /tf goes only to listeners that joined since
   }
   loop_.anchor();  // resume on a fresh schedule
   maybeReportLoopHealth();
 }
 
-ros::Time KaneSimNode::stamp() {
-  // One stamp per physics tick for everything published at it (state, sensor readings, truth,
-  // tf, /clock): a reading pairs with its truth by stamp.
-  if (stamp_valid_ && stamped_tick_ == driver_.ticks()) return tick_stamp_;
-  double went_back = 0.0;
-  const ros::Time now = stamp_clock_.stamp(driver_.time(), ros::WallTime::now(), &went_back);
-  if (went_back > 0.01)
-    ROS_WARN_THROTTLE(10.0,
-                      "kane_sim: the system clock went back by %.3f s; stamps are held "
-                      "monotonic until it catches up",
-                      went_back);
-  tick_stamp_ = now;
-  stamped_tick_ = driver_.ticks();
-  stamp_valid_ = true;
-  return now;
-}
-
-void KaneSimNode::checkSimTimeSetting() {
-  bool use_sim_time = false;
-  ros::param::getCached("/use_sim_time", use_sim_time);
-  const std::string warning = stamp_clock_.checkUseSimTime(use_sim_time);
-  if (!warning.empty()) ROS_WARN("kane_sim: %s", warning.c_str());
-}
-
-void KaneSimNode::publishJointStates(const sensor_msgs::JointState& msg) {
-  lockstep_.published(msg.header.stamp);
-  last_joint_states_ = msg;
-  lockstep_listeners_ = lockstepListeners();
-  io_.joint_states.publish(msg);
-}
-
-uint32_t KaneSimNode::lockstepListeners() const {
-  return io_.joint_states.getNumSubscribers() + io_.torque_command_stamped.getNumPublishers();
-}
-
-void KaneSimNode::publishDueSensorReadings() {
-  SensorReading reading;
-  while (driver_.takeSensorReading(&reading)) {
-    const sensor_msgs::JointState msg = jointStateMessage(reading.joints, stamp());
-    const auto finite = [](const std::vector<double>& v) {
-      return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
-    };
-    if (!finite(msg.position) || !finite(msg.velocity) || !finite(msg.effort)) {
-      ROS_ERROR_THROTTLE(1.0,
-                         "kane_sim: a sensor reading sampled at t = %.6f s is not finite; not "
-                         "published (please report this with the config)",
-                         reading.sample_time);
-      continue;
-    }
-    publishJointStates(msg);
-  }
-}
-
-void KaneSimNode::publishState() {
-  const ros::Time now = stamp();
-  last_state_stamp_ = now;
-  pace_.published(SteadyClock::now(), driver_.time());
-
-  if (config_.simulation.publish_clock) {
-    rosgraph_msgs::Clock clock;
-    clock.clock = now;
-    io_.clock.publish(clock);
-  }
-  const Snapshot snapshot = driver_.snapshot();
-  if (!snapshot.allFinite()) {
-    // Never sent: a subscriber must not receive inf or NaN. The core refuses states and steps
-    // that would give one, so this is a defect to report, not an expected path.
-    ROS_ERROR_THROTTLE(1.0,
-                       "kane_sim: the state at t = %.6f s has a non-finite derived quantity; "
-                       "nothing published (please report this with the config and commands)",
-                       driver_.time());
-    return;
-  }
-  const PublishedMessages msgs = buildMessages(snapshot, robot_, pace_.realTimeFactor(), now);
-  if (driver_.sensorsEnabled())
-    io_.joint_states_true.publish(msgs.joint_state);
-  else
-    publishJointStates(msgs.joint_state);
-  io_.mechanism_state.publish(msgs.mechanism_state);
-  if (io_.servo_state)
-    io_.servo_state.publish(servoStateMessage(snapshot, config_.command.mode, now));
-  io_.markers.publish(msgs.markers);
-  io_.publishTf(msgs.tf, now);
-}
-
 void KaneSimNode::maybeReportLoopHealth() {
   const auto now = SteadyClock::now();
-  const double wall = pace_.windowWall(now);
+  PublishPace& pace = publisher_.pace();
+  const double wall = pace.windowWall(now);
   if (wall < kDiagnosticsPeriod) return;
-  checkSimTimeSetting();
+  publisher_.checkSimTimeSetting();
   const SimulationSettings& cfg = config_.simulation;
   const LoopDiagnostics::LoopState loop{ros::this_node::getName(),
                                         ros::this_node::getNamespace(),
-                                        paused_,
+                                        services_.paused(),
                                         stopped_at_time_limit_,
                                         cfg.physics_rate,
                                         cfg.real_time_factor,
                                         driver_.time()};
   diagnostic_msgs::DiagnosticArray array;
   array.status.push_back(diagnostics_.close(
-      stats_.takeSummary(wall, pace_.closeWindow(now, driver_.time())), wall, loop));
-  array.header.stamp = stamp();
+      stats_.takeSummary(wall, pace.closeWindow(now, driver_.time())), wall, loop));
+  array.header.stamp = publisher_.stamp();
   io_.diagnostics.publish(array);
-}
-
-void KaneSimNode::onTorqueCommandStamped(
-    const ros::MessageEvent<TorqueCommandStamped const>& event) {
-  const TorqueCommandStamped& msg = *event.getConstMessage();
-  const auto apply = [this, &msg] {
-    diagnostics_.commandReceived(driver_.command(msg.torque) != TorqueCommand::Verdict::kAccepted);
-  };
-  if (!config_.simulation.lockstep) return apply();
-  // In lockstep only the first answer to the state in force is applied, whatever the timing.
-  switch (lockstep_.answer(msg.header.stamp, event.getPublisherName(), msg.torque)) {
-    case LockstepGate::Verdict::kApply:
-      return apply();
-    case LockstepGate::Verdict::kDuplicate:
-      if (!lockstep_.warning().empty()) ROS_WARN("kane_sim: %s", lockstep_.warning().c_str());
-      return;
-    case LockstepGate::Verdict::kLate:
-      ROS_DEBUG_THROTTLE(1.0, "kane_sim: lockstep: dropped a late torque_command_stamped");
-      return;
-    case LockstepGate::Verdict::kUnknown:
-      ROS_WARN_THROTTLE(5.0, "kane_sim: %s", lockstep_.warning().c_str());
-      return;
-  }
-}
-
-bool KaneSimNode::waitForLockstepAnswer() {
-  const auto deadline =
-      SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(
-                               std::chrono::duration<double>(config_.simulation.lockstep_timeout));
-  while (!lockstep_.answered()) {
-    if (!ros::ok() || paused_) return false;
-    // A controller that connected since the state went out (at start-up, a restarted one)
-    // never heard it: the state awaiting an answer goes out again for it.
-    const uint32_t listeners = lockstepListeners();
-    if (listeners > lockstep_listeners_ && lockstep_.hasState())
-      io_.joint_states.publish(last_joint_states_);
-    lockstep_listeners_ = listeners;
-    if (SteadyClock::now() >= deadline) {
-      diagnostics_.lockstepTimedOut();
-      const bool zero = config_.simulation.lockstep_fallback == LockstepFallback::kZero;
-      if (zero) driver_.command(0.0);
-      ROS_WARN_THROTTLE(
-          5.0, "kane_sim: %s",
-          lockstep_.timeoutReport(driver_.time(), config_.simulation.lockstep_timeout, zero)
-              .c_str());
-      lockstep_.release();
-      break;
-    }
-    ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.001));
-    maybeReportLoopHealth();  // /diagnostics goes on while a slow controller thinks
-  }
-  return true;
 }
 
 void KaneSimNode::onServoSetpoint(const std_msgs::Float64::ConstPtr& msg) {
@@ -392,69 +232,6 @@ void KaneSimNode::onServoSetpoint(const std_msgs::Float64::ConstPtr& msg) {
 
 void KaneSimNode::onTorqueCommand(const std_msgs::Float64::ConstPtr& msg) {
   diagnostics_.commandReceived(driver_.command(msg->data) != TorqueCommand::Verdict::kAccepted);
-}
-
-bool KaneSimNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
-  driver_.reset();
-  ROS_INFO("kane_sim: reset to the initial state (sim time runs on at %.3f s)", driver_.time());
-  publishMovedState();
-  publishCheckpoint("reset");
-  announceReset("reset");
-  return true;
-}
-
-bool KaneSimNode::onSetState(SetState::Request& req, SetState::Response& res) {
-  State target{req.q1, req.q2, req.u1, req.u2};
-  if (req.spring_at_rest) target = driver_.simulator().model().withSpringAtRest(target);
-  const Status result = driver_.setState(target);
-  res.success = result.ok;
-  if (!result.ok) {
-    res.message = "set_state refused: " + result.error;
-    ROS_WARN("kane_sim: %s", res.message.c_str());
-    return true;
-  }
-  std::ostringstream msg;
-  msg << "state set to q1 = " << target.q1 << " rad, q2 = " << target.q2 << " m, u1 = " << target.u1
-      << " rad/s, u2 = " << target.u2 << " m/s at t = " << driver_.time() << " s";
-  res.message = msg.str();
-  ROS_INFO("kane_sim: %s", res.message.c_str());
-  publishMovedState();
-  publishCheckpoint("set_state");
-  announceReset("set_state");
-  return true;
-}
-
-void KaneSimNode::publishCheckpoint(const std::string& cause) {
-  kane_sim::Checkpoint msg;
-  msg.header.stamp = stamp();
-  msg.cause = cause;
-  msg.tick = driver_.ticks();
-  msg.next_input = input_seq_;
-  // The config's text changes only at a reconfiguration: written once per change, not per
-  // periodic checkpoint.
-  if (checkpoint_config_.empty())
-    checkpoint_config_ =
-        YAML::Dump(runtime_parameters_ ? runtime_parameters_->tree() : parameter_tree_);
-  msg.config = checkpoint_config_;
-  msg.state = checkpointText(driver_.checkpoint());
-  io_.checkpoint.publish(msg);
-}
-
-void KaneSimNode::publishMovedState() {
-  // A stamp after every earlier one, also in /clock mode where sim time stands still: tf
-  // listeners take the moved pose at it, and in lockstep only an answer to it releases the
-  // next step (a stale answer to the state before the move matches nothing).
-  stamp_valid_ = false;
-  stamp_clock_.forceNext();
-  publishState();
-  // With sensors on, joint_states goes on with readings of the moved state as they arrive,
-  // each answered as it comes.
-  publishDueSensorReadings();
-}
-
-void KaneSimNode::announceReset(const std::string& cause) {
-  io_.reset_event.publish(
-      resetEventMessage(cause, driver_.time(), driver_.simulator().state(), last_state_stamp_));
 }
 
 std::string KaneSimNode::reconfigureVeto(const Config& config) const {
@@ -471,76 +248,13 @@ void KaneSimNode::onReconfigure(const Config& config) {
   driver_.reconfigure(config);
   config_ = config;                 // what cannot be reconfigured comes back as it was
   robot_ = describeRobot(config_);  // masses and inertia are in the URDF
-  publishRobotDescription();
+  publisher_.publishRobotDescription(nh_);
   if (config_.simulation.real_time_factor != old_factor)
     loop_.setPeriod(tickPeriod(config_.simulation));
-  checkpoint_config_.clear();  // the tree changed: written again at this checkpoint
-  publishCheckpoint("reconfigure");
+  publisher_.setConfigTree(runtime_parameters_->tree());
+  publisher_.publishCheckpoint("reconfigure");
   ROS_INFO("kane_sim: reconfigured (from the next physics step): %s",
            RuntimeParameters::summary(config_).c_str());
-}
-
-bool KaneSimNode::onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
-  paused_ = true;
-  return true;
-}
-
-bool KaneSimNode::onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
-  paused_ = false;
-  loop_.anchor();
-  return true;
-}
-
-bool KaneSimNode::onStep(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-  if (!paused_) {
-    res.success = false;
-    res.message = "not paused: call pause first (step advances a paused simulation)";
-    return true;
-  }
-  for (std::uint64_t i = 0; i < ticks_per_publish_; ++i) {
-    if (!driver_.step()) {
-      res.success = false;
-      res.message = "a physics step was refused; see the log";
-      return true;
-    }
-  }
-  publishState();
-  publishDueSensorReadings();
-  std::ostringstream msg;
-  msg << "advanced " << ticks_per_publish_ << " physics steps to t = " << driver_.time() << " s";
-  res.success = true;
-  res.message = msg.str();
-  return true;
-}
-
-bool KaneSimNode::onStepWithCommand(StepWithCommand::Request& req, StepWithCommand::Response& res) {
-  SimDriver::HeldSteps held;
-  if (!paused_) {
-    held.message =
-        "not paused: call ~pause first (step_with_command advances a paused simulation); nothing "
-        "changed";
-  } else {
-    const auto wall_start = SteadyClock::now();
-    held = driver_.stepHeld(req.torque, req.steps, [&wall_start]() -> std::string {
-      if (wallSeconds(SteadyClock::now() - wall_start) > kStepCallBudget)
-        return "the call's wall-time budget of " + formatNumber(kStepCallBudget) +
-               " s ran out (ask for fewer steps per call)";
-      return !ros::ok() || ros::isShuttingDown() ? "the node is shutting down" : "";
-    });
-  }
-  if (!held.refused && paused_) {
-    publishState();
-    publishDueSensorReadings();
-  }
-  // The state as it is (a refusal never answers zeros).
-  const Snapshot snapshot = driver_.snapshot();
-  res.time = snapshot.time;
-  res.q1 = snapshot.state.q1, res.q2 = snapshot.state.q2;
-  res.u1 = snapshot.state.u1, res.u2 = snapshot.state.u2;
-  res.applied_torque = snapshot.torque;
-  res.success = held.finished;
-  res.message = held.message;
-  return true;
 }
 
 }  // namespace kane_sim
