@@ -236,24 +236,27 @@ COMMITTED_WITH_SYMPY = "1.11"
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("output", nargs="?", default=DEFAULT_OUTPUT)
-    parser.add_argument("--check", metavar="FILE", help="compare FILE with a fresh derivation")
+    parser.add_argument("--check", metavar="FILE", nargs="+",
+                        help="compare each FILE with one fresh derivation (exit 1 if any differs)")
     args = parser.parse_args()
     text = render()
     if args.check:
-        with open(args.check) as f:
-            if f.read() != text:
-                sys.stderr.write("%s differs from a fresh derivation (SymPy %s); regenerate with "
-                                 "codegen/generate_equations.py\n" % (args.check, sp.__version__))
-                if not sp.__version__.startswith(COMMITTED_WITH_SYMPY):
-                    sys.stderr.write(
-                        "note: this is SymPy %s from %s (%s); the committed header was "
-                        "generated with SymPy %s, Debian 12's python3-sympy: run it with "
-                        "/usr/bin/python3\n" % (sp.__version__, sys.executable,
-                                                 os.path.dirname(sp.__file__),
-                                                 COMMITTED_WITH_SYMPY))
-                return 1
-        print("%s matches the derivation (SymPy %s)" % (args.check, sp.__version__))
-        return 0
+        differs = 0
+        for path in args.check:
+            with open(path) as f:
+                if f.read() == text:
+                    print("%s matches the derivation (SymPy %s)" % (path, sp.__version__))
+                    continue
+            differs += 1
+            sys.stderr.write("%s differs from a fresh derivation (SymPy %s); regenerate with "
+                             "codegen/generate_equations.py\n" % (path, sp.__version__))
+        if differs and not sp.__version__.startswith(COMMITTED_WITH_SYMPY):
+            sys.stderr.write(
+                "note: this is SymPy %s from %s (%s); the committed header was "
+                "generated with SymPy %s, Debian 12's python3-sympy: run it with "
+                "/usr/bin/python3\n" % (sp.__version__, sys.executable,
+                                         os.path.dirname(sp.__file__), COMMITTED_WITH_SYMPY))
+        return 1 if differs else 0
     with open(args.output, "w") as f:
         f.write(text)
     print("wrote %s" % args.output)

@@ -50,3 +50,8 @@ if(TARGET node_tests)
       crank_marker teleop_key)
   endforeach()
 endif()
+if(TARGET node_tests)
+  # The longest node cases early (see the COST note in unit_tests.cmake).
+  set_tests_properties(_ctest_kane_sim_rostest_test_node_options.test PROPERTIES COST 16)
+  set_tests_properties(_ctest_kane_sim_rostest_test_node_clock_mode.test PROPERTIES COST 15)
+endif()

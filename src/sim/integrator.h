@@ -86,7 +86,7 @@ class Simulator::Integrator {
   const char* advance(const System& system, OdeState& x, double t, double dt,
                       bool reuse_last_derivative) {
     if (type_ == IntegratorType::kRk4) {
-      rk4_.do_step(system, x, t, dt);
+      rk4Step(system, x, t, dt);
       return nullptr;
     }
     // dopri5 reuses the derivative at the end of its last step (first same as last); that is
@@ -113,6 +113,17 @@ class Simulator::Integrator {
   }
 
  private:
+  // odeint's four stages with the equations flattened into one body, on a local copy of the
+  // state: the caller's state is then read once and written once instead of at every stage
+  // (GCC keeps the stepper out of the large stepWith; this way the whole simulate process is
+  // ~4 % faster, bench/simulate_perf.sh).
+  template <class System>
+  __attribute__((flatten)) void rk4Step(const System& system, OdeState& x, double t, double dt) {
+    OdeState local = x;
+    rk4_.do_step(system, local, t, dt);
+    x = local;
+  }
+
   IntegratorType type_;
   odeint::runge_kutta4<OdeState> rk4_;
   Dopri5 dopri5_;

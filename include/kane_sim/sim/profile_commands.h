@@ -69,12 +69,16 @@ enum class RunEnd { kFinished, kStepRefused, kStopped };
 template <typename Commands, typename OnStep, typename OnSample>
 RunEnd runProfile(SimDriver& driver, Commands& commands, long steps, long steps_per_sample,
                   const std::atomic<bool>* stop, OnStep on_step, OnSample on_sample) {
+  long until_sample = steps_per_sample;  // a countdown: a division per step shows in a profile
   for (long i = 1; i <= steps; ++i) {
     if (stop && stop->load(std::memory_order_relaxed)) return RunEnd::kStopped;
     if (!driver.step()) return RunEnd::kStepRefused;
     commands.update(driver);
     on_step(driver);
-    if (i % steps_per_sample == 0 || i == steps) on_sample(driver);
+    if (--until_sample == 0 || i == steps) {
+      on_sample(driver);
+      until_sample = steps_per_sample;
+    }
   }
   return RunEnd::kFinished;
 }
