@@ -372,6 +372,10 @@ class Identification:
                          "%.3g m RMS (their noise %.3g rad, %.3g m)"
                          % ((self.refined["evaluations"],) + self.refined["position_rms"]
                             + self.refined["noise"]))
+            knots, bias = self.refined.get("crank_bias", ([], []))
+            if bias:
+                lines.append("crank encoder drift (fitted beside them, a knot every %g s): %s rad"
+                             % (BIAS_KNOT_SPACING, " ".join("%.3g" % b for b in bias)))
         if self.method == "energy":
             lines.append("residual RMS: %.4g J per window" % self.residual_rms)
         else:
@@ -751,12 +755,18 @@ def simulate_motion(config, motion, torque_offset=0.0, bandwidth="auto"):
     return _replay(config, motion, prepared.states[0], prepared.t[0], torque_offset)
 
 
+# [s] knot spacing of the crank encoder's drift in the output-error fit (_refine)
+BIAS_KNOT_SPACING = 10.0
+
+
 def _refine(base, names, theta, kept, motion, prepared, max_evaluations=50):
     """Output error: the parameters (and the start state) that make the model, driven by the
     recorded torque, pass closest to the recorded positions, each coordinate weighted by its
     noise (the filter's residual). Position noise enters only the residual here, not the
-    regressor, so it does not bias the estimate as it biases the least squares. Starts from the
-    least-squares theta; parameters kept at the base stay there. Returns (theta, cov, report)."""
+    regressor, so it does not bias the estimate as it biases the least squares. The crank
+    encoder's slow drift is fitted beside them (a linear spline added to the model's q1). Starts
+    from the least-squares theta; parameters kept at the base stay there. Returns (theta, cov,
+    report)."""
     from scipy.optimize import least_squares
     free = [i for i, n in enumerate(names) if n not in kept]
     keep = prepared.keep
@@ -765,13 +775,19 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=50):
     start = prepared.t[0]
     measured = slice(keep.start, None)
     t_data, q_data = motion.t[measured], motion.q[measured]
-    x0 = np.concatenate([theta[free], prepared.states[0]])
+    # The crank encoder's slow drift (a bias walk, an encoder's zero): a linear spline in time
+    # added to the model's q1, knots every BIAS_KNOT_SPACING seconds. Without it the fit bends
+    # the dampers to follow the drift (their error grew with the recording's length).
+    knots = np.linspace(t_data[0], t_data[-1],
+                        max(2, int(np.ceil((t_data[-1] - t_data[0]) / BIAS_KNOT_SPACING)) + 1))
+    n_state = 4
+    x0 = np.concatenate([theta[free], prepared.states[0], np.zeros(len(knots))])
     floors = [0.01 if names[i].startswith("damping.") or names[i] == "torque_offset" else 1e-3
-              for i in free] + [0.1, 0.01, 0.5, 0.1]
+              for i in free] + [0.1, 0.01, 0.5, 0.1] + [0.01] * len(knots)
     scale = np.maximum(np.abs(x0), floors)
     lower = np.array([0.0 if names[i].startswith("damping.")
                       else (-np.inf if names[i] == "torque_offset" else 1e-6 * scale[k])
-                      for k, i in enumerate(free)] + [-np.inf] * 4) / scale
+                      for k, i in enumerate(free)] + [-np.inf] * (n_state + len(knots))) / scale
     z0 = np.maximum(x0 / scale, lower + 1e-12)
 
     def estimates(z):
@@ -783,8 +799,10 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=50):
         est = estimates(z)
         try:
             config, _ = fitted_config(base, est)
-            t, q = _replay(config, motion, z[len(free):] * scale[len(free):], start,
-                           est.get("torque_offset", 0.0))
+            x = z[len(free):] * scale[len(free):]
+            t, q = _replay(config, motion, x[:n_state], start, est.get("torque_offset", 0.0))
+            q = q.copy()
+            q[:, 0] += np.interp(t, knots, x[n_state:])
         except (ValueError, RuntimeError):  # a refused config or step: far from the data
             if not tolerant:
                 raise
@@ -812,8 +830,10 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=50):
         cov[i, free] = scaled[a_i]
     rms = tuple(float(np.sqrt(np.mean((r[k * half:(k + 1) * half] * sigma[k]) ** 2)))
                 for k in (0, 1))
+    bias = z[len(free) + n_state:] * scale[len(free) + n_state:]
     return out, cov, {"evaluations": int(solution.nfev), "position_rms": rms,
-                      "noise": tuple(float(x) for x in sigma)}
+                      "noise": tuple(float(x) for x in sigma),
+                      "crank_bias": (knots.tolist(), bias.tolist())}
 
 
 def validation(motion, base, fitted, torque_offset=0.0, bandwidth="auto"):

@@ -195,16 +195,19 @@ def test_cli_fits_a_sensor_bag_and_the_fit_loads(rig_bag, tmp_path):
     assert "stamps jitter" in r.stdout  # arrival stamps, taken as the regular sampling
     assert "refined by output error" in r.stdout  # measured data: the output-error stage ran
     fit = kane_sim.Config(str(fitted))
-    # sensors.yaml's noise (0.002 rad, 12-bit encoders, 100 Hz, latency and jitter), 60 s of the
-    # excitation: the issue's 1 % for masses and k, 5 % for dampers (c_O + 4 c_A for the pair the
-    # mechanism cannot separate); measured: doc/guide/identification.md.
+    assert "crank encoder drift" in r.stdout  # the bias walk fitted beside the parameters
+    # sensors.yaml's noise (0.002 rad, 12-bit encoders, bias walk, 100 Hz, latency and jitter),
+    # 60 s of the excitation. The issue asks 1 % for masses and k, 5 % for dampers (c_O + 4 c_A
+    # for the pair the mechanism cannot separate); this seed gives 0.05 % and 0.64 % with the
+    # encoder's drift fitted, 0.28 % and 2.0 % without it: the bounds below fail without it.
+    # Measured over 7 seeds: doc/guide/identification.md.
     for name in ("mechanism.rod_mass", "mechanism.slider3_mass", "mechanism.slider4_mass",
                  "mechanism.spring_stiffness"):
-        assert fit[name] == pytest.approx(TRUTH[name], rel=0.01), name
+        assert fit[name] == pytest.approx(TRUTH[name], rel=0.002), name
     for name in ("damping.slider3_joint", "damping.slider4_joint", "damping.spring"):
-        assert fit[name] == pytest.approx(TRUTH[name], rel=0.05), name
+        assert fit[name] == pytest.approx(TRUTH[name], rel=0.015), name
     pin_o = fit["damping.crank_joint"] + 4 * fit["damping.coupler_joint"]
-    assert pin_o == pytest.approx(TRUTH["damping.crank_joint"], rel=0.05)
+    assert pin_o == pytest.approx(TRUTH["damping.crank_joint"], rel=0.015)
     assert plot.stat().st_size > 10000
     # The fitted model follows the recorded motion far better than the base.
     line = [s for s in r.stdout.splitlines() if s.startswith("re-simulated")][0]
