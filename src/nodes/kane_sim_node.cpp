@@ -134,8 +134,7 @@ void KaneSimNode::run() {
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   publisher_.checkSimTimeSetting();
   publisher_.publishRobotDescription(nh_);
-  publisher_.publishState();
-  publisher_.publishDueSensorReadings();  // the reading at start, when it has no latency
+  publisher_.publishStateAndReadings();  // the reading at start, when it has no latency
   publisher_.publishCheckpoint("start");
   loop_.anchor();
   publisher_.pace().start(SteadyClock::now(), driver_.time());

@@ -79,8 +79,7 @@ bool SimServices::onStep(std_srvs::Trigger::Request&, std_srvs::Trigger::Respons
       return true;
     }
   }
-  publisher_.publishState();
-  publisher_.publishDueSensorReadings();
+  publisher_.publishStateAndReadings();
   std::ostringstream msg;
   msg << "advanced " << ticks_per_publish_ << " physics steps to t = " << driver_.time() << " s";
   res.success = true;
@@ -104,10 +103,7 @@ bool SimServices::onStepWithCommand(StepWithCommand::Request& req, StepWithComma
       return !ros::ok() || ros::isShuttingDown() ? "the node is shutting down" : "";
     });
   }
-  if (!held.refused && paused_) {
-    publisher_.publishState();
-    publisher_.publishDueSensorReadings();
-  }
+  if (!held.refused && paused_) publisher_.publishStateAndReadings();
   // The state as it is (a refusal never answers zeros).
   const Snapshot snapshot = driver_.snapshot();
   res.time = snapshot.time;

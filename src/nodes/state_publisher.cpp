@@ -99,8 +99,7 @@ void StatePublisher::publishMovedState() {
   // state before the move matches nothing.
   stamp_valid_ = false;
   stamp_clock_.forceNext();
-  publishState();
-  publishDueSensorReadings();
+  publishStateAndReadings();
 }
 
 void StatePublisher::announceReset(const std::string& cause) {

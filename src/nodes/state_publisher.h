@@ -38,6 +38,11 @@ class StatePublisher {
   void publishState();
   // Sensors on: the readings due by now on joint_states.
   void publishDueSensorReadings();
+  // Both: after a start, ~step or ~step_with_command.
+  void publishStateAndReadings() {
+    publishState();
+    publishDueSensorReadings();
+  }
   // A state moved by reset or set_state: at a stamp after every earlier one, also in /clock
   // mode where sim time stands still, then the readings of the moved state as they come.
   void publishMovedState();
