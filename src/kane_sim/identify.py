@@ -415,6 +415,9 @@ DEFAULT_METHOD = "energy"
 # (measured: doc/guide/identification.md).
 ENERGY_WINDOW = 1.0
 ENERGY_WINDOW_RECORDED = 0.1
+# An estimate that moves by more than this fraction of its value between Simpson's and the
+# trapezoid rule is kept at the base's value and named (_estimate).
+QUADRATURE_TOLERANCE = 0.1
 
 
 def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="auto",
@@ -459,7 +462,9 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
     result.notes = list(motion.notes)
     result.base_values = {n: _core.identification_base_value(base._core, n) for n in names}
     y, b, groups = _system(base, names, prepared, method)
-    theta, cov, kept, messages, cond, rms = _estimate(base, names, y, b, groups, prepared.states)
+    theta, cov, kept, messages, cond, rms = _estimate(base, names, y, b, groups, prepared.states,
+                                                      _check(base, names, prepared, method),
+                                                      _rms(prepared.torque))
     theta, cov = _rest_length(names, theta, cov)
     if refine is True or (refine == "auto" and prepared.bandwidth is not None):
         if len(kept) < len(names):
@@ -497,26 +502,39 @@ def _usable(base, states):
     return keep
 
 
-def _system(base, names, prepared, method):
+def _system(base, names, prepared, method, rule="simpson"):
     """The least-squares system y theta = b, and how many interleaved equations it holds (2:
-    Kane's two equations per sample, N m and N; 1: one energy balance per window, J)."""
+    Kane's two equations per sample, N m and N; 1: one energy balance per window, J, its
+    integrals by `rule`)."""
     if method == "equations":
         y, y0 = _core.identification_rows(base._core, names, prepared.states, prepared.u_dot,
                                           prepared.torque)
         y, b, groups = y.reshape(-1, len(names)), -y0.reshape(-1), 2
     else:
-        (y, b), groups = _energy_system(base, names, prepared), 1
+        (y, b), groups = _energy_system(base, names, prepared, rule), 1
     if not np.all(np.isfinite(y)) or not np.all(np.isfinite(b)):
         raise ValueError("the regressor is not finite for this data: check its units and values")
     return y, b, groups
 
 
-def _energy_system(base, names, prepared):
+def _quadrature_weights(rule, intervals, step):
+    if rule == "trapezoid":
+        w = np.ones(intervals + 1)
+        w[0] = w[-1] = 0.5
+        return w * step
+    w = np.full(intervals + 1, 2.0)  # Simpson's rule
+    w[1::2] = 4.0
+    w[0] = w[-1] = 1.0
+    return w * step / 3.0
+
+
+def _energy_system(base, names, prepared, rule="simpson"):
     """Kane's equations dotted with u and integrated over windows [a, b] of ENERGY_WINDOW:
     sum_j theta_j (E_j(b) - E_j(a) - int P_j dt) = int P0 dt - (E0(b) - E0(a)) + W_motor. The
     motor's work takes the torque as held from each sample to the next (the node's and
     simulate's commands are): W = sum tau_k (q1_k+1 - q1_k); the dampers' power by Simpson's rule.
-    Windows overlap by half and end where samples are missing (contact)."""
+    Windows overlap by half and end where samples are missing (contact). rule: "trapezoid" gives
+    the same rows with the trapezoid rule for the integrals (the estimates' check, _estimate)."""
     energy, power, e0, p0 = _core.identification_energy(
         base._core, names, prepared.states, np.zeros(len(prepared)))
     t, q1, torque = prepared.t, prepared.states[:, 0], prepared.torque
@@ -537,10 +555,7 @@ def _energy_system(base, names, prepared):
         if not np.all(contiguous[start:end]):
             start += int(np.argmin(contiguous[start:end])) + 1
             continue
-        w = np.full(2 * m + 1, 2.0)
-        w[1::2] = 4.0
-        w[0] = w[-1] = 1.0
-        w *= step / 3.0
+        w = _quadrature_weights(rule, 2 * m, step)
         rows.append(energy[end] - energy[start] - w @ power[start:end + 1])
         work = (motor[end] - motor[start] if motor is not None
                 else w @ (torque[start:end + 1] * prepared.states[start:end + 1, 2]))
@@ -552,13 +567,65 @@ def _energy_system(base, names, prepared):
     return np.array(rows), np.array(rhs)
 
 
-def _estimate(base, names, y, b, groups, states):
+def _estimate(base, names, y, b, groups, states, check=None, torque_rms=1.0):
     """theta (base values where kept), covariance, kept names, messages, condition, residual RMS
-    (per equation group)."""
+    (per equation group). check: (y, b) of the same rows integrated by another rule, or None."""
     base_theta = np.array([_base_theta(base, n) for n in names])
     free = list(range(len(names)))
     kept, messages = [], []
     reasons = _motion_reasons(base, states)
+    _keep_rank_deficient(names, y, free, kept, messages, reasons)
+    theta = base_theta.copy()
+    cov = np.zeros((len(names), len(names)))
+    nan = tuple(float("nan") for _ in range(groups))
+    while free:
+        fixed = [j for j in range(len(names)) if j not in free]
+        b_free = b - y[:, fixed] @ base_theta[fixed]
+        a = y[:, free]
+        theta_free, cov_free, weights = _solve(a, b_free, groups)
+        if check is None:
+            break
+        # An estimate that changes with the integration rule is not a measurement: the motion's
+        # effect of that parameter is within the data's quadrature error (a stiff servo holding
+        # the crank: its torque steps every sample, u1 has a kink at each, and the crank's
+        # columns are smaller than the error of integrating them). On excited data the two rules
+        # agree to 4e-5 of each value; keep the worst at the base's value and fit again.
+        y_check, b_check = check
+        other = np.linalg.lstsq(y_check[:, free], b_check - y_check[:, fixed] @ base_theta[fixed],
+                                rcond=None)[0]
+        scale = [max(abs(theta_free[i]), abs(base_theta[j]),
+                     0.01 * torque_rms if names[j] == "torque_offset" else 0.0)
+                 for i, j in enumerate(free)]
+        ratio = np.abs(other - theta_free) / np.maximum(scale, 1e-300)
+        worst = int(np.argmax(ratio))
+        if ratio[worst] <= QUADRATURE_TOLERANCE:
+            break
+        j = free[worst]
+        messages.append("%s: its effect on this motion is within the data's integration error "
+                        "(Simpson's rule gives %.3g, the trapezoid rule %.3g)%s: kept at the "
+                        "base's value" % (names[j], theta_free[worst], other[worst], reasons))
+        kept.append(names[j])
+        free.remove(j)
+        _keep_rank_deficient(names, y, free, kept, messages, reasons)
+    if not free:
+        return theta, cov, kept, messages, float("inf"), nan
+    wres = (b_free - a @ theta_free) * weights
+    # Filtered data's errors are correlated over the filter's window: widen the errors by the
+    # residual's integrated autocorrelation (per equation, the larger).
+    inflation = max(_effective_samples_factor(wres[r::groups]) for r in range(groups))
+    cov_free *= inflation ** 2
+    theta[free] = theta_free
+    for a_i, i in enumerate(free):
+        cov[i, free] = cov_free[a_i]
+    residual = b_free - a @ theta_free
+    rms = tuple(float(np.sqrt(np.mean(residual[r::groups] ** 2))) for r in range(groups))
+    aw = a * weights[:, None]
+    s = np.linalg.svd(aw / np.linalg.norm(aw, axis=0), compute_uv=False)
+    return theta, cov, kept, messages, float(s[0] / s[-1]), rms
+
+
+def _keep_rank_deficient(names, y, free, kept, messages, reasons):
+    """Moves from `free` to `kept` what the regressor's rank cannot tell apart, naming it."""
     # Rank: on unit-norm columns, a singular value below 1e-7 of the largest is a combination
     # the motion cannot tell apart (noise-free data reaches 1e-12; measured data's smallest
     # informative ones stay above 1e-4). Keep one of the combination at its base value, and look
@@ -581,42 +648,37 @@ def _estimate(base, names, y, b, groups, states):
         # Keep the last in the parameter order of those that carry the combination (|v| within
         # half the largest): the same one whatever the noise (c_A, and c_O is estimated).
         j = max(free[i] for i in range(len(free)) if abs(v[i]) >= 0.5 * np.max(np.abs(v)))
-        messages.append("%s are not separately identifiable%s: kept %s at the base's value"
-                        % (" and ".join(names[i] for i in involved), reasons, names[j]))
+        carrier = next((i for i in involved if i != j), None)
+        carries = "" if carrier is None else "; %s carries the combination" % names[carrier]
+        messages.append("%s are not separately identifiable%s: kept %s at the base's value%s"
+                        % (" and ".join(names[i] for i in involved), reasons, names[j], carries))
         kept.append(names[j])
         free.remove(j)
-    theta = base_theta.copy()
-    cov = np.zeros((len(names), len(names)))
-    nan = tuple(float("nan") for _ in range(groups))
-    if not free:
-        return theta, cov, kept, messages, float("inf"), nan
-    fixed = [j for j in range(len(names)) if j not in free]
-    b_free = b - y[:, fixed] @ base_theta[fixed]
-    a = y[:, free]
-    weights = np.ones(len(b_free))
-    theta_free, cov_free = _fit(a, b_free, weights)
+
+
+def _solve(a, b, groups):
+    """Weighted least squares of a theta = b: theta, covariance, row weights."""
+    weights = np.ones(len(b))
+    theta, cov = _fit(a, b, weights)
     if groups > 1:
         # Equations of different units (N m, N): weight each by its residual's spread from the
         # unweighted fit, then fit again (feasible generalised least squares).
-        residual = b_free - a @ theta_free
+        residual = b - a @ theta
         for r in range(groups):
             spread = np.sqrt(np.mean(residual[r::groups] ** 2))
-            floor = 1e-12 * (1 + np.sqrt(np.mean(b_free[r::groups] ** 2)))
+            floor = 1e-12 * (1 + np.sqrt(np.mean(b[r::groups] ** 2)))
             weights[r::groups] = 1.0 / max(spread, floor)
-        theta_free, cov_free = _fit(a, b_free, weights)
-    wres = (b_free - a @ theta_free) * weights
-    # Filtered data's errors are correlated over the filter's window: widen the errors by the
-    # residual's integrated autocorrelation (per equation, the larger).
-    inflation = max(_effective_samples_factor(wres[r::groups]) for r in range(groups))
-    cov_free *= inflation ** 2
-    theta[free] = theta_free
-    for a_i, i in enumerate(free):
-        cov[i, free] = cov_free[a_i]
-    residual = b_free - a @ theta_free
-    rms = tuple(float(np.sqrt(np.mean(residual[r::groups] ** 2))) for r in range(groups))
-    aw = a * weights[:, None]
-    s = np.linalg.svd(aw / np.linalg.norm(aw, axis=0), compute_uv=False)
-    return theta, cov, kept, messages, float(s[0] / s[-1]), rms
+        theta, cov = _fit(a, b, weights)
+    return theta, cov, weights
+
+
+def _check(base, names, prepared, method):
+    """The energy rows again with the trapezoid rule (None for Kane's equations: no integrals)."""
+    return _system(base, names, prepared, method, "trapezoid")[:2] if method == "energy" else None
+
+
+def _rms(x):
+    return float(np.sqrt(np.mean(np.square(x))))
 
 
 def _base_theta(base, name):
@@ -664,7 +726,8 @@ def _holdout(base, names, prepared, method, fraction):
     test = prepared.select(slice(split, None))
     try:
         y, b, groups = _system(base, names, train, method)
-        theta = _estimate(base, names, y, b, groups, train.states)[0]  # preload as k s0
+        theta = _estimate(base, names, y, b, groups, train.states,
+                          _check(base, names, train, method), _rms(train.torque))[0]  # preload as k s0
     except ValueError:
         return None
     y, b, _ = _system(base, names, test, "equations")
