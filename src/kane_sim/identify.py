@@ -129,6 +129,10 @@ def _read_bag(path, topic=None):
         elif topic not in types:
             raise ValueError("data: %s has no topic %s (JointState topics: %s)"
                              % (path, topic, ", ".join(states) or "none"))
+        elif topic not in states:
+            raise ValueError("data: %s's topic %s is %s, not sensor_msgs/JointState (JointState "
+                             "topics: %s)" % (path, topic, types[topic].msg_type,
+                                              ", ".join(states) or "none"))
         names = _core.joint_names()
         crank, slider4 = names[0], names[3]
         rows, has_velocity = [], True
@@ -456,6 +460,11 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
     if np.ptp(prepared.states[:, 0]) < 1e-6 and np.ptp(prepared.states[:, 1]) < 1e-9:
         raise ValueError("data (%s): no motion (q1 and q2 constant): nothing can be identified"
                          % motion.source)
+    if not np.any(motion.torque):
+        raise ValueError("data (%s): the torque is 0 throughout (a bag's effort of the crank "
+                         "joint; a driver that publishes no effort gives zeros): without the "
+                         "driving torque the motion fixes the parameters only up to a common "
+                         "scale" % motion.source)
 
     result = Identification()
     result.names, result.method, result.bandwidth = names, method, prepared.bandwidth
@@ -467,6 +476,9 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
                                                       _rms(prepared.torque))
     theta, cov = _rest_length(names, theta, cov)
     if refine is True or (refine == "auto" and prepared.bandwidth is not None):
+        # Unphysical least squares (a flipped torque, wrong units) is refused here, by name,
+        # before the re-simulations would fail on it with a message about the integrator.
+        fitted_config(base, dict(zip(names, theta)), dict(zip(names, np.sqrt(np.diag(cov)))))
         if len(kept) < len(names):
             ls_theta = dict(zip(names, theta))
             theta, cov, result.refined = _refine(base, names, theta, kept, motion,
@@ -903,7 +915,8 @@ def validation(motion, base, fitted, torque_offset=0.0, bandwidth="auto"):
     """RMS error of q1 and q2 when the recorded torque is re-simulated with the fitted config
     (and the fitted torque offset) and with the base config, over the whole recording."""
     out = {"duration": float(motion.t[-1] - motion.t[0]),
-           "recorded": {"t": motion.t, "q": motion.q}}
+           "recorded": {"t": motion.t, "q": motion.q},
+           "q1_span": float(np.ptp(motion.q[:, 0])), "q2_span": float(np.ptp(motion.q[:, 1]))}
     for label, config, offset in (("fitted", fitted, torque_offset), ("base", base, 0.0)):
         try:
             t, q = simulate_motion(config, motion, offset, bandwidth)

@@ -141,6 +141,10 @@ def test_short_still_and_bad_arguments(truth_run):
     still["q2"] = np.full(2000, 1.2)
     with pytest.raises(ValueError, match="no motion"):
         ki.identify(still, config_path())
+    undriven = {k: v.copy() for k, v in truth_run.items()}
+    undriven["torque"][:] = 0.0  # a driver that publishes no effort
+    with pytest.raises(ValueError, match="the torque is 0 throughout"):
+        ki.identify(undriven, config_path())
     with pytest.raises(ValueError, match="'mechanism.rod_mas' is not an identifiable"):
         ki.identify(truth_run, config_path(), params=["mechanism.rod_mas"])
     with pytest.raises(ValueError, match="spring_stiffness too"):
@@ -243,10 +247,27 @@ def test_cli_arguments_and_ctrl_c(tmp_path, rig_bag):
             (["--holdout", "-1"], 2, "--holdout"),
             (["--excite", "1e308", "-o", str(tmp_path / "x.csv")], 2, "--excite"),
             (["--config", "/dev/zero"], 1, ""),
-            (["-o", "/proc/nope/fitted.yaml", "--no-validate"], 4, "cannot write")):
+            (["-o", "/proc/nope/fitted.yaml", "--no-validate"], 4, "cannot write"),
+            (["-o", str(rig_bag)], 2, "is the DATA file"),
+            (["-o", str(tmp_path / "a.png"), "--plot", str(tmp_path / "a.png")], 2, "same file"),
+            (["--plot", str(tmp_path / "fit.txt")], 2, "ending in .png"),
+            (["-o", ""], 2, "needs a file name"),
+            (["--topic", "/mechanism_state"], 3, "not sensor_msgs/JointState")):
         r = subprocess.run([tool("identify")] + ([] if "--excite" in args else [str(rig_bag)])
                            + args, capture_output=True, text=True, timeout=120)
         assert r.returncode == code and words in r.stderr, (args, r.returncode, r.stderr)
+    assert os.path.getsize(rig_bag) > 1000  # not overwritten
+    # Positions in degrees: the fit re-simulated misses them by far more than their span.
+    csv = tmp_path / "deg.csv"
+    run = kane_sim.Simulator(kane_sim.Config(config_path())).run(
+        20.0, torque=3.0 * np.sin(2 * np.pi * 0.7 * np.arange(20000) / 1000.0))
+    rows = np.column_stack([run.t, np.degrees(run.q[:, 0]), run.q[:, 1], run.torque])
+    np.savetxt(csv, rows, delimiter=",", header="t,q1,q2,torque", comments="")
+    r = subprocess.run([tool("identify"), str(csv), "-o", str(tmp_path / "deg.yaml")],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 3 and (
+        "misses the recorded q1" in r.stderr or "not physical" in r.stderr), r.stderr
+    assert not (tmp_path / "deg.yaml").exists()
     p = subprocess.Popen([tool("identify"), "--excite", "3600", "-o", str(tmp_path / "t.csv")],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     import time
