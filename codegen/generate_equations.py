@@ -148,11 +148,10 @@ DAMPERS = tuple(name for name, _, _ in PARAMETERS if name.startswith("c_"))  # t
 
 
 def render_function(out, name, p, M_m, rates, skipped=()):
-    """One inline C++ function returning Rates; `skipped` parameters are zero in this variant
-    (the caller guarantees it) and not read."""
+    """One inline C++ function template returning RatesOf<Real>; `skipped` parameters are zero
+    in this variant (the caller guarantees it) and not read."""
     # sin q1 and cos q1 as two named inputs of the common subexpressions, computed by one
-    # sincos call (GCC and Clang fuse std::sin and std::cos of one argument only sometimes
-    # once this is inlined into an integrator's stages).
+    # Trig<Real>::sinCos call.
     q1 = sp.Symbol("q1")
     sin_q1, cos_q1 = sp.Symbol("sin_q1"), sp.Symbol("cos_q1")
     rates = [ex.subs({sp.sin(q1): sin_q1, sp.cos(q1): cos_q1}) for ex in rates]
@@ -161,21 +160,22 @@ def render_function(out, name, p, M_m, rates, skipped=()):
                                         optimizations="basic")
     used = set().union(*(ex.free_symbols for _, ex in replacements), e1.free_symbols,
                        e2.free_symbols, ep.free_symbols)
-    out("inline Rates %s(const Constants& p, double q1, double q2, double u1, double u2,"
+    out("template <class Real, class SinCos = Trig<Real>>")
+    out("inline RatesOf<Real> %s(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,"
         % name)
-    out(" " * len("inline Rates %s(" % name) + "double M_m) {")
+    out(" " * len("inline RatesOf<Real> %s(" % name) + "Real M_m) {")
     for param, field, _ in PARAMETERS:
         if p[param] in used:
-            out("  const double %s = p.%s;" % (param, field))
+            out("  const Real %s = p.%s;" % (param, field))
     for arg in ("q2", "u1", "u2"):
         if sp.Symbol(arg) not in used:
             out("  static_cast<void>(%s);" % arg)
     if M_m not in used:
         out("  static_cast<void>(M_m);")
-    out("  double sin_q1, cos_q1;")
-    out("  __builtin_sincos(q1, &sin_q1, &cos_q1);")
+    out("  Real sin_q1, cos_q1;")
+    out("  SinCos::sinCos(q1, &sin_q1, &cos_q1);")
     for symbol, ex in replacements:
-        out("  const double %s = %s;" % (symbol, to_cpp(ex)))
+        out("  const Real %s = %s;" % (symbol, to_cpp(ex)))
     out("  return {%s," % to_cpp(e1))
     out("          %s," % to_cpp(e2))
     out("          %s};" % to_cpp(ep))
@@ -199,19 +199,37 @@ def render():
     out("namespace kane_sim {")
     out("namespace generated {")
     out("")
+    out("// Every function below is a template over its number type Real: double for one mechanism,")
+    out("// a SIMD batch of doubles for several stepped together (batch/lane_kernel.h): one text of")
+    out("// the equations for both.")
+    out("")
     out("// The parameters, runtime inputs (one header serves every config).")
-    out("struct Constants {")
+    out("template <class Real>")
+    out("struct ConstantsOf {")
     width = max(len(field) for _, field, _ in PARAMETERS)
     for name, field, comment in PARAMETERS:
-        out("  double %s;%s  // %s" % (field, " " * (width - len(field)), comment))
+        out("  Real %s;%s  // %s" % (field, " " * (width - len(field)), comment))
     out("};")
+    out("using Constants = ConstantsOf<double>;")
     out("")
     out("// u1', u2' of F*_r + F_r = 0 (eq 18) and the dampers' dissipated power [W] at (q, u) under")
     out("// the applied driver moment M_m [N m].")
-    out("struct Rates {")
-    out("  double u1_dot;")
-    out("  double u2_dot;")
-    out("  double dissipated_power;")
+    out("template <class Real>")
+    out("struct RatesOf {")
+    out("  Real u1_dot;")
+    out("  Real u2_dot;")
+    out("  Real dissipated_power;")
+    out("};")
+    out("using Rates = RatesOf<double>;")
+    out("")
+    out("// sin q1 and cos q1 in one call: libm's sincos for double (GCC and Clang fuse std::sin and")
+    out("// std::cos of one argument only sometimes once inlined into an integrator's stages). A SIMD")
+    out("// batch type passes its own as the functions' SinCos (libm's per lane, or a vector sincos).")
+    out("template <class Real>")
+    out("struct Trig;")
+    out("template <>")
+    out("struct Trig<double> {")
+    out("  static void sinCos(double x, double* s, double* c) { __builtin_sincos(x, s, c); }")
     out("};")
     out("")
     out("// Every term: the five dampers included.")

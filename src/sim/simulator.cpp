@@ -23,13 +23,7 @@ Status Simulator::setTorque(double torque) {
 }
 
 bool Simulator::separationAtLeast(const OdeState& x, double threshold) const {
-  // x_C - x_B = q2 - 4L cos q1 lies within q2 -+ 4L: those bounds settle most calls (slider 4
-  // hangs below the crank's reach) without the cosine, which costs as much as an rk4 stage's.
-  const double L = model_.parameters().rod_half_length;
-  const double reach = slider3Position(L, 1.0);  // |x_B| <= 4L
-  if (x[1] - reach >= threshold) return true;
-  if (x[1] + reach < threshold) return false;
-  return sliderSeparation(L, x[0], x[1]) >= threshold;
+  return sliderSeparationAtLeast(model_.parameters().rod_half_length, x[0], x[1], threshold);
 }
 
 Status Simulator::step() {

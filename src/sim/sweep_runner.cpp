@@ -11,8 +11,15 @@
 #include "kane_sim/sim/profile_commands.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/sweep.h"
+#include "lane_sweep.h"
 
 namespace kane_sim {
+
+namespace {
+// Cases per task with lanes: 8 blocks of AVX-512's 8; small enough that two threads share a
+// 1000-case sweep evenly.
+constexpr size_t kSweepChunk = 64;
+}  // namespace
 
 unsigned maxSweepJobs() { return 4 * std::max(1u, std::thread::hardware_concurrency()); }
 
@@ -69,27 +76,50 @@ std::vector<SweepResult> runSweep(const YAML::Node& base, const SweepPlan& plan,
   const auto stopped = [&settings] {
     return settings.stop && settings.stop->load(std::memory_order_relaxed);
   };
+  const bool lanes = settings.simd != "off";
+  const LaneArch arch = lanes ? parseLaneArch(settings.simd) : LaneArch::kScalar;
+  // Cases go to the threads in chunks: a chunk's lane-eligible cases step together.
+  const size_t chunk = lanes ? kSweepChunk : 1;
   // yaml-cpp nodes share state between copies: each worker clones the base once, alone.
   auto worker = [&](const YAML::Node& own_base) {
-    for (size_t i = next++; i < n && !stopped(); i = next++) {
-      SweepResult result;
-      try {
-        result = runSweepCase(sweepCaseConfig(own_base, plan, i), settings);
-      } catch (const std::exception& e) {
-        result.status = "config_refused";
-        result.error = e.what();
+    std::vector<SweepResult> own(chunk);
+    std::vector<Config> configs(chunk);
+    for (size_t begin = chunk * next++; begin < n && !stopped(); begin = chunk * next++) {
+      const size_t end = std::min(n, begin + chunk);
+      std::vector<const Config*> on_lanes;
+      std::vector<SweepResult*> lane_results;
+      for (size_t i = begin; i < end; ++i) {
+        SweepResult& result = own[i - begin];
+        result = SweepResult();
+        try {
+          configs[i - begin] = sweepCaseConfig(own_base, plan, i);
+        } catch (const std::exception& e) {
+          result.status = "config_refused";
+          result.error = e.what();
+          continue;
+        }
+        if (lanes && laneEligible(configs[i - begin], settings)) {
+          on_lanes.push_back(&configs[i - begin]);
+          lane_results.push_back(&result);
+        } else {
+          result = runSweepCase(configs[i - begin], settings);
+        }
       }
-      if (result.status == "interrupted") continue;  // not finished: no row
+      if (!on_lanes.empty()) runSweepLanes(on_lanes, settings, arch, lane_results);
       std::lock_guard<std::mutex> lock(mutex);
-      results[i] = std::move(result);
-      done[i] = 1;
+      for (size_t i = begin; i < end; ++i) {
+        if (own[i - begin].status == "interrupted") continue;  // not finished: no row
+        results[i] = std::move(own[i - begin]);
+        done[i] = 1;
+      }
       // Rows go out in case order as soon as every case before them is finished.
       for (; written < n && done[written]; ++written)
         if (sink) sink(written, results[written]);
     }
   };
   unsigned jobs = settings.jobs ? settings.jobs : std::max(1u, std::thread::hardware_concurrency());
-  jobs = static_cast<unsigned>(std::min<size_t>(jobs, n));
+  jobs =
+      static_cast<unsigned>(std::max<size_t>(1, std::min<size_t>(jobs, (n + chunk - 1) / chunk)));
   std::vector<YAML::Node> bases;
   for (unsigned j = 0; j < jobs; ++j) bases.push_back(YAML::Clone(base));
   std::vector<std::thread> threads;

@@ -93,6 +93,8 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
   settings.duration = options.duration;
   if (options.profile_given) settings.torque = options.profile;
   settings.jobs = options.jobs;
+  settings.simd = options.simd;
+  settings.vector_trig = options.vector_trig;
   settings.stop = &g_stop;
   settings.on_warning = [](const std::string& text) { std::cerr << "warning: " << text << "\n"; };
   CsvOutput csv(options.csv_path);

@@ -2,11 +2,13 @@
 // results in case order whatever the threads, and a case equal to the same single run.
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <sstream>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
 
+#include "kane_sim/batch/lanes.h"
 #include "kane_sim/sim/simulator.h"
 #include "kane_sim/sim/sweep.h"
 #include "test_helpers.h"
@@ -130,6 +132,119 @@ TEST(Sweep, ResultsAreInCaseOrderAndEqualSingleRuns) {
   EXPECT_EQ(fields(ok_row), fields(header));
   EXPECT_EQ(fields(refused_row), fields(header));
   EXPECT_EQ(refused_row, "1,1e+09,config_refused,,,,,,,,,,,,,,");
+}
+
+// Every column of a row but wall_time.
+std::vector<double> rowValues(const SweepResult& r) {
+  std::vector<double> values{r.final_state.q1, r.final_state.q2, r.final_state.u1, r.final_state.u2,
+                             r.time};
+  for (const SweepColumn* c = sweepColumnsBegin(); c != sweepColumnsEnd(); ++c)
+    if (std::string(c->name) != "wall_time") values.push_back(c->value(r));
+  return values;
+}
+
+// A grid that reaches every lane path: damped and undamped equations, slider crossings, a step
+// the Simulator refuses mid-run (3000 N m from 0.6 s spin the crank past 1 rad a step), a motor
+// line (not a lane case: it runs alone), a refused config, and more cases than a chunk.
+SweepPlan laneGrid() {
+  SweepPlan plan;
+  plan.keys = {"damping.slider4_joint",      "command.torque_limit", "command.motor_no_load_speed",
+               "mechanism.spring_stiffness", "initial_state.u2",     "initial_state.u1"};
+  for (int i = 0; i < 150; ++i)
+    plan.cases.push_back({i % 3 == 0 ? 0.0 : 0.5 * (i % 5), i == 7 ? 4000.0 : 10.0,
+                          i % 11 == 5 ? 40.0 : 0.0, i == 13 ? 1e9 : 50.0 + 3.0 * i,
+                          i % 4 == 1 ? -8.0 : 0.0, 0.0});
+  return plan;
+}
+
+// Back and forth, then hard one way: the 10 N m limit of most cases clamps it; case 7's 4000 N m
+// limit lets 3000 N m through.
+TorqueProfile laneDrive() {
+  return TorqueProfile::table({{0.0, 300.0}, {0.3, -300.0}, {0.6, 3000.0}});
+}
+
+TEST(Sweep, LanesEqualTheSingleRunsBitForBitOnEveryInstructionSet) {
+  const SweepPlan plan = laneGrid();
+  SweepSettings settings;
+  settings.duration = 2.0;
+  settings.torque = laneDrive();
+  settings.jobs = 2;
+  settings.simd = "off";
+  const std::vector<SweepResult> alone = runSweep(baseYaml(), plan, settings);
+  EXPECT_EQ(alone[7].status, "step_refused") << alone[7].error;
+  EXPECT_EQ(alone[13].status, "config_refused");
+  EXPECT_GT(std::count_if(alone.begin(), alone.end(),
+                          [](const SweepResult& r) { return r.slider_crossings > 0; }),
+            10);
+  for (LaneArch arch : {LaneArch::kScalar, LaneArch::kSse2, LaneArch::kAvx2, LaneArch::kAvx512}) {
+    if (!laneArchAvailable(arch)) continue;
+    settings.simd = laneArchName(arch);
+    const std::vector<SweepResult> lanes = runSweep(baseYaml(), plan, settings);
+    ASSERT_EQ(lanes.size(), alone.size());
+    for (size_t i = 0; i < lanes.size(); ++i) {
+      EXPECT_EQ(lanes[i].status, alone[i].status) << settings.simd << " case " << i;
+      EXPECT_EQ(lanes[i].error, alone[i].error) << settings.simd << " case " << i;
+      EXPECT_EQ(rowValues(lanes[i]), rowValues(alone[i])) << settings.simd << " case " << i;
+    }
+  }
+}
+
+TEST(Sweep, VectorTrigDiffersFarLessThanTheIntegratorsOwnError) {
+  // xsimd's sin and cos round differently from libm's, at every stage; sensitive (undamped)
+  // motion grows that. The yardstick: rk4's own error, the single run at h against h/2.
+  const SweepPlan plan = laneGrid();
+  SweepSettings settings;
+  settings.duration = 2.0;
+  settings.torque = laneDrive();
+  settings.simd = "off";
+  const std::vector<SweepResult> alone = runSweep(baseYaml(), plan, settings);
+  settings.simd = "auto";
+  settings.vector_trig = true;
+  const std::vector<SweepResult> fast = runSweep(baseYaml(), plan, settings);
+  int compared = 0;
+  double worst = 0.0;
+  for (size_t i = 0; i < plan.cases.size(); ++i) {
+    if (alone[i].status != "ok") continue;
+    Config finer = sweepCaseConfig(baseYaml(), plan, i);
+    finer.simulation.physics_rate *= 2;
+    const SweepResult half_step = runSweepCase(finer, settings);
+    const auto distance = [](const SweepResult& a, const SweepResult& b) {
+      return std::abs(a.final_state.q1 - b.final_state.q1) +
+             std::abs(a.final_state.u1 - b.final_state.u1) +
+             std::abs(a.final_state.q2 - b.final_state.q2) +
+             std::abs(a.final_state.u2 - b.final_state.u2);
+    };
+    const double integrator_error = distance(half_step, alone[i]);
+    const double difference = distance(fast[i], alone[i]);
+    // Near rest rk4's error vanishes too: a floor of 1e-12 of the state's size.
+    const double size = std::abs(alone[i].final_state.q1) + std::abs(alone[i].final_state.u1) +
+                        std::abs(alone[i].final_state.q2) + std::abs(alone[i].final_state.u2);
+    EXPECT_LE(difference, 1e-6 * integrator_error + 1e-12 * (1 + size)) << "case " << i;
+    worst = std::max(worst, difference / integrator_error);
+    ++compared;
+  }
+  EXPECT_GT(compared, 100);
+  std::cout << "vector sin/cos against libm's: at most " << worst
+            << " of rk4's own error (h against h/2) over " << compared << " cases\n";
+}
+
+TEST(Sweep, SimdChoicesAreCheckedByName) {
+  SweepSettings settings;
+  settings.duration = 0.1;
+  const SweepPlan plan = sweepGrid({parseSweepAxis("mechanism.spring_stiffness=100:200:2")});
+  for (const char* bad : {"avx1024", "", "AVX2", "auto "}) {
+    settings.simd = bad;
+    try {
+      runSweep(baseYaml(), plan, settings);
+      ADD_FAILURE() << "accepted simd '" << bad << "'";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("'") + bad + "'"), std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_THROW(parseLaneArch("sse3"), std::invalid_argument);
+  EXPECT_EQ(parseLaneArch("scalar"), LaneArch::kScalar);
+  EXPECT_TRUE(laneArchAvailable(parseLaneArch("auto")));
 }
 
 }  // namespace

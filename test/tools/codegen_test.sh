@@ -13,7 +13,7 @@ failures=0
 edited=$(mktemp --suffix=.h)
 out=$(mktemp)
 trap 'rm -f "$edited" "$out"' EXIT
-sed 's/const double t0 = L\*L;/const double t0 = L*L*1.0000001;/' "$header" > "$edited"
+sed 's/const Real t0 = L\*L;/const Real t0 = L*L*1.0000001;/' "$header" > "$edited"
 if cmp -s "$header" "$edited"; then
   echo "FAIL the edit did not apply (the header no longer has t0 = L*L): update this test"
   exit 1

@@ -10,69 +10,88 @@
 namespace kane_sim {
 namespace generated {
 
+// Every function below is a template over its number type Real: double for one mechanism,
+// a SIMD batch of doubles for several stepped together (batch/lane_kernel.h): one text of
+// the equations for both.
+
 // The parameters, runtime inputs (one header serves every config).
-struct Constants {
-  double rod_mass;            // m [kg], each rod
-  double rod_half_length;     // L [m], the rods are 2L long
-  double rod_inertia;         // I1z = I2z [kg m^2], each rod about its center
-  double slider3_mass;        // M1 [kg], slider 3 at B
-  double slider4_mass;        // M2 [kg], slider 4 at C
-  double spring_stiffness;    // k [N/m]
-  double gravity;             // g [m/s^2], along +i (down)
-  double spring_rest_length;  // x_C0 - x_B0 [m]: the spring is unstretched at this separation
-  double crank_damping;       // c_O [N m s/rad], pin O
-  double coupler_damping;     // c_A [N m s/rad], pin A
-  double slider3_damping;     // c_B [N s/m], slider 3 on the rail
-  double slider4_damping;     // c_C [N s/m], slider 4 on the rail
-  double spring_damping;      // c_S [N s/m], beside the spring between the sliders
+template <class Real>
+struct ConstantsOf {
+  Real rod_mass;            // m [kg], each rod
+  Real rod_half_length;     // L [m], the rods are 2L long
+  Real rod_inertia;         // I1z = I2z [kg m^2], each rod about its center
+  Real slider3_mass;        // M1 [kg], slider 3 at B
+  Real slider4_mass;        // M2 [kg], slider 4 at C
+  Real spring_stiffness;    // k [N/m]
+  Real gravity;             // g [m/s^2], along +i (down)
+  Real spring_rest_length;  // x_C0 - x_B0 [m]: the spring is unstretched at this separation
+  Real crank_damping;       // c_O [N m s/rad], pin O
+  Real coupler_damping;     // c_A [N m s/rad], pin A
+  Real slider3_damping;     // c_B [N s/m], slider 3 on the rail
+  Real slider4_damping;     // c_C [N s/m], slider 4 on the rail
+  Real spring_damping;      // c_S [N s/m], beside the spring between the sliders
 };
+using Constants = ConstantsOf<double>;
 
 // u1', u2' of F*_r + F_r = 0 (eq 18) and the dampers' dissipated power [W] at (q, u) under
 // the applied driver moment M_m [N m].
-struct Rates {
-  double u1_dot;
-  double u2_dot;
-  double dissipated_power;
+template <class Real>
+struct RatesOf {
+  Real u1_dot;
+  Real u2_dot;
+  Real dissipated_power;
+};
+using Rates = RatesOf<double>;
+
+// sin q1 and cos q1 in one call: libm's sincos for double (GCC and Clang fuse std::sin and
+// std::cos of one argument only sometimes once inlined into an integrator's stages). A SIMD
+// batch type passes its own as the functions' SinCos (libm's per lane, or a vector sincos).
+template <class Real>
+struct Trig;
+template <>
+struct Trig<double> {
+  static void sinCos(double x, double* s, double* c) { __builtin_sincos(x, s, c); }
 };
 
 // Every term: the five dampers included.
-inline Rates rates(const Constants& p, double q1, double q2, double u1, double u2,
-                   double M_m) {
-  const double m = p.rod_mass;
-  const double L = p.rod_half_length;
-  const double I = p.rod_inertia;
-  const double M1 = p.slider3_mass;
-  const double M2 = p.slider4_mass;
-  const double k = p.spring_stiffness;
-  const double g = p.gravity;
-  const double s0 = p.spring_rest_length;
-  const double c_O = p.crank_damping;
-  const double c_A = p.coupler_damping;
-  const double c_B = p.slider3_damping;
-  const double c_C = p.slider4_damping;
-  const double c_S = p.spring_damping;
-  double sin_q1, cos_q1;
-  __builtin_sincos(q1, &sin_q1, &cos_q1);
-  const double t0 = L*L;
-  const double t1 = m*t0;
-  const double t2 = sin_q1*sin_q1;
-  const double t3 = 8*t0;
-  const double t4 = t2*t3;
-  const double t5 = 2*L;
-  const double t6 = sin_q1*t5;
-  const double t7 = g*t6;
-  const double t8 = c_S*u2;
-  const double t9 = k*sin_q1;
-  const double t10 = t5*t9;
-  const double t11 = cos_q1*t3;
-  const double t12 = t4*u1;
-  const double t13 = u1*u1;
-  const double t14 = 4*t13;
-  const double t15 = 1.0/M2;
-  const double t16 = t15*u2;
-  const double t17 = sin_q1*u1;
-  const double t18 = u2*u2;
-  const double t19 = 16*t0*t13*t2;
+template <class Real, class SinCos = Trig<Real>>
+inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
+                           Real M_m) {
+  const Real m = p.rod_mass;
+  const Real L = p.rod_half_length;
+  const Real I = p.rod_inertia;
+  const Real M1 = p.slider3_mass;
+  const Real M2 = p.slider4_mass;
+  const Real k = p.spring_stiffness;
+  const Real g = p.gravity;
+  const Real s0 = p.spring_rest_length;
+  const Real c_O = p.crank_damping;
+  const Real c_A = p.coupler_damping;
+  const Real c_B = p.slider3_damping;
+  const Real c_C = p.slider4_damping;
+  const Real c_S = p.spring_damping;
+  Real sin_q1, cos_q1;
+  SinCos::sinCos(q1, &sin_q1, &cos_q1);
+  const Real t0 = L*L;
+  const Real t1 = m*t0;
+  const Real t2 = sin_q1*sin_q1;
+  const Real t3 = 8*t0;
+  const Real t4 = t2*t3;
+  const Real t5 = 2*L;
+  const Real t6 = sin_q1*t5;
+  const Real t7 = g*t6;
+  const Real t8 = c_S*u2;
+  const Real t9 = k*sin_q1;
+  const Real t10 = t5*t9;
+  const Real t11 = cos_q1*t3;
+  const Real t12 = t4*u1;
+  const Real t13 = u1*u1;
+  const Real t14 = 4*t13;
+  const Real t15 = 1.0/M2;
+  const Real t16 = t15*u2;
+  const Real t17 = sin_q1*u1;
+  const Real t18 = u2*u2;
+  const Real t19 = 16*t0*t13*t2;
   return {-(M1*sin_q1*t11*t13 + M1*t7 - 1.0/2.0*M_m + 2*c_A*u1 + c_B*t12 + (1.0/2.0)*c_O*u1 + c_S*t12 + cos_q1*sin_q1*t1*t14 + m*t7 + q2*t10 - s0*t10 - t11*t9 + t6*t8)/(I + M1*t4 + 4*t1*t2 + t1),
           -4*L*c_S*t15*t17 + 4*L*cos_q1*k*t15 - c_C*t16 - c_S*t16 + g - k*q2*t15 + k*s0*t15,
           8*L*t17*t8 + c_A*t14 + c_B*t19 + c_C*t18 + c_O*t13 + c_S*t18 + c_S*t19};
@@ -80,31 +99,32 @@ inline Rates rates(const Constants& p, double q1, double q2, double u1, double u
 
 // The same with the five dampers zero (the textbook's model; the dissipated power is 0):
 // fewer terms where no damper is configured. Only for Constants whose dampers are all 0.
-inline Rates ratesUndamped(const Constants& p, double q1, double q2, double u1, double u2,
-                           double M_m) {
-  const double m = p.rod_mass;
-  const double L = p.rod_half_length;
-  const double I = p.rod_inertia;
-  const double M1 = p.slider3_mass;
-  const double M2 = p.slider4_mass;
-  const double k = p.spring_stiffness;
-  const double g = p.gravity;
-  const double s0 = p.spring_rest_length;
+template <class Real, class SinCos = Trig<Real>>
+inline RatesOf<Real> ratesUndamped(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
+                                   Real M_m) {
+  const Real m = p.rod_mass;
+  const Real L = p.rod_half_length;
+  const Real I = p.rod_inertia;
+  const Real M1 = p.slider3_mass;
+  const Real M2 = p.slider4_mass;
+  const Real k = p.spring_stiffness;
+  const Real g = p.gravity;
+  const Real s0 = p.spring_rest_length;
   static_cast<void>(u2);
-  double sin_q1, cos_q1;
-  __builtin_sincos(q1, &sin_q1, &cos_q1);
-  const double t0 = L*L;
-  const double t1 = m*t0;
-  const double t2 = sin_q1*sin_q1;
-  const double t3 = 8*t0;
-  const double t4 = M1*t3;
-  const double t5 = 4*t1;
-  const double t6 = 2*L;
-  const double t7 = g*sin_q1*t6;
-  const double t8 = k*sin_q1;
-  const double t9 = t6*t8;
-  const double t10 = cos_q1*sin_q1*u1*u1;
-  const double t11 = k/M2;
+  Real sin_q1, cos_q1;
+  SinCos::sinCos(q1, &sin_q1, &cos_q1);
+  const Real t0 = L*L;
+  const Real t1 = m*t0;
+  const Real t2 = sin_q1*sin_q1;
+  const Real t3 = 8*t0;
+  const Real t4 = M1*t3;
+  const Real t5 = 4*t1;
+  const Real t6 = 2*L;
+  const Real t7 = g*sin_q1*t6;
+  const Real t8 = k*sin_q1;
+  const Real t9 = t6*t8;
+  const Real t10 = cos_q1*sin_q1*u1*u1;
+  const Real t11 = k/M2;
   return {-(M1*t7 - 1.0/2.0*M_m - cos_q1*t3*t8 + m*t7 + q2*t9 - s0*t9 + t10*t4 + t10*t5)/(I + t1 + t2*t4 + t2*t5),
           4*L*cos_q1*t11 + g - q2*t11 + s0*t11,
           0};

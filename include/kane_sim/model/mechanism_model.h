@@ -19,6 +19,7 @@
 #include "kane_sim/kane/kane_method.h"
 #include "kane_sim/model/joint_names.h"
 #include "kane_sim/model/mechanism_parameters.h"
+#include "kane_sim/model/slider_geometry.h"
 #include "kane_sim/model/state.h"
 
 namespace kane_sim {
@@ -44,14 +45,6 @@ struct MechanismGeometry {
 
 MechanismGeometry mechanismGeometry(double rod_half_length, double q1, double q2);
 
-// x_B = 4 L cos q1 [m]: slider 3 on the rail, where rod 2's end B is (the loop's closure).
-inline double slider3Position(double rod_half_length, double cos_q1) {
-  return 4 * rod_half_length * cos_q1;
-}
-// x_C - x_B [m] without the rest of the geometry (one cosine): the simulator's per-step checks.
-inline double sliderSeparation(double rod_half_length, double q1, double q2) {
-  return q2 - slider3Position(rod_half_length, std::cos(q1));
-}
 
 // The four bodies at one instant (kinematics, eqs 1-4).
 struct MechanismKinematics {

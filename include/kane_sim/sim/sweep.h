@@ -65,6 +65,15 @@ struct SweepSettings {
   // max |q| and the final state use every step.
   double ledger_rate = 10.0;
   unsigned jobs = 0;  // threads; 0 = one per core
+  // The cases a SIMD lane runs as their single run would (rk4, free motion, effort mode: see
+  // src/sim/lane_sweep.h) step W at a time on this instruction set: "auto" (the widest the CPU
+  // has), "avx512", "avx2", "sse2", "scalar" (lanes of one double: the single run's bits), or
+  // "off" (every case alone, through the driver). runSweep throws std::invalid_argument naming
+  // a value that is none of these or an instruction set the CPU lacks.
+  std::string simd = "auto";
+  // Lanes on xsimd's vector sin and cos instead of libm's per lane: faster, no longer the single
+  // run's bits (batch/lanes.h).
+  bool vector_trig = false;
   // Set (from a signal handler, say) to stop: running cases end unfinished, no new one starts.
   const std::atomic<bool>* stop = nullptr;
   std::function<void(const std::string&)> on_warning;  // e.g. fewer threads than asked for

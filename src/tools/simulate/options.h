@@ -31,6 +31,8 @@ struct Options {
   std::vector<std::string> sweep_axes;  // --sweep KEY=START:STOP:COUNT, repeatable (a grid)
   std::string sweep_file;               // --sweep-file CSV of parameter sets
   unsigned jobs = 0;                    // --jobs, 0 = one per core
+  std::string simd = "auto";            // --simd
+  bool vector_trig = false;             // --vector-trig
   bool default_config = false;          // no --config: the package's config/mechanism.yaml
   std::string replay_bag;               // --replay BAG: re-run the inputs logged in a bag
   double replay_tolerance = 0.0;        // --tolerance: largest difference that counts as equal

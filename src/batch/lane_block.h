@@ -1,0 +1,203 @@
+// The lanes' stepping loop, a template over the number type B: double (one lane) or an xsimd
+// batch of doubles (W lanes). Private to src/batch: each lanes_<arch>.cpp includes it once,
+// built with that instruction set's flags, and exports one plain function. Nothing here may be
+// an inline function of a type other TUs use too (the linker could keep this TU's copy, built
+// for an instruction set the CPU may lack): raw pointers in, no std::vector, no std::min.
+#ifndef KANE_SIM_SRC_BATCH_LANE_BLOCK_H
+#define KANE_SIM_SRC_BATCH_LANE_BLOCK_H
+
+#include <array>
+#include <cmath>
+#include <cstring>
+
+#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
+
+#include "kane_sim/batch/lanes.h"
+#include "kane_sim/model/slider_geometry.h"
+
+namespace kane_sim {
+
+// One call's lanes, as raw pointers (see above).
+struct LaneBlock {
+  const generated::Constants* constants;
+  const double* torque_limit;
+  const LaneState* start;
+  bool damped;
+  double step;
+  const double* command;
+  long steps;
+  long steps_per_sample;
+  const std::atomic<bool>* stop;
+  void (*on_sample)(void*, std::size_t, const LaneState&);
+  void* sample_context;
+  bool vector_trig;          // SIMD lanes: the vector sincos instead of libm's per lane
+  std::size_t first, count;  // lanes first .. first + count - 1, count <= the width
+  LaneOutcome* out;          // count of them
+};
+
+// One per instruction set (lanes_<arch>.cpp): block.count lanes, at most that set's width.
+void runLaneBlockScalar(const LaneBlock& block);
+void runLaneBlockSse2(const LaneBlock& block);
+void runLaneBlockAvx2(const LaneBlock& block);
+void runLaneBlockAvx512(const LaneBlock& block);
+
+// What the loop needs of its number type, for double (bool masks) and batches (batch_bool).
+template <class B>
+struct Lanes;
+
+template <>
+struct Lanes<double> {
+  static constexpr std::size_t width = 1;
+  using Mask = bool;
+  static double load(const double* p) { return *p; }
+  static void store(double v, double* p) { *p = v; }
+  static double select(bool m, double a, double b) { return m ? a : b; }
+  static bool both(bool a, bool b) { return a && b; }
+  static bool either(bool a, bool b) { return a || b; }
+  static bool negate(bool a) { return !a; }
+  static bool all(bool m) { return m; }
+  static bool any(bool m) { return m; }
+  static double abs(double v) { return std::abs(v); }
+  static double max(double a, double b) { return a < b ? b : a; }  // std::max's order
+  static void toBools(bool m, bool* out) { out[0] = m; }
+  static bool fromBools(const bool* in) { return in[0]; }
+};
+
+namespace {
+
+// x' = f(x) at the held torque: q' = u, u' (generated), W' = M_m u1, D' (the dampers' power),
+// as GeneratedMechanism::stateDerivative without the motor line.
+template <class B, class SinCos>
+struct LaneEquations {
+  const generated::ConstantsOf<B>* constants;
+  B torque;
+  bool damped;
+  void operator()(const std::array<B, 6>& x, std::array<B, 6>& dxdt, double /*t*/) const {
+    const generated::RatesOf<B> r =
+        damped ? generated::rates<B, SinCos>(*constants, x[0], x[1], x[2], x[3], torque)
+               : generated::ratesUndamped<B, SinCos>(*constants, x[0], x[1], x[2], x[3], torque);
+    dxdt = {x[2], x[3], r.u1_dot, r.u2_dot, torque * x[2], r.dissipated_power};
+  }
+};
+
+// B: the number type; SinCos: sin and cos of B (generated::Trig's shape).
+template <class B, class SinCos>
+void runLaneBlockOf(const LaneBlock& block) {
+  using L = Lanes<B>;
+  using Mask = typename L::Mask;
+  constexpr std::size_t W = L::width;
+  constexpr int kConstants = sizeof(generated::Constants) / sizeof(double);
+  static_assert(sizeof(generated::ConstantsOf<B>) == kConstants * sizeof(B),
+                "ConstantsOf is kConstants numbers, nothing else");
+  alignas(64) double lane[W];
+  // Lane j of the block; the lanes past `count` repeat the last real one (their results dropped).
+  const auto index = [&block](std::size_t j) {
+    return block.first + (j < block.count ? j : block.count - 1);
+  };
+  const auto gather = [&](auto value_of) {
+    for (std::size_t j = 0; j < W; ++j) lane[j] = value_of(index(j));
+    return L::load(lane);
+  };
+  generated::ConstantsOf<B> constants;
+  B* constant = reinterpret_cast<B*>(&constants);
+  for (int f = 0; f < kConstants; ++f)
+    constant[f] = gather(
+        [&](std::size_t i) { return reinterpret_cast<const double*>(&block.constants[i])[f]; });
+  const B limit = gather([&](std::size_t i) { return block.torque_limit[i]; });
+  const B lower = -limit;
+  const B reach = gather([&](std::size_t i) {  // |x_B| <= 4L
+    return slider3Position(block.constants[i].rod_half_length, 1.0);
+  });
+  std::array<B, 6> x;
+  for (int k = 0; k < 6; ++k) x[k] = gather([&](std::size_t i) { return block.start[i][k]; });
+  bool flags[W];
+  for (std::size_t j = 0; j < W; ++j)
+    flags[j] = sliderSeparationAtLeast(block.constants[index(j)].rod_half_length,
+                                       block.start[index(j)][0], block.start[index(j)][1], 0.0);
+  Mask below = L::fromBools(flags);
+  for (std::size_t j = 0; j < W; ++j) flags[j] = true;
+  Mask running = L::fromBools(flags);
+  B crossings(0.0), max_q1(0.0), max_q2(0.0);
+  const B h(block.step);
+  boost::numeric::odeint::runge_kutta4<std::array<B, 6>> rk4;
+  long until_sample = block.steps_per_sample;
+  long done = 0;
+  bool stopped = false;
+  for (long i = 0; i < block.steps; ++i) {
+    if ((i & 255) == 0 && block.stop && block.stop->load(std::memory_order_relaxed)) {
+      stopped = true;
+      break;
+    }
+    const B command(block.command[i]);
+    // std::clamp(command, -limit, limit), the same comparisons.
+    const B torque = L::select(command < lower, lower, L::select(limit < command, limit, command));
+    const LaneEquations<B, SinCos> equations{&constants, torque, block.damped};
+    std::array<B, 6> trial = x;
+    rk4.do_step(equations, trial, 0.0, block.step);
+    // The Simulator's checks: finite and within 1e100, the crank under 1 rad in the step.
+    Mask ok = L::abs(trial[2]) * h <= B(1.0);
+    for (int k = 0; k < 6; ++k) ok = L::both(ok, L::abs(trial[k]) <= B(1e100));
+    ok = L::both(ok, running);
+    running = ok;
+    for (int k = 0; k < 6; ++k) x[k] = L::select(ok, trial[k], x[k]);
+    // The crossing counter: bounds first, the cosine only for lanes they leave open.
+    const Mask apart = x[1] - reach >= B(0.0);
+    const Mask open = L::negate(L::either(apart, x[1] + reach < B(0.0)));
+    Mask now_below = apart;
+    if (L::any(open)) {
+      alignas(64) double q1[W], q2[W];
+      L::store(x[0], q1);
+      L::store(x[1], q2);
+      L::toBools(now_below, flags);
+      for (std::size_t j = 0; j < W; ++j)
+        flags[j] =
+            sliderSeparationAtLeast(block.constants[index(j)].rod_half_length, q1[j], q2[j], 0.0);
+      now_below = L::fromBools(flags);
+    }
+    L::toBools(L::both(ok, L::either(L::both(now_below, L::negate(below)),
+                                     L::both(below, L::negate(now_below)))),
+               flags);
+    const Mask flipped = L::fromBools(flags);
+    crossings = L::select(flipped, crossings + B(1.0), crossings);
+    below = L::either(L::both(ok, now_below), L::both(L::negate(ok), below));
+    max_q1 = L::select(ok, L::max(max_q1, L::abs(x[0])), max_q1);
+    max_q2 = L::select(ok, L::max(max_q2, L::abs(x[1])), max_q2);
+    done = i + 1;
+    if (!L::any(running)) break;
+    if (--until_sample == 0 || i == block.steps - 1) {
+      until_sample = block.steps_per_sample;
+      if (block.on_sample) {
+        alignas(64) double values[6][W];
+        for (int k = 0; k < 6; ++k) L::store(x[k], values[k]);
+        L::toBools(running, flags);
+        for (std::size_t j = 0; j < block.count; ++j) {
+          if (!flags[j]) continue;
+          LaneState state;
+          for (int k = 0; k < 6; ++k) state[k] = values[k][j];
+          block.on_sample(block.sample_context, block.first + j, state);
+        }
+      }
+    }
+  }
+  alignas(64) double values[6][W], counts[W], m1[W], m2[W];
+  for (int k = 0; k < 6; ++k) L::store(x[k], values[k]);
+  L::store(crossings, counts);
+  L::store(max_q1, m1);
+  L::store(max_q2, m2);
+  L::toBools(running, flags);
+  for (std::size_t j = 0; j < block.count; ++j) {
+    LaneOutcome& o = block.out[j];
+    for (int k = 0; k < 6; ++k) o.state[k] = values[k][j];
+    o.steps = done;
+    o.max_abs_q1 = m1[j];
+    o.max_abs_q2 = m2[j];
+    o.slider_crossings = static_cast<std::uint64_t>(counts[j]);
+    o.refused = !flags[j];
+    o.stopped = stopped;
+  }
+}
+
+}  // namespace
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_SRC_BATCH_LANE_BLOCK_H
