@@ -387,7 +387,8 @@ TEST(SimulateCli, SweepSurvivesRefusedThreads) {
   // (--simd off: one case per task, so the sweep asks for four threads).
   const RunResult r = kane_sim::test::runCommand(
       "runuser -u nobody -- bash -c 'ulimit -u 1; exec " + std::string(KANE_SIM_SIMULATE_EXE) +
-      " --config " + config + " --duration 0.1 --jobs 4 --simd off --sweep mechanism.gravity=1:9:4'");
+      " --config " + config +
+      " --duration 0.1 --jobs 4 --simd off --sweep mechanism.gravity=1:9:4'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("sweep threads"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("swept 4 of 4 cases (0 not ok)"), std::string::npos) << r.err;
