@@ -5,13 +5,8 @@
 # libm's sin/cos (the default: every lane the single run's bits) and with the vector sin/cos
 # (--vector-trig); on one thread and on two.
 # Usage: bash bench/batch_sweep.sh BUILD_DIR
-set -euo pipefail
-build_dir=$(cd "${1:-$KANE_SIM_BUILD_DIR}" && pwd)
-config="$(dirname "$0")/../config/mechanism.yaml"
-simulate="$build_dir/devel/lib/kane_sim/simulate"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-now() { date +%s.%N; }
+# shellcheck source=common.sh
+source "$(dirname "$0")/common.sh"
 best_of_three() {  # prints the best wall time [s] of three runs of "$@"
   local best="" start end t
   for _ in 1 2 3; do

@@ -5,13 +5,8 @@
 #    (measured in the same run) times the step count;
 #  - a sweep of 1000 cases x 10 s at 1 kHz on every core, in one process.
 # Usage: bash bench/simulate_perf.sh BUILD_DIR
-set -euo pipefail
-build_dir=$(cd "${1:-$KANE_SIM_BUILD_DIR}" && pwd)
-config="$(dirname "$0")/../config/mechanism.yaml"
-simulate="$build_dir/devel/lib/kane_sim/simulate"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-now() { date +%s.%N; }
+# shellcheck source=common.sh
+source "$(dirname "$0")/common.sh"
 echo "| output | wall time (loop, from simulate) | physics steps/s | file |"
 echo "|---|---|---|---|"
 for spec in "csv 1" "bag 100"; do

@@ -55,7 +55,6 @@ struct Lanes<double> {
   static bool both(bool a, bool b) { return a && b; }
   static bool either(bool a, bool b) { return a || b; }
   static bool negate(bool a) { return !a; }
-  static bool all(bool m) { return m; }
   static bool any(bool m) { return m; }
   static double abs(double v) { return std::abs(v); }
   static double max(double a, double b) { return a < b ? b : a; }  // std::max's order
@@ -148,16 +147,13 @@ void runLaneBlockOf(const LaneBlock& block) {
       alignas(64) double q1[W], q2[W];
       L::store(x[0], q1);
       L::store(x[1], q2);
-      L::toBools(now_below, flags);
       for (std::size_t j = 0; j < W; ++j)
         flags[j] =
             sliderSeparationAtLeast(block.constants[index(j)].rod_half_length, q1[j], q2[j], 0.0);
       now_below = L::fromBools(flags);
     }
-    L::toBools(L::both(ok, L::either(L::both(now_below, L::negate(below)),
-                                     L::both(below, L::negate(now_below)))),
-               flags);
-    const Mask flipped = L::fromBools(flags);
+    const Mask flipped = L::both(
+        ok, L::either(L::both(now_below, L::negate(below)), L::both(below, L::negate(now_below))));
     crossings = L::select(flipped, crossings + B(1.0), crossings);
     below = L::either(L::both(ok, now_below), L::both(L::negate(ok), below));
     max_q1 = L::select(ok, L::max(max_q1, L::abs(x[0])), max_q1);

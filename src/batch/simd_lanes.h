@@ -20,7 +20,6 @@ struct Lanes<xsimd::batch<double, A>> {
   static Mask both(const Mask& a, const Mask& b) { return a && b; }
   static Mask either(const Mask& a, const Mask& b) { return a || b; }
   static Mask negate(const Mask& a) { return !a; }
-  static bool all(const Mask& m) { return xsimd::all(m); }
   static bool any(const Mask& m) { return xsimd::any(m); }
   static B abs(const B& v) { return xsimd::abs(v); }
   // std::max(a, b) is (a < b) ? b : a: the same choice, lane by lane.

@@ -470,10 +470,9 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
     result.names, result.method, result.bandwidth = names, method, prepared.bandwidth
     result.notes = list(motion.notes)
     result.base_values = {n: _core.identification_base_value(base._core, n) for n in names}
-    y, b, groups = _system(base, names, prepared, method)
+    y, b, groups, check = _system(base, names, prepared, method)
     theta, cov, kept, messages, cond, rms = _estimate(base, names, y, b, groups, prepared.states,
-                                                      _check(base, names, prepared, method),
-                                                      _rms(prepared.torque))
+                                                      check, _rms(prepared.torque))
     theta, cov = _rest_length(names, theta, cov)
     if refine is True or (refine == "auto" and prepared.bandwidth is not None):
         # Unphysical least squares (a flipped torque, wrong units) is refused here, by name,
@@ -514,19 +513,21 @@ def _usable(base, states):
     return keep
 
 
-def _system(base, names, prepared, method, rule="simpson"):
-    """The least-squares system y theta = b, and how many interleaved equations it holds (2:
-    Kane's two equations per sample, N m and N; 1: one energy balance per window, J, its
-    integrals by `rule`)."""
+def _system(base, names, prepared, method):
+    """The least-squares system y theta = b, how many interleaved equations it holds (2: Kane's
+    two equations per sample, N m and N; 1: one energy balance per window, J) and the check
+    (y, b): the same energy rows with the trapezoid rule for their integrals (None for Kane's
+    equations: they integrate nothing; see _estimate)."""
     if method == "equations":
         y, y0 = _core.identification_rows(base._core, names, prepared.states, prepared.u_dot,
                                           prepared.torque)
-        y, b, groups = y.reshape(-1, len(names)), -y0.reshape(-1), 2
+        y, b, groups, check = y.reshape(-1, len(names)), -y0.reshape(-1), 2, None
     else:
-        (y, b), groups = _energy_system(base, names, prepared, rule), 1
+        (y, b), check = _energy_system(base, names, prepared)
+        groups = 1
     if not np.all(np.isfinite(y)) or not np.all(np.isfinite(b)):
         raise ValueError("the regressor is not finite for this data: check its units and values")
-    return y, b, groups
+    return y, b, groups, check
 
 
 def _quadrature_weights(rule, intervals, step):
@@ -540,13 +541,13 @@ def _quadrature_weights(rule, intervals, step):
     return w * step / 3.0
 
 
-def _energy_system(base, names, prepared, rule="simpson"):
+def _energy_system(base, names, prepared):
     """Kane's equations dotted with u and integrated over windows [a, b] of ENERGY_WINDOW:
     sum_j theta_j (E_j(b) - E_j(a) - int P_j dt) = int P0 dt - (E0(b) - E0(a)) + W_motor. The
     motor's work takes the torque as held from each sample to the next (the node's and
     simulate's commands are): W = sum tau_k (q1_k+1 - q1_k); the dampers' power by Simpson's rule.
-    Windows overlap by half and end where samples are missing (contact). rule: "trapezoid" gives
-    the same rows with the trapezoid rule for the integrals (the estimates' check, _estimate)."""
+    Windows overlap by half and end where samples are missing (contact). Returns (y, b) by
+    Simpson's rule and (y, b) by the trapezoid rule, from one pass (the estimates' check)."""
     energy, power, e0, p0 = _core.identification_energy(
         base._core, names, prepared.states, np.zeros(len(prepared)))
     t, q1, torque = prepared.t, prepared.states[:, 0], prepared.torque
@@ -559,7 +560,9 @@ def _energy_system(base, names, prepared, rule="simpson"):
         motor = np.concatenate([[0.0], np.cumsum(torque[:-1] * np.diff(q1))])
     else:
         motor = None  # filtered: the torque is smooth; its power by Simpson's rule with the rest
-    rows, rhs = [], []
+    motor_power = torque * prepared.states[:, 2]
+    weights = [_quadrature_weights(rule, 2 * m, step) for rule in ("simpson", "trapezoid")]
+    rows, rhs = ([], []), ([], [])
     contiguous = np.diff(t) < 1.5 * step
     start = 0
     while start + 2 * m < len(t):
@@ -567,16 +570,16 @@ def _energy_system(base, names, prepared, rule="simpson"):
         if not np.all(contiguous[start:end]):
             start += int(np.argmin(contiguous[start:end])) + 1
             continue
-        w = _quadrature_weights(rule, 2 * m, step)
-        rows.append(energy[end] - energy[start] - w @ power[start:end + 1])
-        work = (motor[end] - motor[start] if motor is not None
-                else w @ (torque[start:end + 1] * prepared.states[start:end + 1, 2]))
-        rhs.append(w @ p0[start:end + 1] - (e0[end] - e0[start]) + work)
+        span = slice(start, end + 1)
+        for k, w in enumerate(weights):
+            rows[k].append(energy[end] - energy[start] - w @ power[span])
+            work = motor[end] - motor[start] if motor is not None else w @ motor_power[span]
+            rhs[k].append(w @ p0[span] - (e0[end] - e0[start]) + work)
         start += m  # windows overlap by half (the error estimate widens for their correlation)
-    if len(rows) < len(names) + 3:
+    if len(rows[0]) < len(names) + 3:
         raise ValueError("data: %d energy windows of %.3g s for %d parameters: record longer"
-                         % (len(rows), 2 * m * step, len(names)))
-    return np.array(rows), np.array(rhs)
+                         % (len(rows[0]), 2 * m * step, len(names)))
+    return tuple((np.array(rows[k]), np.array(rhs[k])) for k in range(2))
 
 
 def _estimate(base, names, y, b, groups, states, check=None, torque_rms=1.0):
@@ -684,11 +687,6 @@ def _solve(a, b, groups):
     return theta, cov, weights
 
 
-def _check(base, names, prepared, method):
-    """The energy rows again with the trapezoid rule (None for Kane's equations: no integrals)."""
-    return _system(base, names, prepared, method, "trapezoid")[:2] if method == "energy" else None
-
-
 def _rms(x):
     return float(np.sqrt(np.mean(np.square(x))))
 
@@ -737,12 +735,12 @@ def _holdout(base, names, prepared, method, fraction):
     train = prepared.select(slice(0, split))
     test = prepared.select(slice(split, None))
     try:
-        y, b, groups = _system(base, names, train, method)
-        theta = _estimate(base, names, y, b, groups, train.states,
-                          _check(base, names, train, method), _rms(train.torque))[0]  # preload as k s0
+        y, b, groups, check = _system(base, names, train, method)
+        theta = _estimate(base, names, y, b, groups, train.states, check,
+                          _rms(train.torque))[0]  # preload as k s0
     except ValueError:
         return None
-    y, b, _ = _system(base, names, test, "equations")
+    y, b, _, _ = _system(base, names, test, "equations")
     # Row 0 of each sample: Y_1 theta + y0_1 = 0 with y0_1 holding the measured torque, so
     # Y_1 theta - b_1 is the measured torque minus the one the fit predicts.
     error = (y @ theta - b)[0::2]
