@@ -94,10 +94,17 @@ def _columns_from_mapping(data, source):
 
 def _read_csv(path):
     import csv
-    with open(path, newline="") as f:
-        header = next(csv.reader(f), None)
+    try:
+        with open(path, newline="") as f:
+            header = next(csv.reader(f), None)
+            has_rows = next(f, None) is not None
+    except UnicodeDecodeError:
+        raise ValueError("data: %s is neither a bag (.bag) nor a text CSV (it is binary)"
+                         % path) from None
     if not header:
         raise ValueError("data: %s has no header line (simulate --csv writes one)" % path)
+    if not has_rows:
+        raise ValueError("data: %s has a header and no rows" % path)
     try:
         values = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
     except ValueError as e:
@@ -125,6 +132,9 @@ def _read_bag(path, topic=None):
             if not named:
                 raise ValueError("data: %s has no joint_states topic (sensor_msgs/JointState topics: "
                                  "%s)" % (path, ", ".join(states) or "none"))
+            if len(named) > 1:
+                raise ValueError("data: %s has %d joint_states topics (%s): name one with topic= "
+                                 "(identify --topic)" % (path, len(named), ", ".join(named)))
             topic = named[0]
         elif topic not in types:
             raise ValueError("data: %s has no topic %s (JointState topics: %s)"
@@ -172,6 +182,9 @@ def load_motion(data, topic=None):
         _check_file(path)
         if path.endswith(".bag"):
             raw, source = _read_bag(path, topic)
+        elif topic is not None:
+            raise ValueError("data: topic %s is for a bag; %s is read as a CSV (a bag's name ends "
+                             "in .bag)" % (topic, path))
         else:
             raw, source = _read_csv(path), path
     elif isinstance(data, Mapping):
@@ -289,14 +302,16 @@ def estimate_rates(motion, bandwidth="auto"):
         if not (isinstance(bandwidth, (int, float)) and math.isfinite(bandwidth) and bandwidth > 0):
             raise ValueError("bandwidth must be a positive number of Hz, got %r" % (bandwidth,))
         if bandwidth >= motion.rate / 2:
-            raise ValueError("bandwidth %.4g Hz is not below the data's Nyquist frequency %.4g Hz"
-                             % (bandwidth, motion.rate / 2))
+            raise ValueError("bandwidth %.4g Hz is not below the data's Nyquist frequency %.4g Hz "
+                             "(its stamps are %.4g s apart: time in seconds?)"
+                             % (bandwidth, motion.rate / 2, 1.0 / motion.rate))
         window = _window(motion.rate, bandwidth)
         if len(motion) < 3 * window:
-            raise ValueError("data (%s): %d samples at %.4g Hz are too short for the %.3g Hz "
-                             "derivative filter (a %d-sample window): record at least %d samples"
-                             % (motion.source, len(motion), motion.rate, bandwidth, window,
-                                3 * window))
+            lowest = 4 * motion.rate / max(3.2 * len(motion) / 3 - 4.6, 1e-300)
+            raise ValueError("data (%s): %d samples at %.4g Hz: the %.3g Hz derivative filter's "
+                             "window is longer than a third of them; give a bandwidth of at "
+                             "least %.3g Hz, or record longer"
+                             % (motion.source, len(motion), motion.rate, bandwidth, lowest))
         q, u, u_dot = (_savgol(motion.q, window, 3, d, dt) for d in (0, 1, 2))
         torque = _savgol(motion.torque, window, 3, 0, dt)
         keep = slice(window // 2, len(motion) - window // 2)
@@ -325,9 +340,12 @@ def _effective_samples_factor(residual):
 class Identification:
     """What identify() found: `estimates` and `std_errors` by parameter name, the scaled
     regressor's `condition_number`, `unidentifiable` (messages naming what the motion could not
-    tell apart; those parameters keep the base's values), `config` (the base with the estimates
-    written in), `residual_rms` (N m, N), `samples`, `holdout` (cross-validation on the last part
-    of the data: the fit of the rest predicting its torque), `notes`."""
+    tell apart; those parameters keep the base's values), `entangled` (estimates that move by more
+    than 1 % when a kept value is off by its own size: named in `unidentifiable`), `config` (the
+    base with the estimates written in; the torque offset is not a config value), `residual_rms`
+    (N m, N), `samples`, `holdout` (cross-validation on the last part of the data: the fit of the
+    rest predicting its torque; or why it was skipped), `notes`, `warnings` (the base config's
+    unknown keys; what of it the recording contradicts)."""
 
     def __init__(self):
         self.names = []
@@ -336,6 +354,7 @@ class Identification:
         self.base_values = {}
         self.kept = []
         self.unidentifiable = []
+        self.entangled = []
         self.condition_number = float("nan")
         self.residual_rms = (float("nan"), float("nan"))
         self.samples = 0
@@ -348,6 +367,7 @@ class Identification:
         self.clipped = []
         self.refined = None
         self.validation = None
+        self.warnings = []
 
     def report(self):
         how = ("the work-energy form, %d windows" % self.rows if self.method == "energy"
@@ -367,10 +387,16 @@ class Identification:
             value, err = self.estimates[name], self.std_errors[name]
             rel = " (%.2g %%)" % (100 * err / abs(value)) if value != 0 else ""
             bound = ", written as 0" if name in self.clipped else ""
+            if name == "torque_offset":
+                bound += ", not written (no config key: add it to the torque you command)"
+            if name in self.entangled:
+                bound += ", moves with a kept value (below)"
             lines.append("  %-28s %12.6g %-9s +- %.3g%s   base %.6g%s"
                          % (name, value, unit, err, rel, self.base_values[name], bound))
         for message in self.unidentifiable:
             lines.append("  not identifiable: " + message)
+        for warning in self.warnings:
+            lines.append("note: " + warning)
         if self.refined:
             lines.append("refined by output error (%d evaluations): positions fitted to %.3g rad, "
                          "%.3g m RMS (their noise %.3g rad, %.3g m)"
@@ -385,7 +411,10 @@ class Identification:
         else:
             lines.append("residual RMS: %.4g N m (crank equation), %.4g N (slider equation)"
                          % self.residual_rms)
-        if self.holdout:
+        if self.holdout and "skipped" in self.holdout:
+            lines.append("held-out last %.2g %%: skipped (%s)" % (100 * self.holdout["fraction"],
+                                                                self.holdout["skipped"]))
+        elif self.holdout:
             lines.append("held-out last %.0f %% (fit on the rest): torque predicted to %.4g N m RMS "
                          "(recorded torque RMS %.4g N m)" % (100 * self.holdout["fraction"],
                                                               self.holdout["torque_rms_error"],
@@ -471,8 +500,8 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
     result.notes = list(motion.notes)
     result.base_values = {n: _core.identification_base_value(base._core, n) for n in names}
     y, b, groups, check = _system(base, names, prepared, method)
-    theta, cov, kept, messages, cond, rms = _estimate(base, names, y, b, groups, prepared.states,
-                                                      check, _rms(prepared.torque))
+    theta, cov, kept, messages, cond, rms, entangled = _estimate(
+        base, names, y, b, groups, prepared.states, check, _rms(prepared.torque))
     theta, cov = _rest_length(names, theta, cov)
     if refine is True or (refine == "auto" and prepared.bandwidth is not None):
         # Unphysical least squares (a flipped torque, wrong units) is refused here, by name,
@@ -483,9 +512,10 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
             theta, cov, result.refined = _refine(base, names, theta, kept, motion,
                                                  estimate_rates(motion, bandwidth))
             result.refined["least_squares"] = ls_theta
+    result.warnings = base.warnings + _config_warnings(base, motion)
     result.samples, result.rows = len(prepared), len(b)
     result.condition_number, result.residual_rms = cond, rms
-    result.kept, result.unidentifiable = kept, messages
+    result.kept, result.unidentifiable, result.entangled = kept, messages, entangled
     for i, n in enumerate(names):
         result.estimates[n] = float(theta[i])
         result.std_errors[n] = float(math.sqrt(max(cov[i, i], 0.0)))
@@ -584,7 +614,8 @@ def _energy_system(base, names, prepared):
 
 def _estimate(base, names, y, b, groups, states, check=None, torque_rms=1.0):
     """theta (base values where kept), covariance, kept names, messages, condition, residual RMS
-    (per equation group). check: (y, b) of the same rows integrated by another rule, or None."""
+    (per equation group), the estimates a kept value moves (_entangled). check: (y, b) of the
+    same rows integrated by another rule, or None."""
     base_theta = np.array([_base_theta(base, n) for n in names])
     free = list(range(len(names)))
     kept, messages = [], []
@@ -593,6 +624,7 @@ def _estimate(base, names, y, b, groups, states, check=None, torque_rms=1.0):
     theta = base_theta.copy()
     cov = np.zeros((len(names), len(names)))
     nan = tuple(float("nan") for _ in range(groups))
+    last_estimate = {}  # of each parameter kept by the quadrature check, when it was kept
     while free:
         fixed = [j for j in range(len(names)) if j not in free]
         b_free = b - y[:, fixed] @ base_theta[fixed]
@@ -616,6 +648,7 @@ def _estimate(base, names, y, b, groups, states, check=None, torque_rms=1.0):
         if ratio[worst] <= QUADRATURE_TOLERANCE:
             break
         j = free[worst]
+        last_estimate[j] = theta_free[worst]
         messages.append("%s: its effect on this motion is within the data's integration error "
                         "(Simpson's rule gives %.3g, the trapezoid rule %.3g)%s: kept at the "
                         "base's value" % (names[j], theta_free[worst], other[worst], reasons))
@@ -623,7 +656,7 @@ def _estimate(base, names, y, b, groups, states, check=None, torque_rms=1.0):
         free.remove(j)
         _keep_rank_deficient(names, y, free, kept, messages, reasons)
     if not free:
-        return theta, cov, kept, messages, float("inf"), nan
+        return theta, cov, kept, messages, float("inf"), nan, []
     wres = (b_free - a @ theta_free) * weights
     # Filtered data's errors are correlated over the filter's window: widen the errors by the
     # residual's integrated autocorrelation (per equation, the larger).
@@ -636,7 +669,34 @@ def _estimate(base, names, y, b, groups, states, check=None, torque_rms=1.0):
     rms = tuple(float(np.sqrt(np.mean(residual[r::groups] ** 2))) for r in range(groups))
     aw = a * weights[:, None]
     s = np.linalg.svd(aw / np.linalg.norm(aw, axis=0), compute_uv=False)
-    return theta, cov, kept, messages, float(s[0] / s[-1]), rms
+    entangled = _entangled(names, y, free, theta, base_theta, last_estimate, messages)
+    return theta, cov, kept, messages, float(s[0] / s[-1]), rms, entangled
+
+
+def _entangled(names, y, free, theta, base_theta, last_estimate, messages):
+    """The free estimates that a kept parameter's error would move by more than 1 %: each kept
+    column regressed on the free ones gives d theta_free / d theta_kept (the least squares puts
+    the kept parameter's unexplained effect there). Its error is taken as its own size (the base's
+    value, or its estimate when the quadrature check kept it). Names each in `messages`."""
+    entangled = []
+    a = y[:, free]
+    for j in (j for j in range(len(names)) if j not in free):
+        size = max(abs(base_theta[j]), abs(last_estimate.get(j, 0.0)))
+        if size == 0.0:
+            continue
+        slope = np.linalg.lstsq(a, y[:, j], rcond=None)[0]
+        moved = [(free[i], -slope[i] * size) for i in range(len(free))
+                 if abs(slope[i] * size) > 0.01 * max(abs(theta[free[i]]),
+                                                     abs(base_theta[free[i]]), 1e-300)]
+        if not moved:
+            continue
+        entangled += [names[i] for i, _ in moved if names[i] not in entangled]
+        messages.append("%s (kept at %.4g): were it %.4g higher, %s" % (
+            names[j], base_theta[j], size,
+            ", ".join("%s would read %.4g (%+.0f %%)" % (names[i], theta[i] - shift,
+                                                        100 * -shift / abs(theta[i]) if theta[i] else 0)
+                      for i, shift in moved)))
+    return [n for n in names if n in entangled]
 
 
 def _keep_rank_deficient(names, y, free, kept, messages, reasons):
@@ -714,6 +774,22 @@ def _rest_length(names, theta, cov):
     return theta, jacobian @ cov @ jacobian.T
 
 
+def _config_warnings(base, motion):
+    """What of the base config the written one keeps that the recording contradicts: the
+    validation drives the recorded torque in effort mode, without a limit."""
+    out = []
+    peak = float(np.max(np.abs(motion.torque)))
+    if peak > base["command.torque_limit"]:
+        out.append("the recorded torque reaches %.4g N m, beyond the config's command.torque_limit "
+                   "%.4g N m (kept in the written config: raise it to play the recording)"
+                   % (peak, base["command.torque_limit"]))
+    if base["command.mode"] != "effort":
+        out.append("the config's command.mode is %s (kept in the written config); the fit and its "
+                   "validation take the recorded effort as the torque delivered"
+                   % base["command.mode"])
+    return out
+
+
 def _motion_reasons(base, states):
     parts = []
     span = np.ptp(states[:, 0])
@@ -731,15 +807,16 @@ def _holdout(base, names, prepared, method, fraction):
     equations predict with that fit against the recorded one."""
     split = int(len(prepared) * (1 - fraction))
     if split < MIN_SAMPLES or len(prepared) - split < MIN_SAMPLES:
-        return None
+        return {"fraction": fraction, "skipped": "it holds %d samples and the rest %d (at least %d "
+                "each)" % (len(prepared) - split, split, MIN_SAMPLES)}
     train = prepared.select(slice(0, split))
     test = prepared.select(slice(split, None))
     try:
         y, b, groups, check = _system(base, names, train, method)
         theta = _estimate(base, names, y, b, groups, train.states, check,
                           _rms(train.torque))[0]  # preload as k s0
-    except ValueError:
-        return None
+    except ValueError as e:
+        return {"fraction": fraction, "skipped": "the rest alone: %s" % e}
     y, b, _, _ = _system(base, names, test, "equations")
     # Row 0 of each sample: Y_1 theta + y0_1 = 0 with y0_1 holding the measured torque, so
     # Y_1 theta - b_1 is the measured torque minus the one the fit predicts.
@@ -928,6 +1005,11 @@ def validation(motion, base, fitted, torque_offset=0.0, bandwidth="auto"):
     return out
 
 
+# [s] --excite designs on at most this much of the profile (the bias sine's period is 20 s from
+# 60 s on: six of them), then checks the whole once: 3600 s cost as much as 120 s plus one run.
+EXCITATION_DESIGN_HORIZON = 120.0
+
+
 def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=4):
     """A torque profile (t, torque) that identifies every default parameter well: a slow bias
     sine (3 periods over the run, at least 0.05 Hz) that swings the crank's mean angle, so that
@@ -935,39 +1017,87 @@ def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=4):
     `candidates` phase draws and the bias amplitudes 0, 2, 4, 8, 16 % of command.torque_limit,
     the best by the regressor's condition number on the base config, each with the largest
     multisine amplitude (a bisection) that keeps the base mechanism's sliders apart (x_C - x_B
-    above contact.gap + 2 cm); |torque| within command.torque_limit. Returns (t, torque, the
+    above contact.gap + 2 cm) over the first EXCITATION_DESIGN_HORIZON seconds; the whole profile
+    is then checked (its amplitude halved until it passes); |torque| within command.torque_limit.
+    Refused when the torque the limit allows cannot swing the crank. Returns (t, torque, the
     condition number)."""
     base = Config(config)
     if not (isinstance(duration, (int, float)) and math.isfinite(duration) and 2 <= duration <= 3600):
         raise ValueError("excite: duration must be in [2, 3600] s, got %r" % (duration,))
+    limit = min(base["command.torque_limit"], 40.0)
+    if not limit > 0:
+        raise ValueError("excite: command.torque_limit is %g N m: the profile stays within it; "
+                         "set it to what the rig's drive delivers" % base["command.torque_limit"])
     rng = np.random.default_rng(seed)
     t = np.arange(0.0, duration, 1.0 / rate)
+    design = t < EXCITATION_DESIGN_HORIZON
     freqs = np.linspace(0.2, 4.0, 12)
-    limit = min(base["command.torque_limit"], 40.0)
     slow = np.sin(2 * np.pi * max(3.0 / duration, 0.05) * t)
     names = [p["name"] for p in _core.identifiable_parameters() if p["by_default"]]
     best = None
     for _ in range(candidates):
         phases = rng.uniform(0, 2 * np.pi, len(freqs))
-        shape = np.sum(np.sin(2 * np.pi * freqs[:, None] * t + phases[:, None]), axis=0)
+        shape = np.zeros(len(t))  # a frequency at a time: 12 x 3.6e6 samples would be 350 MB
+        for frequency, phase in zip(freqs, phases):
+            shape += np.sin(2 * np.pi * frequency * t + phase)
         shape /= np.max(np.abs(shape))
         for bias in (0.0, 0.02, 0.04, 0.08, 0.16):
-            found = _largest_feasible(base, names, t, bias * limit * slow, shape,
-                                      limit * (1 - bias))
+            found = _largest_feasible(base, names, t[design], bias * limit * slow[design],
+                                      shape[design], limit * (1 - bias))
             if found and (best is None or found[0] < best[0]):
-                best = found
+                best = (found[0], found[2], bias * limit * slow, shape)
     if best is None:
         raise ValueError("excite: no multisine keeps the sliders apart on this config")
-    return t, best[1], best[0]
+    score, amplitude, bias, shape = best
+    torque = bias + amplitude * shape
+    for _ in range(8):
+        run = _excitation_run(base, t, torque)
+        if run is not None:
+            break
+        amplitude *= 0.5
+        torque = bias + amplitude * shape
+    else:
+        undamped = all(base[k] == 0 for k in Config.names() if k.startswith("damping."))
+        raise ValueError("excite: no multisine keeps the sliders apart over %g s on this config%s"
+                         % (duration, " (it has no damping: under any long excitation its energy "
+                            "drifts; give the dampers' rough values, or excite in shorter runs)"
+                            if undamped else ""))
+    span = np.ptp(run.q[:, 0])
+    if span < 0.05:
+        raise ValueError("excite: within command.torque_limit %g N m the profile swings the crank "
+                         "by %.3g rad only (the parameters need a visible motion): raise the "
+                         "limit to what the rig's drive delivers" % (base["command.torque_limit"],
+                                                                    span))
+    share = _torque_share(base, names, run)
+    if share < 0.01:
+        raise ValueError("excite: within command.torque_limit %g N m the torque is %.2g %% of the "
+                         "torques the mechanism's own motion puts on the crank: the parameters' "
+                         "scale would rest on it; raise the limit to what the rig's drive "
+                         "delivers" % (base["command.torque_limit"], 100 * share))
+    if not np.all(design):
+        score = _excitation_score(base, names, t, torque, run)
+    return t, torque, score
+
+
+def _torque_share(base, names, run):
+    """RMS of the driving torque over the largest RMS of one parameter's term of the crank's
+    equation (the base's values): near 0, the motion is the mechanism's own and fixes the
+    parameters only up to a common scale."""
+    states = np.ascontiguousarray(np.column_stack([run.q, run.u]))
+    y, _ = _core.identification_rows(base._core, names, states, np.ascontiguousarray(run.u_dot),
+                                     run.torque)
+    theta = np.array([_base_theta(base, n) for n in names])
+    terms = y.reshape(-1, len(names))[0::2] * theta
+    return _rms(run.torque) / max(np.max(np.sqrt(np.mean(terms ** 2, axis=0))), 1e-300)
 
 
 def _largest_feasible(base, names, t, bias, shape, most):
-    """(score, torque) of bias + a shape, its amplitude the largest up to `most` that keeps the
-    sliders apart (to ~10 %: a bisection in log amplitude), or None."""
+    """(score, torque, amplitude) of bias + amplitude shape, the amplitude the largest up to
+    `most` that keeps the sliders apart (to ~10 %: a bisection in log amplitude), or None."""
     def attempt(amplitude):
         torque = bias + amplitude * shape
         score = _excitation_score(base, names, t, torque)
-        return None if score is None else (score, torque)
+        return None if score is None else (score, torque, amplitude)
     found = attempt(most)
     if found:
         return found
@@ -982,9 +1112,9 @@ def _largest_feasible(base, names, t, bias, shape, most):
     return found
 
 
-def _excitation_score(base, names, t, torque):
-    """The scaled regressor's condition number of the base mechanism driven by `torque`, or None
-    when the sliders come within 2 cm of contact or a step is refused."""
+def _excitation_run(base, t, torque):
+    """The base mechanism driven by `torque` (100 Hz output), or None when the sliders come
+    within 2 cm of contact or a step is refused."""
     cfg = base.with_values({"sensors.enabled": False, "command.mode": "effort",
                             "command.torque_limit": float(np.max(np.abs(torque))) + 1.0})
     sim = Simulator(cfg)
@@ -995,6 +1125,15 @@ def _excitation_score(base, names, t, torque):
     except (RuntimeError, ValueError):
         return None
     if np.min(_separation(base, run.q[:, 0], run.q[:, 1])) < base["contact.gap"] + 0.02:
+        return None
+    return run
+
+
+def _excitation_score(base, names, t, torque, run=None):
+    """The scaled regressor's condition number of the base mechanism driven by `torque` (`run`
+    when already simulated), or None when _excitation_run refuses it."""
+    run = run if run is not None else _excitation_run(base, t, torque)
+    if run is None:
         return None
     states = np.ascontiguousarray(np.column_stack([run.q, run.u]))
     y, _ = _core.identification_rows(base._core, names, states, np.ascontiguousarray(run.u_dot),
