@@ -24,8 +24,10 @@ struct LaneBlock {
   const LaneState* start;
   bool damped;
   double step;
-  const double* command;
+  const double* command;       // one for all lanes per step, or
+  const double* lane_command;  // one per lane for every step (when not null)
   long steps;
+  bool stop_at_crossing;
   long steps_per_sample;
   const std::atomic<bool>* stop;
   void (*on_sample)(void*, std::size_t, const LaneState&);
@@ -104,6 +106,8 @@ void runLaneBlockOf(const LaneBlock& block) {
         [&](std::size_t i) { return reinterpret_cast<const double*>(&block.constants[i])[f]; });
   const B limit = gather([&](std::size_t i) { return block.torque_limit[i]; });
   const B lower = -limit;
+  const B held =
+      gather([&](std::size_t i) { return block.lane_command ? block.lane_command[i] : 0.0; });
   const B reach = gather([&](std::size_t i) {  // |x_B| <= 4L
     return slider3Position(block.constants[i].rod_half_length, 1.0);
   });
@@ -116,18 +120,17 @@ void runLaneBlockOf(const LaneBlock& block) {
   Mask below = L::fromBools(flags);
   for (std::size_t j = 0; j < W; ++j) flags[j] = true;
   Mask running = L::fromBools(flags);
-  B crossings(0.0), max_q1(0.0), max_q2(0.0);
+  B crossings(0.0), max_q1(0.0), max_q2(0.0), ran(0.0);  // ran: each lane's steps taken
   const B h(block.step);
   boost::numeric::odeint::runge_kutta4<std::array<B, 6>> rk4;
   long until_sample = block.steps_per_sample;
-  long done = 0;
   bool stopped = false;
   for (long i = 0; i < block.steps; ++i) {
     if ((i & 255) == 0 && block.stop && block.stop->load(std::memory_order_relaxed)) {
       stopped = true;
       break;
     }
-    const B command(block.command[i]);
+    const B command = block.lane_command ? held : B(block.command[i]);
     // std::clamp(command, -limit, limit), the same comparisons.
     const B torque = L::select(command < lower, lower, L::select(limit < command, limit, command));
     const LaneEquations<B, SinCos> equations{&constants, torque, block.damped};
@@ -154,11 +157,12 @@ void runLaneBlockOf(const LaneBlock& block) {
     }
     const Mask flipped = L::both(
         ok, L::either(L::both(now_below, L::negate(below)), L::both(below, L::negate(now_below))));
+    ran = L::select(ok, ran + B(1.0), ran);
     crossings = L::select(flipped, crossings + B(1.0), crossings);
+    if (block.stop_at_crossing) running = L::both(running, L::negate(flipped));
     below = L::either(L::both(ok, now_below), L::both(L::negate(ok), below));
     max_q1 = L::select(ok, L::max(max_q1, L::abs(x[0])), max_q1);
     max_q2 = L::select(ok, L::max(max_q2, L::abs(x[1])), max_q2);
-    done = i + 1;
     if (!L::any(running)) break;
     if (--until_sample == 0 || i == block.steps - 1) {
       until_sample = block.steps_per_sample;
@@ -175,20 +179,22 @@ void runLaneBlockOf(const LaneBlock& block) {
       }
     }
   }
-  alignas(64) double values[6][W], counts[W], m1[W], m2[W];
+  alignas(64) double values[6][W], counts[W], m1[W], m2[W], taken[W];
   for (int k = 0; k < 6; ++k) L::store(x[k], values[k]);
   L::store(crossings, counts);
+  L::store(ran, taken);
   L::store(max_q1, m1);
   L::store(max_q2, m2);
   L::toBools(running, flags);
   for (std::size_t j = 0; j < block.count; ++j) {
     LaneOutcome& o = block.out[j];
     for (int k = 0; k < 6; ++k) o.state[k] = values[k][j];
-    o.steps = done;
+    o.steps = static_cast<long>(taken[j]);
     o.max_abs_q1 = m1[j];
     o.max_abs_q2 = m2[j];
     o.slider_crossings = static_cast<std::uint64_t>(counts[j]);
-    o.refused = !flags[j];
+    // Stopped at a crossing (stop_at_crossing) is not refused: the crossing step ran.
+    o.refused = !flags[j] && !(block.stop_at_crossing && counts[j] > 0.0);
     o.stopped = stopped;
   }
 }

@@ -67,6 +67,9 @@ std::vector<LaneOutcome> runLanes(const LaneRun& run, LaneArch arch) {
   const size_t n = run.constants.size();
   if (run.torque_limit.size() != n || run.start.size() != n)
     throw std::invalid_argument("runLanes: constants, torque_limit and start differ in length");
+  const bool per_lane = !run.lane_command.empty();
+  if (per_lane && run.lane_command.size() != n)
+    throw std::invalid_argument("runLanes: lane_command must hold one torque per lane");
   std::vector<LaneOutcome> out(n);
   const ArchEntry& e = entry(arch);
   for (size_t first = 0; first < n; first += e.width) {
@@ -76,7 +79,9 @@ std::vector<LaneOutcome> runLanes(const LaneRun& run, LaneArch arch) {
                     run.damped,
                     run.step,
                     run.command.data(),
-                    static_cast<long>(run.command.size()),
+                    per_lane ? run.lane_command.data() : nullptr,
+                    per_lane ? run.held_steps : static_cast<long>(run.command.size()),
+                    run.stop_at_crossing,
                     run.steps_per_sample,
                     run.stop,
                     run.on_sample,

@@ -13,12 +13,16 @@ imported on first use, so `import kane_sim.msg` in a ROS node loads neither NumP
 _CORE = ("Config", "ConfigError", "Result", "Simulator", "StepRefused", "TorqueProfile",
          "analyze", "load_config", "sweep")
 _PLOTS = ("animate", "plot_result")
+_BATCH = ("BatchSimulator", "VectorEnv")
 
 
 def __getattr__(name):
     if name in _CORE:
         from kane_sim import core
         return getattr(core, name)
+    if name in ("BatchSimulator", "VectorEnv"):
+        from kane_sim import batch
+        return getattr(batch, name)
     if name == "animate":
         from kane_sim.animation import animate
         return animate
@@ -32,4 +36,4 @@ def __getattr__(name):
 
 
 def __dir__():
-    return sorted(list(globals()) + list(_CORE) + list(_PLOTS))
+    return sorted(list(globals()) + list(_CORE) + list(_PLOTS) + list(_BATCH))

@@ -11,4 +11,5 @@ PYBIND11_MODULE(_core, m) {
   kane_sim::python::bindSimulator(m);
   kane_sim::python::bindAnalysis(m);
   kane_sim::python::bindIdentify(m);
+  kane_sim::python::bindBatch(m);
 }

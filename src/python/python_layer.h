@@ -50,6 +50,7 @@ void bindConfig(py::module_& m);
 void bindSimulator(py::module_& m);
 void bindAnalysis(py::module_& m);
 void bindIdentify(py::module_& m);
+void bindBatch(py::module_& m);
 
 }  // namespace python
 }  // namespace kane_sim

@@ -13,13 +13,21 @@
 
 namespace kane_sim {
 
+std::string whyNotOnLanes(const Config& config) {
+  if (config.simulation.integrator != IntegratorType::kRk4) return "simulation.integrator dopri5";
+  if (config.simulation.equations != EquationsSource::kGenerated)
+    return "simulation.equations generic";
+  if (config.command.mode != CommandMode::kEffort)
+    return std::string("command.mode ") + commandModeName(config.command.mode);
+  if (config.mechanism.contact.enabled) return "contact.enabled";
+  if (config.mechanism.motor.no_load_speed > 0.0) return "a motor line (motor.no_load_speed)";
+  if (config.sensors.command_latency != 0.0) return "sensors.command_latency";
+  return "";
+}
+
 bool laneEligible(const Config& config, const SweepSettings& settings) {
   const long steps = std::lround(settings.duration * config.simulation.physics_rate);
-  return config.simulation.integrator == IntegratorType::kRk4 &&
-         config.simulation.equations == EquationsSource::kGenerated &&
-         config.command.mode == CommandMode::kEffort && !config.mechanism.contact.enabled &&
-         !(config.mechanism.motor.no_load_speed > 0.0) && config.sensors.command_latency == 0.0 &&
-         steps <= kMaxLaneSteps;
+  return whyNotOnLanes(config).empty() && steps <= kMaxLaneSteps;
 }
 
 namespace {

@@ -3,6 +3,7 @@
 #ifndef KANE_SIM_SRC_SIM_LANE_SWEEP_H
 #define KANE_SIM_SRC_SIM_LANE_SWEEP_H
 
+#include <string>
 #include <vector>
 
 #include "kane_sim/batch/lanes.h"
@@ -15,6 +16,8 @@ namespace kane_sim {
 // no sensors.command_latency), and a run short enough for the command stream held in memory
 // (kMaxLaneSteps). Everything else runs one case at a time, as before.
 bool laneEligible(const Config& config, const SweepSettings& settings);
+// What of `config` keeps it off lanes (the conditions above but the run's length), or "".
+std::string whyNotOnLanes(const Config& config);
 
 // Each lane's command array costs 8 bytes a step per group of lanes: at most 32 MB.
 constexpr long kMaxLaneSteps = 1L << 22;

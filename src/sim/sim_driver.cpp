@@ -50,6 +50,17 @@ void SimDriver::updateServo(double dt) {
 
 TorqueCommand::Verdict SimDriver::setpoint(double value) {
   record(DriverInput::Kind::kSetpoint, value);
+  const std::string problem = setpointProblem(value);
+  if (!problem.empty()) {
+    report(SimEvent::Kind::kCommandRejected, problem + "; the last setpoint is kept");
+    return TorqueCommand::Verdict::kRejected;
+  }
+  setpoint_ = value;
+  updateServo(0.0);
+  return TorqueCommand::Verdict::kAccepted;
+}
+
+std::string SimDriver::setpointProblem(double value) const {
   const char* unit = config_.command.mode == CommandMode::kPosition ? "rad" : "rad/s";
   std::string problem;
   if (!servoMode())
@@ -67,13 +78,7 @@ TorqueCommand::Verdict SimDriver::setpoint(double value) {
         "step (at most %g rad/s at %g Hz)",
         value, kMaxServoTurnPerStep, kMaxServoTurnPerStep / sim_.stepSize(),
         config_.simulation.physics_rate);
-  if (!problem.empty()) {
-    report(SimEvent::Kind::kCommandRejected, problem + "; the last setpoint is kept");
-    return TorqueCommand::Verdict::kRejected;
-  }
-  setpoint_ = value;
-  updateServo(0.0);
-  return TorqueCommand::Verdict::kAccepted;
+  return problem;
 }
 void SimDriver::applyCommand() {
   if (servoMode()) {

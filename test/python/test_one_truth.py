@@ -1,5 +1,6 @@
 """One case, one answer, through every offline door: `simulate` (a single run's last CSV row),
-`simulate --sweep` (the case's row), Python's Simulator.run and Python's sweep row, over every
+`simulate --sweep` (the case's row), Python's Simulator.run, Python's sweep row and each
+mechanism of a BatchSimulator (lanes and drivers) driven step by step, over every
 command mode (effort, velocity, position), with and without a profile, sensors on and off,
 the physics options off and on (contact, and the five dampers: the joints' and the spring's). All four run the one driver, so they agree bit for bit; a door that
 applies a different command stream (a servo driven to setpoint 0 because no profile was given,
@@ -40,6 +41,20 @@ def final_row(csv_path):
     return np.atleast_1d(rows)[-1]
 
 
+def batch_run(cfg, torque, n=3):
+    """n copies of the case in a BatchSimulator (SIMD lanes where the case allows, and the
+    drivers), the profile's value at each mechanism's time sent before every physics step, as
+    a single run's profile is: {path: (times, states)}."""
+    out = {}
+    for simd in ("auto", "off"):
+        batch = kane_sim.BatchSimulator(n, cfg, simd=simd)
+        for _ in range(int(round(DURATION * 1000))):
+            batch.step(np.array([torque.at(t) for t in batch.times]))
+        assert not batch.terminated.any(), batch.reasons
+        out[batch.path] = (batch.times, batch.states)
+    return out
+
+
 @pytest.mark.parametrize("mode,profile,sensors,contact",
                          list(itertools.product(MODES, (False, True), (False, True),
                                                 (False, True))))
@@ -60,12 +75,19 @@ def test_every_offline_door_gives_the_same_final_state(tmp_path, mode, profile, 
     py_sweep = kane_sim.sweep(cfg, cases={"mechanism.gravity": [9.81]}, duration=DURATION,
                               torque=torque)
 
+    batch = batch_run(cfg, torque) if profile else None
+
     expected = final_row(single)
     sweep_row = final_row(swept)
     assert sweep_row["status"] == "ok" and py_sweep["status"][0] == "ok"
-    for name in ("t", "q1", "q2", "u1", "u2"):
+    for k, name in enumerate(("t", "q1", "q2", "u1", "u2")):
         doors = {"simulate --sweep": sweep_row[name], "Simulator.run": run[name][-1],
                  "sweep()": py_sweep[name][0]}
+        if batch is not None:  # every mechanism of the batch, on lanes where it can
+            for path, (times, states) in batch.items():
+                for i in range(len(times)):
+                    doors["BatchSimulator %s #%d" % (path, i)] = \
+                        times[i] if name == "t" else states[i, k - 1]
         for door, value in doors.items():
             assert value == expected[name], "%s: %s %r, simulate %r" % (
                 name, door, value, expected[name])

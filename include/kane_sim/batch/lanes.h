@@ -48,6 +48,13 @@ struct LaneRun {
   // The command in force during step i (i = 0 .. size-1), before each lane's clamp to its limit:
   // a profile's value at t = i h, as ProfileCommands sends it to a single run.
   std::vector<double> command;
+  // Instead of `command` (when not empty): per lane one torque, held for `held_steps` steps (a
+  // batched simulator's step(torques): each lane's set_torque, then step(held_steps)).
+  std::vector<double> lane_command;
+  long held_steps = 0;
+  // A lane stops after the step in which its sliders cross (the crossing counted, that state
+  // kept), as a refused step stops it: a batched simulator's termination.
+  bool stop_at_crossing = false;
   // SIMD lanes: xsimd's vector sin and cos instead of libm's per lane. Faster; no longer the
   // single run's bits (rounding differences, grown by sensitive motion: doc/guide/batches.md).
   bool vector_trig = false;
@@ -62,14 +69,15 @@ struct LaneRun {
 
 struct LaneOutcome {
   LaneState state{};                          // after the last step run (before a refused one)
-  long steps = 0;                             // steps run
+  long steps = 0;                             // steps this lane ran (not the refused one)
   double max_abs_q1 = 0.0, max_abs_q2 = 0.0;  // over the states after each step
   std::uint64_t slider_crossings = 0;
   bool refused = false;  // the Simulator would refuse a step (non-finite, runaway, > 1 rad)
   bool stopped = false;  // `stop` was set before the last step
 };
 
-// Runs every lane of `run` for run.command.size() steps on `arch` (laneArchAvailable).
+// Runs every lane of `run` for run.command.size() steps (run.held_steps with lane_command) on
+// `arch` (laneArchAvailable).
 std::vector<LaneOutcome> runLanes(const LaneRun& run, LaneArch arch);
 
 }  // namespace kane_sim

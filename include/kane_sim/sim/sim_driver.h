@@ -60,6 +60,8 @@ class SimDriver {
   // servo runs in the drive at every step). Refused (kRejected, reported) when not finite, beyond
   // what the integrator can follow, or in effort mode.
   TorqueCommand::Verdict setpoint(double value);
+  // Why setpoint(value) would be refused, or "" (the check alone: nothing is recorded).
+  std::string setpointProblem(double value) const;
   bool servoMode() const { return config_.command.mode != CommandMode::kEffort; }
 
   // One physics step with the command in force (0 N m after a timeout). False when the step

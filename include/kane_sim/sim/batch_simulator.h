@@ -1,0 +1,101 @@
+// Many mechanisms stepped together for learning loops and Monte Carlo: lane i is a single
+// SimDriver of configs[i] that receives action i (set_torque, or the servo's setpoint) and then
+// steps; every lane is that driver's run bit for bit. Cases that SIMD lanes run as their single
+// run would (batch/lanes.h: rk4, generated equations, effort mode, no contact, motor line,
+// command latency or sensors, one physics rate) step W at a time there; the rest step as
+// drivers. A lane whose step is refused or whose sliders cross stops (terminated, with the
+// reason) until it is reset: reported, never thrown.
+#ifndef KANE_SIM_SIM_BATCH_SIMULATOR_H
+#define KANE_SIM_SIM_BATCH_SIMULATOR_H
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "kane_sim/batch/lanes.h"
+#include "kane_sim/config/config.h"
+#include "kane_sim/model/state.h"
+#include "kane_sim/sim/sim_driver.h"
+
+namespace kane_sim {
+
+struct BatchSettings {
+  std::string simd = "auto";  // an instruction set (parseLaneArch), or "off": drivers only
+  bool vector_trig = false;   // SIMD lanes with xsimd's sin/cos (not the single run's bits)
+  int threads = 1;            // lanes split over this many threads per step (>= 1)
+};
+
+class BatchSimulator {
+ public:
+  // One config per lane (validated); throws std::invalid_argument naming a bad setting.
+  BatchSimulator(std::vector<Config> configs, const BatchSettings& settings);
+  ~BatchSimulator();
+
+  std::size_t size() const { return configs_.size(); }
+  // "avx512 lanes", "drivers (command.mode is position)", ...: how lanes step, and why.
+  const std::string& path() const { return path_; }
+  bool onLanes() const { return on_lanes_; }
+
+  // Each running lane i takes actions[i] (a torque [N m], or in servo modes a setpoint) and
+  // steps `steps` physics steps; terminated lanes stay as they are. Refused before anything
+  // moves (std::invalid_argument naming the lane and value): a non-finite action; steps < 1;
+  // steps longer than command.timeout (the drive would drop the torque within one action).
+  // `active` (when not null): only lanes with active[i] step (and their actions are checked).
+  void step(const double* actions, long steps, const std::vector<bool>* active = nullptr);
+
+  // Lanes with mask[i] back to their initial state (the driver's reset: sim time runs on), or
+  // with a seed rebuilt from their config with sensors.seed = seed + i (time 0 again).
+  void reset(const std::vector<bool>& mask);
+  void reseed(const std::vector<bool>& mask, std::uint64_t seed);
+
+  State state(std::size_t lane) const;
+  double time(std::size_t lane) const;
+  bool terminated(std::size_t lane) const { return lanes_[lane].terminated; }
+  const std::string& reason(std::size_t lane) const { return lanes_[lane].reason; }
+  // With sensors: the last reading that reached the lane's joint_states (the true joints at
+  // the start until the first arrives): positions and velocities of crank, coupler, slider 3,
+  // slider 4.
+  const JointValues& reading(std::size_t lane) const { return lanes_[lane].reading; }
+  bool sensorsEnabled() const { return sensors_; }
+
+ private:
+  struct Lane {
+    OdeState x{};             // the lanes path's state (q1, q2, u1, u2, W, D)
+    std::uint64_t ticks = 0;  // the lanes path's clock
+    bool terminated = false;
+    std::string reason;
+    JointValues reading;
+    std::unique_ptr<SimDriver> driver;  // the drivers path
+  };
+  void buildDriver(std::size_t lane, const Config& config);
+  bool stepping(std::size_t lane) const {
+    return !lanes_[lane].terminated && (!active_ || (*active_)[lane]);
+  }
+  void stepDrivers(const double* actions, long steps, std::size_t begin, std::size_t end);
+  void stepLanes(const double* actions, long steps, std::size_t chunk);
+  template <class F>
+  void parallel(std::size_t count, const F& work);
+
+  std::vector<Config> configs_;
+  BatchSettings settings_;
+  std::vector<Lane> lanes_;
+  bool on_lanes_ = false;
+  bool sensors_ = false;
+  LaneArch arch_ = LaneArch::kScalar;
+  std::string path_;
+  double step_size_ = 0.0;
+  // The lanes path: lanes grouped by equations variant (damped or not), each group cut into one
+  // chunk per thread; a chunk's LaneRun holds its constants once.
+  struct Chunk {
+    std::vector<std::size_t> members;
+    LaneRun run;
+  };
+  std::vector<Chunk> chunks_;
+  const std::vector<bool>* active_ = nullptr;  // during step()
+};
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_SIM_BATCH_SIMULATOR_H

@@ -1,0 +1,255 @@
+// Many mechanisms stepped together: SIMD lanes where every lane's config allows them, drivers
+// otherwise; either way lane i is what a single SimDriver of configs[i] does.
+#include "kane_sim/sim/batch_simulator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <thread>
+
+#include "kane_sim/format_number.h"
+#include "kane_sim/model/generated_mechanism.h"
+#include "lane_sweep.h"
+
+namespace kane_sim {
+
+namespace {
+
+std::string num(double v) { return formatNumber(v); }
+
+// Why the lanes path is not taken for all of `configs`, or "": every lane on it, one rate.
+std::string whyDrivers(const std::vector<Config>& configs, const BatchSettings& settings) {
+  if (settings.simd == "off") return "simd off";
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    const std::string why = whyNotOnLanes(configs[i]);
+    if (!why.empty()) return "lane " + std::to_string(i) + ": " + why;
+    if (configs[i].sensors.enabled) return "lane " + std::to_string(i) + ": sensors.enabled";
+    if (configs[i].simulation.physics_rate != configs[0].simulation.physics_rate)
+      return "lanes 0 and " + std::to_string(i) + " differ in simulation.physics_rate";
+  }
+  return "";
+}
+
+}  // namespace
+
+BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings& settings)
+    : configs_(std::move(configs)), settings_(settings), lanes_(configs_.size()) {
+  if (configs_.empty()) throw std::invalid_argument("a batch needs at least one mechanism");
+  if (settings_.threads < 1)
+    throw std::invalid_argument("threads must be 1 or more, got " +
+                                std::to_string(settings_.threads));
+  const LaneArch arch =
+      settings_.simd == "off" ? LaneArch::kScalar : parseLaneArch(settings_.simd);  // names a typo
+  step_size_ = 1.0 / configs_[0].simulation.physics_rate;  // as Simulator's step_size_
+  const std::string why = whyDrivers(configs_, settings_);
+  on_lanes_ = why.empty();
+  for (const Config& c : configs_) sensors_ = sensors_ || c.sensors.enabled;
+  if (!on_lanes_) {
+    path_ = "drivers (" + why + ")";
+    for (std::size_t i = 0; i < size(); ++i) buildDriver(i, configs_[i]);
+    return;
+  }
+  arch_ = arch;
+  path_ = std::string(laneArchName(arch_)) + " lanes" +
+          (settings_.vector_trig ? " (vector sin/cos)" : "");
+  // Lanes of one equations variant run together (the single Simulator picks it per config);
+  // each variant's lanes are cut into one chunk per thread, whole blocks of the width each.
+  const std::size_t width = laneWidth(arch_);
+  for (bool damped : {false, true}) {
+    std::vector<std::size_t> members;
+    for (std::size_t i = 0; i < size(); ++i)
+      if (configs_[i].mechanism.damping.any() == damped) members.push_back(i);
+    if (members.empty()) continue;
+    const std::size_t blocks = (members.size() + width - 1) / width;
+    const std::size_t per_chunk =
+        width * ((blocks + static_cast<std::size_t>(settings_.threads) - 1) /
+                 static_cast<std::size_t>(settings_.threads));
+    for (std::size_t first = 0; first < members.size(); first += per_chunk) {
+      Chunk chunk;
+      chunk.members.assign(
+          members.begin() + static_cast<long>(first),
+          members.begin() + static_cast<long>(std::min(first + per_chunk, members.size())));
+      LaneRun& run = chunk.run;
+      run.damped = damped;
+      run.step = step_size_;
+      run.vector_trig = settings_.vector_trig;
+      run.stop_at_crossing = true;
+      run.steps_per_sample = 1L << 40;  // no samples: the state is read after the call
+      for (std::size_t i : chunk.members) {
+        const Config& c = configs_[i];
+        run.constants.push_back(GeneratedMechanism(mechanismModel(c)).constants());
+        run.torque_limit.push_back(c.command.torque_limit);
+      }
+      run.start.resize(chunk.members.size());
+      run.lane_command.resize(chunk.members.size());
+      chunks_.push_back(std::move(chunk));
+    }
+  }
+  std::vector<bool> all(size(), true);
+  reset(all);
+}
+
+BatchSimulator::~BatchSimulator() = default;
+
+void BatchSimulator::buildDriver(std::size_t lane, const Config& config) {
+  Lane& l = lanes_[lane];
+  l.driver = std::make_unique<SimDriver>(config, [&l](const SimEvent& e) {
+    // What ends a lane: its first refused step, its sliders crossing.
+    if (l.terminated) return;
+    if (e.kind == SimEvent::Kind::kStepRefused || e.kind == SimEvent::Kind::kFirstSliderCrossing) {
+      l.terminated = true;
+      l.reason = "t = " + num(e.time) + " s: " + e.message;
+    }
+  });
+  l.terminated = false;
+  l.reason.clear();
+  l.reading = l.driver->simulator().joints();
+}
+
+template <class F>
+void BatchSimulator::parallel(std::size_t count, const F& work) {
+  const std::size_t threads =
+      std::min<std::size_t>(static_cast<std::size_t>(settings_.threads), count);
+  if (threads <= 1) {
+    for (std::size_t k = 0; k < count; ++k) work(k);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < threads; ++t)
+    pool.emplace_back([&, t] {
+      for (std::size_t k = t; k < count; k += threads) work(k);
+    });
+  for (std::size_t k = 0; k < count; k += threads) work(k);
+  for (std::thread& th : pool) th.join();
+}
+
+void BatchSimulator::step(const double* actions, long steps, const std::vector<bool>* active) {
+  if (steps < 1)
+    throw std::invalid_argument("steps must be 1 or more, got " + std::to_string(steps));
+  if (active && active->size() != size())
+    throw std::invalid_argument("active must hold one flag per lane");
+  // Everything is checked before any lane moves.
+  for (std::size_t i = 0; i < size(); ++i) {
+    if (active && !(*active)[i]) continue;
+    const Config& c = configs_[i];
+    if (!std::isfinite(actions[i]))
+      throw std::invalid_argument("actions[" + std::to_string(i) + "] = " + num(actions[i]) +
+                                  " is not finite");
+    if (c.command.timeout > 0.0 && static_cast<double>(steps) * step_size_ > c.command.timeout)
+      throw std::invalid_argument(
+          "steps = " + std::to_string(steps) + " physics steps (" +
+          num(static_cast<double>(steps) * step_size_) + " s) outlast lane " + std::to_string(i) +
+          "'s command.timeout " + num(c.command.timeout) +
+          " s: its drive would drop the torque within one action (step more often, or set "
+          "command.timeout 0)");
+    if (!on_lanes_ && lanes_[i].driver->servoMode()) {
+      const std::string problem = lanes_[i].driver->setpointProblem(actions[i]);
+      if (!problem.empty())
+        throw std::invalid_argument("actions[" + std::to_string(i) + "]: " + problem);
+    }
+  }
+  active_ = active;
+  if (on_lanes_) {
+    parallel(chunks_.size(), [&](std::size_t k) { stepLanes(actions, steps, k); });
+  } else {
+    const std::size_t threads = static_cast<std::size_t>(settings_.threads);
+    const std::size_t per = (size() + threads - 1) / threads;
+    parallel(threads, [&](std::size_t k) {
+      stepDrivers(actions, steps, k * per, std::min(size(), (k + 1) * per));
+    });
+  }
+  active_ = nullptr;
+}
+
+void BatchSimulator::stepDrivers(const double* actions, long steps, std::size_t begin,
+                                 std::size_t end) {
+  SensorReading reading;
+  for (std::size_t i = begin; i < end; ++i) {
+    Lane& l = lanes_[i];
+    if (!stepping(i)) continue;
+    SimDriver& d = *l.driver;
+    if (d.servoMode())
+      d.setpoint(actions[i]);
+    else
+      d.command(actions[i]);  // finite: clamped to command.torque_limit like torque_command
+    for (long s = 0; s < steps && !l.terminated; ++s) {
+      d.step();
+      while (d.takeSensorReading(&reading)) l.reading = reading.joints;
+    }
+  }
+}
+
+void BatchSimulator::stepLanes(const double* actions, long steps, std::size_t chunk_index) {
+  Chunk& chunk = chunks_[chunk_index];
+  LaneRun& run = chunk.run;
+  // Running lanes only: a terminated lane keeps its state (it is run, its result dropped).
+  for (std::size_t k = 0; k < chunk.members.size(); ++k) {
+    const std::size_t i = chunk.members[k];
+    run.start[k] = lanes_[i].x;
+    run.lane_command[k] = stepping(i) ? actions[i] : 0.0;
+  }
+  run.held_steps = steps;
+  const std::vector<LaneOutcome> outcomes = runLanes(run, arch_);
+  for (std::size_t k = 0; k < chunk.members.size(); ++k) {
+    Lane& l = lanes_[chunk.members[k]];
+    if (!stepping(chunk.members[k])) continue;
+    const LaneOutcome& o = outcomes[k];
+    l.x = o.state;
+    l.ticks += static_cast<std::uint64_t>(o.steps);
+    if (o.refused) {
+      // The step after o.steps was refused: the driver's words (Simulator::step's checks).
+      l.terminated = true;
+      l.reason = "t = " + num(static_cast<double>(l.ticks) * step_size_) +
+                 " s: the step was refused (the state would go non-finite, run away or turn the "
+                 "crank more than 1 rad in one step); the last good state is kept";
+    } else if (o.slider_crossings > 0) {
+      l.terminated = true;
+      l.reason = "t = " + num(static_cast<double>(l.ticks) * step_size_) +
+                 " s: slider 4 passed through slider 3 (the textbook example models no contact; "
+                 "contact.enabled stops it)";
+    }
+  }
+}
+
+void BatchSimulator::reset(const std::vector<bool>& mask) {
+  for (std::size_t i = 0; i < size(); ++i) {
+    if (!mask[i]) continue;
+    Lane& l = lanes_[i];
+    l.terminated = false;
+    l.reason.clear();
+    if (l.driver) {
+      l.driver->reset();
+      l.reading = l.driver->simulator().joints();
+    } else {
+      const State& x0 = configs_[i].initial_state;
+      l.x = {x0.q1, x0.q2, x0.u1, x0.u2, 0.0, 0.0};
+    }
+  }
+}
+
+void BatchSimulator::reseed(const std::vector<bool>& mask, std::uint64_t seed) {
+  for (std::size_t i = 0; i < size(); ++i) {
+    if (!mask[i]) continue;
+    configs_[i].sensors.seed = seed + i;
+    if (on_lanes_) {
+      lanes_[i].ticks = 0;
+      std::vector<bool> one(size(), false);
+      one[i] = true;
+      reset(one);
+    } else {
+      buildDriver(i, configs_[i]);
+    }
+  }
+}
+
+State BatchSimulator::state(std::size_t lane) const {
+  const Lane& l = lanes_[lane];
+  return l.driver ? l.driver->simulator().state() : fromOdeState(l.x);
+}
+
+double BatchSimulator::time(std::size_t lane) const {
+  const Lane& l = lanes_[lane];
+  return l.driver ? l.driver->time() : static_cast<double>(l.ticks) * step_size_;
+}
+
+}  // namespace kane_sim

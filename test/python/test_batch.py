@@ -1,0 +1,230 @@
+"""kane_sim.BatchSimulator and kane_sim.VectorEnv: every mechanism of a batch is the single
+Simulator of its config, bit for bit (SIMD lanes of every instruction set this CPU runs, and the
+drivers), terminations included; hostile inputs refused by name, nothing moved."""
+import threading
+
+import numpy as np
+import pytest
+import yaml
+
+import kane_sim
+from conftest import config_path
+from kane_sim import _core
+
+N = 24
+SUBSTEPS = 10
+ACTIONS = 50
+
+
+def lane_params(n=N):
+    """Masses, a damper on every other mechanism (both equations variants), starts, and two
+    mechanisms driven hard enough to end: crossed sliders, a refused step (1e6 N m allowed)."""
+    rng = np.random.default_rng(7)
+    limits = np.full(n, 50.0)
+    limits[1] = 1e6
+    return {"mechanism.rod_mass": rng.uniform(0.5, 2.0, n),
+            "damping.slider4_joint": np.where(np.arange(n) % 2 == 0, 0.0, 0.4),
+            "initial_state.q1": np.concatenate([[0.5], rng.uniform(-1.0, 1.0, n - 1)]),
+            "command.torque_limit": limits}
+
+
+def action_sequence(n=N):
+    rng = np.random.default_rng(8)
+    a = rng.uniform(-30.0, 30.0, (ACTIONS, n))
+    a[:, 0] = -50.0  # sliders cross (at 0.3 s from q1 0.5)
+    a[:, 1] = 1e6    # the crank runs away: a refused step
+    return a
+
+
+def single_runs(batch, actions):
+    """Each mechanism's Simulator, set_torque then SUBSTEPS single steps per action, stopped at
+    its first refused step or crossing (what ends a batch's mechanism)."""
+    out = []
+    for i in range(len(batch)):
+        sim = kane_sim.Simulator(batch.config(i))
+        ended = False
+        for a in actions[:, i]:
+            if ended:
+                break
+            sim.set_torque(a)
+            for _ in range(SUBSTEPS):
+                try:
+                    sim.step(1)
+                except kane_sim.StepRefused:
+                    ended = True
+                    break
+                if any("passed through" in m for _, m in sim.events()):
+                    ended = True
+                    break
+        out.append((sim.time, sim.state, ended))
+    return out
+
+
+@pytest.fixture(scope="module")
+def reference():
+    batch = kane_sim.BatchSimulator(N, config_path(), lane_params(), simd="off")
+    return single_runs(batch, action_sequence())
+
+
+@pytest.mark.parametrize("simd", ["off"] + [a for a in ("scalar", "sse2", "avx2", "avx512")
+                                            if a == "scalar" or _core.lane_arch_available(a)])
+def test_every_mechanism_is_its_single_run_bit_for_bit(reference, simd):
+    batch = kane_sim.BatchSimulator(N, config_path(), lane_params(), simd=simd, threads=2)
+    assert batch.path.startswith("drivers" if simd == "off" else simd + " lanes"), batch.path
+    for a in action_sequence():
+        batch.step(a, SUBSTEPS)
+    assert batch.terminated[0] and "slider 4 passed through slider 3" in batch.reasons[0]
+    assert batch.terminated[1] and "refused" in batch.reasons[1]
+    for i, (t, state, ended) in enumerate(reference):
+        assert batch.terminated[i] == ended, (i, batch.reasons[i])
+        assert batch.times[i] == t, i
+        assert np.array_equal(batch.states[i], state), (i, batch.states[i], state)
+    # Reset: running again from the start, the clock running on.
+    times = batch.times.copy()
+    states = batch.reset(np.arange(N) < 2)
+    assert not batch.terminated[:2].any() and batch.terminated.sum() == sum(
+        e for _, _, e in reference[2:])
+    assert states[0, 0] == lane_params()["initial_state.q1"][0]
+    assert np.array_equal(batch.times, times)
+
+
+def test_vector_trig_within_rounding_of_the_exact_lanes():
+    params = {k: v for k, v in lane_params().items() if k != "command.torque_limit"}
+    exact = kane_sim.BatchSimulator(N, config_path(), params)
+    fast = kane_sim.BatchSimulator(N, config_path(), params, vector_trig=True)
+    assert "vector" in fast.path
+    actions = np.random.default_rng(3).uniform(-5.0, 5.0, (100, N))
+    for a in actions:
+        exact.step(a, 10)
+        fast.step(a, 10)
+    # 1 s of moderate motion: xsimd's sin/cos round within an ulp or two of libm's; measured
+    # 1e-13 here (doc/guide/batches.md), bounded at 1e-10 for other CPUs' orders.
+    assert np.max(np.abs(exact.states - fast.states)) < 1e-10
+
+
+@pytest.mark.parametrize("mode", ["velocity", "position"])
+def test_servo_modes_and_sensors_on_the_drivers(tmp_path, mode):
+    cfg = yaml.safe_load(open(config_path()))
+    cfg["command"]["mode"] = mode
+    cfg["sensors"] = yaml.safe_load(open(config_path("sensors.yaml")))["sensors"]
+    path = tmp_path / "servo.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    batch = kane_sim.BatchSimulator(4, str(path))
+    assert batch.path.startswith("drivers (lane 0: command.mode %s" % mode)
+    batch.reset(seed=11)
+    setpoints = np.array([0.5, 1.0, -0.5, 2.0])
+    for _ in range(30):
+        batch.step(setpoints, 10)
+    positions, velocities = batch.readings()
+    for i in range(4):
+        sim = kane_sim.Simulator(kane_sim.Config(str(path)).with_values({"sensors.seed": 11 + i}))
+        sim.set_torque(setpoints[i])
+        for _ in range(30):
+            sim.step(10)
+        assert np.array_equal(batch.states[i], sim.state)
+        last = sim.take_readings()
+        assert np.array_equal(positions[i], last["position"][-1])
+        assert np.array_equal(velocities[i], last["velocity"][-1])
+    with pytest.raises(ValueError, match=r"actions\[1\]: servo_setpoint .* rad"):
+        batch.step(np.array([0.0, 1e7 if mode == "position" else 1e4, 0.0, 0.0]))
+
+
+def test_hostile_inputs_are_refused_by_name_and_move_nothing():
+    batch = kane_sim.BatchSimulator(3, config_path())
+    before = batch.states.copy()
+    for actions, steps, words in (([0.0, np.nan, 0.0], 1, r"actions\[1\] = nan is not finite"),
+                                  ([0.0, 0.0, np.inf], 1, r"actions\[2\] = inf"),
+                                  ([0.0, 0.0], 1, "one value per mechanism"),
+                                  ([0.0, 0.0, 0.0], 0, "steps must be"),
+                                  ([0.0, 0.0, 0.0], 1.5, "steps must be"),
+                                  ([0.0, 0.0, 0.0], True, "steps must be"),
+                                  ([0.0, 0.0, 0.0], 600, "outlast lane 0's command.timeout")):
+        with pytest.raises(ValueError, match=words):
+            batch.step(np.array(actions), steps)
+    with pytest.raises(ValueError, match="got a scalar"):
+        batch.step(1.0)
+    assert np.array_equal(batch.states, before) and np.all(batch.times == 0.0)
+    for kwargs, words in (({"n": 0}, "n must be"), ({"n": True}, "n must be"),
+                          ({"n": 2.5}, "n must be"), ({"n": 2, "simd": "avx9"}, "avx9"),
+                          ({"n": 2, "threads": 0}, "threads"),
+                          ({"n": 2, "params": {"mechanism.rod_mass": [1.0, 2.0, 3.0]}},
+                           r"one value or 2"),
+                          ({"n": 2, "params": {"mechanism.rod_mass": [1.0, -1.0]}},
+                           "mechanism 1: .*rod_mass"),
+                          ({"n": 2, "params": {"mechanism.rod_mas": 1.0}}, "rod_mas")):
+        with pytest.raises((ValueError, TypeError)):
+            try:
+                kane_sim.BatchSimulator(**kwargs)
+            except (ValueError, TypeError) as e:
+                assert __import__("re").search(words, str(e)), (kwargs, e)
+                raise
+    with pytest.raises(TypeError, match="mask must be booleans"):
+        batch.reset(np.array([1, 0, 1]))
+    with pytest.raises(ValueError, match="one bool per mechanism"):
+        batch.reset(np.array([True]))
+    with pytest.raises(ValueError, match="seed"):
+        batch.reset(seed=-1)
+
+
+def test_one_call_at_a_time():
+    batch = kane_sim.BatchSimulator(4096, config_path())
+    errors = []
+
+    def hammer():
+        for _ in range(50):
+            try:
+                batch.step(np.zeros(4096), 50)
+            except RuntimeError as e:
+                errors.append(str(e))
+    threads = [threading.Thread(target=hammer) for _ in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert errors and "one call at a time" in errors[0]
+    assert not batch.terminated.any()
+
+
+def test_vector_env_shapes_truncation_and_next_step_autoreset():
+    seen = []
+
+    def reward(obs, actions):
+        seen.append(obs.shape)
+        return -np.abs(obs[:, 0])
+    env = kane_sim.VectorEnv(5, config_path(), reward=reward, substeps=10, max_episode_steps=3)
+    obs, info = env.reset(seed=0)
+    assert obs.shape == (5, 4) and info == {} and env.num_envs == 5
+    assert np.all(env.action_high == 50.0)
+    start = obs.copy()
+    for k in range(3):
+        obs, r, term, trunc, info = env.step(np.full(5, 1.0))
+        assert obs.shape == (5, 4) and r.shape == term.shape == trunc.shape == (5,)
+        assert not term.any()
+        assert trunc.all() == (k == 2)
+        assert np.array_equal(r, -np.abs(obs[:, 0]))
+    # Next-step autoreset: the step after truncation returns the first observation, reward 0.
+    obs, r, term, trunc, info = env.step(np.full(5, 1.0))
+    assert np.array_equal(obs, start) and not r.any() and not (term | trunc).any()
+    obs, r, term, trunc, _ = env.step(np.full(5, 1.0))
+    assert not np.array_equal(obs, start) and seen[-1] == (5, 4)
+    with pytest.raises(ValueError, match=r"shape \(5,\)"):
+        env.step(np.zeros(4))
+    bad = kane_sim.VectorEnv(2, config_path(), reward=lambda o, a: 0.0)
+    bad.reset()
+    with pytest.raises(ValueError, match="reward"):
+        bad.step(np.zeros(2))
+
+
+def test_vector_env_terminates_a_crossing_and_restarts_it():
+    env = kane_sim.VectorEnv(2, config_path(), substeps=10, max_episode_steps=10_000)
+    obs0, _ = env.reset()
+    ended = None
+    for k in range(2000):
+        obs, r, term, trunc, info = env.step(np.array([50.0, 0.0]))
+        if term[0]:
+            ended = k
+            assert "passed through" in info["reasons"][0] and not term[1]
+            break
+    assert ended is not None
+    obs, r, term, trunc, info = env.step(np.array([50.0, 0.0]))
+    assert np.array_equal(obs[0], obs0[0]) and r[0] == 0.0 and not term[0]
