@@ -332,7 +332,8 @@ def analyze(config=None, torque=0.0):
     return json.loads(_core.analyze_json(cfg._core, float(torque)))
 
 
-def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0):
+def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0, simd="auto",
+          vector_trig=False):
     """`simulate --sweep` as arrays: grid={'section.key': values, ...} (every combination, the
     last key fastest) or cases={'section.key': values} (one case per index). Returns a dict:
     the keys' values, 'status' and 'error' per case, then t, q1 ... wall_time (NaN where the
@@ -341,6 +342,9 @@ def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0
     torque: a number or a TorqueProfile (a servo's setpoint in command.mode velocity |
     position); None holds each case's start (0 N m, or the servo's initial setpoint), as a
     single run does. duration: [0, 1e7] s. jobs: threads, 0 = one per core, at most 4 per core.
+    simd: "auto" (the CPU's widest SIMD lanes), "avx512", "avx2", "sse2", "scalar" or "off"
+    (every case alone), as simulate's --simd: the same rows either way; vector_trig: lanes with
+    a vector sin/cos, as --vector-trig (faster, not the single runs' bits).
     Ctrl-C stops the sweep: the KeyboardInterrupt raised carries the dict as `.result`, with the
     finished cases and the others marked 'interrupted'."""
     cfg = config if isinstance(config, Config) else Config(config)
@@ -359,7 +363,10 @@ def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0
     else:
         profile = TorqueProfile.constant(float(torque))
     try:
-        out = _core.sweep(cfg._core, list(keys), rows, float(duration), profile, int(jobs))
+        if not isinstance(simd, str):
+            raise TypeError("sweep: simd must be a string, got %r" % (simd,))
+        out = _core.sweep(cfg._core, list(keys), rows, float(duration), profile, int(jobs), simd,
+                          bool(vector_trig))
     except KeyboardInterrupt as interrupted:
         partial = getattr(interrupted, "result", None)
         if partial is not None:

@@ -14,6 +14,7 @@
 
 #include "kane_sim/analysis/analysis_json.h"
 #include "kane_sim/analysis/linear_analysis.h"
+#include "kane_sim/batch/lanes.h"
 #include "kane_sim/format_number.h"
 #include "kane_sim/sim/output_grid.h"
 #include "kane_sim/sim/sweep.h"
@@ -76,7 +77,8 @@ std::vector<SweepResult> runSweepStoppable(const PythonConfig& config, const Swe
 // carries the finished cases as `result` (unfinished ones "interrupted", NaN).
 py::dict sweep(const PythonConfig& config, const std::vector<std::string>& keys,
                const std::vector<std::vector<double>>& cases, double duration,
-               const std::optional<TorqueProfile>& torque, long long jobs) {
+               const std::optional<TorqueProfile>& torque, long long jobs, const std::string& simd,
+               bool vector_trig) {
   SweepPlan plan{keys, cases};
   for (size_t i = 0; i < cases.size(); ++i)
     if (cases[i].size() != keys.size())
@@ -97,6 +99,15 @@ py::dict sweep(const PythonConfig& config, const std::vector<std::string>& keys,
   settings.duration = duration;
   settings.torque = torque;
   settings.jobs = static_cast<unsigned>(jobs);
+  settings.simd = simd;
+  settings.vector_trig = vector_trig;
+  if (simd != "off") {
+    try {
+      parseLaneArch(simd);  // a typo, or an instruction set this CPU lacks, named before any run
+    } catch (const std::invalid_argument& e) {
+      throw py::value_error(std::string("sweep: ") + e.what());
+    }
+  }
   std::unique_ptr<py::error_already_set> raised;
   const std::vector<SweepResult> results = runSweepStoppable(config, plan, settings, &raised);
   py::dict out;
@@ -219,7 +230,8 @@ void bindAnalysis(py::module_& m) {
         py::arg("q2"));
   m.def("analyze_json", &analyze, py::arg("config"), py::arg("torque") = 0.0);
   m.def("sweep", &sweep, py::arg("config"), py::arg("keys"), py::arg("cases"), py::arg("duration"),
-        py::arg("torque") = py::none(), py::arg("jobs") = 0);
+        py::arg("torque") = py::none(), py::arg("jobs") = 0, py::arg("simd") = "auto",
+        py::arg("vector_trig") = false);
 }
 
 }  // namespace python

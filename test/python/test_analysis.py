@@ -43,6 +43,23 @@ def test_sweep_is_simulates_sweep_csv(tmp_path):
         np.testing.assert_array_equal(r[name], csv[name], err_msg=name)
 
 
+def test_sweep_on_every_lane_set_is_the_same_rows():
+    grid = {"mechanism.spring_stiffness": np.linspace(100, 400, 12),
+            "damping.slider4_joint": [0.0, 0.5]}
+    columns = ("t", "q1", "q2", "u1", "u2", "max_abs_q1", "max_abs_q2", "ledger_error",
+               "motor_work", "dissipated_energy", "slider_crossings")
+    alone = kane_sim.sweep(config_path(), grid=grid, duration=1.0, torque=2.0, simd="off")
+    for simd in ("auto", "scalar"):
+        lanes = kane_sim.sweep(config_path(), grid=grid, duration=1.0, torque=2.0, simd=simd)
+        for name in columns:
+            np.testing.assert_array_equal(lanes[name], alone[name], err_msg="%s %s" % (simd, name))
+    fast = kane_sim.sweep(config_path(), grid=grid, duration=1.0, torque=2.0, vector_trig=True)
+    np.testing.assert_allclose(fast["q1"], alone["q1"], rtol=0, atol=1e-9)
+    for bad, error in (("avx9", ValueError), (8, TypeError)):
+        with pytest.raises(error, match="simd"):
+            kane_sim.sweep(config_path(), grid=grid, duration=0.1, simd=bad)
+
+
 def test_sweep_refusals():
     with pytest.raises(ValueError, match="rod_mas"):
         kane_sim.sweep(grid={"mechanism.rod_mas": [1, 2]}, duration=0.1)
