@@ -23,6 +23,8 @@ PACKAGES=(
   # the Python module (pybind11) and its tests
   pybind11-dev python3-pybind11 python3-pytest python3-pil python3-nbconvert python3-nbformat
   python3-ipykernel
+  # sweeps on a cluster (rosrun kane_sim sweep --scheduler): Dask distributed
+  python3-distributed
 )
 
 missing=()

@@ -80,13 +80,19 @@ add_test(NAME codegen COMMAND bash ${tools_dir}/codegen_test.sh)
 # The Python module (kane_sim._core and the kane_sim package): pytest, against simulate and
 # analyze, and SymPy's KanesMethod with auxiliary speeds for the reaction forces.
 add_test(NAME python_module COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
-  --ignore=${PROJECT_SOURCE_DIR}/test/python/identify ${PROJECT_SOURCE_DIR}/test/python)
+  --ignore=${PROJECT_SOURCE_DIR}/test/python/identify
+  --ignore=${PROJECT_SOURCE_DIR}/test/python/cluster ${PROJECT_SOURCE_DIR}/test/python)
 set_tests_properties(python_module PROPERTIES TIMEOUT 300
   ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
 # Identification (kane_sim.identify, rosrun kane_sim identify): its own test, to run beside the rest.
 add_test(NAME python_identify COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
   ${PROJECT_SOURCE_DIR}/test/python/identify)
 set_tests_properties(python_identify PROPERTIES TIMEOUT 300
+  ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
+# Sweeps on a Dask cluster: a scheduler and two workers on 127.0.0.1, `rosrun kane_sim sweep`.
+add_test(NAME python_cluster COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
+  ${PROJECT_SOURCE_DIR}/test/python/cluster)
+set_tests_properties(python_cluster PROPERTIES TIMEOUT 300
   ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
 add_test(NAME layers COMMAND /usr/bin/python3 ${tools_dir}/layers_test.py ${PROJECT_SOURCE_DIR})
 add_test(NAME doc_links
@@ -109,4 +115,5 @@ set_tests_properties(rviz_smoke PROPERTIES COST 35)
 set_tests_properties(launches PROPERTIES COST 25)
 set_tests_properties(faults PROPERTIES COST 21)
 set_tests_properties(python_identify PROPERTIES COST 19)
+set_tests_properties(python_cluster PROPERTIES COST 30)
 set_tests_properties(python_module PROPERTIES COST 13)

@@ -333,7 +333,7 @@ def analyze(config=None, torque=0.0):
 
 
 def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0, simd="auto",
-          vector_trig=False):
+          vector_trig=False, client=None, chunk=64):
     """`simulate --sweep` as arrays: grid={'section.key': values, ...} (every combination, the
     last key fastest) or cases={'section.key': values} (one case per index). Returns a dict:
     the keys' values, 'status' and 'error' per case, then t, q1 ... wall_time (NaN where the
@@ -345,6 +345,10 @@ def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0
     simd: "auto" (the CPU's widest SIMD lanes), "avx512", "avx2", "sse2", "scalar" or "off"
     (every case alone), as simulate's --simd: the same rows either way; vector_trig: lanes with
     a vector sin/cos, as --vector-trig (faster, not the single runs' bits).
+
+    client: a Dask distributed Client, or a scheduler's address ("tcp://HOST:PORT"): the cases
+    run there in chunks of `chunk` per task (kane_sim.cluster), the same rows in case order; a
+    scheduler that cannot be reached is a ValueError naming it.
     Ctrl-C stops the sweep: the KeyboardInterrupt raised carries the dict as `.result`, with the
     finished cases and the others marked 'interrupted'."""
     cfg = config if isinstance(config, Config) else Config(config)
@@ -362,9 +366,12 @@ def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0
         profile = torque
     else:
         profile = TorqueProfile.constant(float(torque))
+    if not isinstance(simd, str):
+        raise TypeError("sweep: simd must be a string, got %r" % (simd,))
+    if client is not None:
+        return _sweep_on_cluster(cfg, keys, rows, duration, profile, simd, vector_trig, client,
+                                 chunk)
     try:
-        if not isinstance(simd, str):
-            raise TypeError("sweep: simd must be a string, got %r" % (simd,))
         out = _core.sweep(cfg._core, list(keys), rows, float(duration), profile, int(jobs), simd,
                           bool(vector_trig))
     except KeyboardInterrupt as interrupted:
@@ -373,3 +380,27 @@ def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0
             interrupted.result = {k: np.asarray(v) for k, v in partial.items()}
         raise
     return {k: np.asarray(v) for k, v in out.items()}  # status and error as arrays of str too
+
+
+def _sweep_on_cluster(cfg, keys, rows, duration, profile, simd, vector_trig, client, chunk):
+    from kane_sim import cluster
+    if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or \
+            not 1 <= chunk <= 100000:
+        raise ValueError("sweep: chunk must be a whole number of cases in [1, 100000], got %r"
+                         % (chunk,))
+    # What a local sweep refuses before it runs (keys, duration, simd) is refused here too,
+    # before anything is sent.
+    _core.sweep(cfg._core, list(keys), [], float(duration), profile, 1, simd, bool(vector_trig))
+    own = isinstance(client, str)
+    if own:
+        client = cluster.connect(client)
+    try:
+        chunks = cluster.run(client, cfg.yaml(), list(keys), rows, float(duration), profile,
+                             simd, bool(vector_trig), int(chunk))
+    except cluster.Interrupted as interrupted:
+        interrupted.result = cluster.join(list(keys), rows, interrupted.chunks, int(chunk))
+        raise
+    finally:
+        if own:
+            client.close()
+    return cluster.join(list(keys), rows, chunks, int(chunk))

@@ -3,9 +3,11 @@
 #include <atomic>
 #include <chrono>
 #include <exception>
+#include <fstream>
 #include <future>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@
 #include "kane_sim/analysis/analysis_json.h"
 #include "kane_sim/analysis/linear_analysis.h"
 #include "kane_sim/batch/lanes.h"
+#include "kane_sim/config/input_file.h"
 #include "kane_sim/format_number.h"
 #include "kane_sim/sim/output_grid.h"
 #include "kane_sim/sim/sweep.h"
@@ -78,7 +81,7 @@ std::vector<SweepResult> runSweepStoppable(const PythonConfig& config, const Swe
 py::dict sweep(const PythonConfig& config, const std::vector<std::string>& keys,
                const std::vector<std::vector<double>>& cases, double duration,
                const std::optional<TorqueProfile>& torque, long long jobs, const std::string& simd,
-               bool vector_trig) {
+               bool vector_trig, long long csv_first_case) {
   SweepPlan plan{keys, cases};
   for (size_t i = 0; i < cases.size(); ++i)
     if (cases[i].size() != keys.size())
@@ -130,11 +133,38 @@ py::dict sweep(const PythonConfig& config, const std::vector<std::string>& keys,
                                                                                  : c->value(r));
     out[c->name] = py::array_t<double>(values.size(), values.data());
   }
+  if (csv_first_case >= 0) {
+    // The rows as `simulate --sweep` writes them (case numbers from csv_first_case on; none for
+    // an interrupted case): a chunk of a sweep run elsewhere joins the others' text unchanged.
+    std::ostringstream rows;
+    for (size_t i = 0; i < results.size(); ++i)
+      if (results[i].status != "interrupted")
+        writeSweepCsvRow(rows, plan, i, results[i], static_cast<size_t>(csv_first_case));
+    out["csv_rows"] = rows.str();
+  }
   if (raised) {
     raised->value().attr("result") = out;
     throw *raised;
   }
   return out;
+}
+
+std::string sweepCsvHeader(const std::vector<std::string>& keys) {
+  std::ostringstream out;
+  writeSweepCsvHeader(out, SweepPlan{keys, {}});
+  return out.str();
+}
+
+// simulate's --sweep-file: the keys and the cases (std::invalid_argument -> ValueError).
+std::pair<std::vector<std::string>, std::vector<std::vector<double>>> planFromCsv(
+    const std::string& path) {
+  try {
+    std::ifstream in = openInputFile(path, "sweep file", kMaxTableBytes);
+    const SweepPlan plan = sweepFromCsv(in);
+    return {plan.keys, plan.cases};
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(std::string("--sweep-file: ") + e.what());
+  }
 }
 
 // O, A, B, C, C1, C2 (x, y) in frame (0) for each (q1, q2): the model's geometry, for drawing.
@@ -170,6 +200,16 @@ double finite(const char* name, double v) {
 }
 
 // The grid of several axes (simulate's --sweep): every combination, the last varying fastest.
+// simulate's --sweep KEY=START:STOP:COUNT (std::invalid_argument -> ValueError).
+std::pair<std::string, std::vector<double>> axis(const std::string& spec) {
+  try {
+    const SweepAxis a = parseSweepAxis(spec);
+    return {a.key, a.values};
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+}
+
 std::pair<std::vector<std::string>, std::vector<std::vector<double>>> grid(
     const std::vector<std::pair<std::string, std::vector<double>>>& axes) {
   std::vector<SweepAxis> sweep_axes;
@@ -222,16 +262,39 @@ void bindAnalysis(py::module_& m) {
             return checked([&] { return TorqueProfile::fromCsvFile(path); });
           },
           py::arg("path"))
+      .def_static(
+          "from_flag",
+          [](const std::string& flag, const std::string& text) {
+            return checked([&] { return TorqueProfile::fromFlag(flag, text); });
+          },
+          py::arg("flag"), py::arg("text"))
       .def("at", &TorqueProfile::at, py::arg("t"))
+      .def(py::pickle(
+          [](const TorqueProfile& p) {  // to a cluster's worker and back
+            const TorqueProfile::Parts parts = p.parts();
+            return py::make_tuple(parts.kind, parts.a, parts.b, parts.c, parts.points);
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 5) throw py::value_error("TorqueProfile: a pickle of 5 fields");
+            TorqueProfile::Parts parts;
+            parts.kind = t[0].cast<int>();
+            parts.a = t[1].cast<double>(), parts.b = t[2].cast<double>();
+            parts.c = t[3].cast<double>();
+            parts.points = t[4].cast<std::vector<std::pair<double, double>>>();
+            return checked([&] { return TorqueProfile::fromParts(parts); });
+          }))
       .def("__repr__",
            [](const TorqueProfile& p) { return "TorqueProfile(" + p.describe() + ")"; });
   m.def("sweep_grid", &grid, py::arg("axes"));
+  m.def("sweep_axis", &axis, py::arg("spec"));
+  m.def("sweep_plan_from_csv", &planFromCsv, py::arg("path"));
+  m.def("sweep_csv_header", &sweepCsvHeader, py::arg("keys"));
   m.def("mechanism_points", &mechanismPoints, py::arg("rod_half_length"), py::arg("q1"),
         py::arg("q2"));
   m.def("analyze_json", &analyze, py::arg("config"), py::arg("torque") = 0.0);
   m.def("sweep", &sweep, py::arg("config"), py::arg("keys"), py::arg("cases"), py::arg("duration"),
         py::arg("torque") = py::none(), py::arg("jobs") = 0, py::arg("simd") = "auto",
-        py::arg("vector_trig") = false);
+        py::arg("vector_trig") = false, py::arg("csv_first_case") = -1);
 }
 
 }  // namespace python

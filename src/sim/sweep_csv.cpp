@@ -38,9 +38,9 @@ void writeSweepCsvHeader(std::ostream& out, const SweepPlan& plan) {
   out << '\n';
 }
 
-void writeSweepCsvRow(std::ostream& out, const SweepPlan& plan, size_t index,
-                      const SweepResult& r) {
-  out << index;
+void writeSweepCsvRow(std::ostream& out, const SweepPlan& plan, size_t index, const SweepResult& r,
+                      size_t first_case) {
+  out << first_case + index;
   for (double v : plan.cases[index]) {
     out << ',';
     writeCsvNumber(out, v);

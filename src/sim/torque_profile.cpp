@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -109,6 +110,81 @@ TorqueProfile TorqueProfile::fromCsvFile(const std::string& path) {
   }
   if (points.empty()) throw std::invalid_argument("torque CSV '" + path + "' has no rows");
   return table(std::move(points));
+}
+
+namespace {
+
+std::string shortest(double value) {  // 1e+12, 0.5, 300: as simulate's messages print numbers
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.15g", value);
+  return buffer;
+}
+
+// "a,b[,c]": min_count to max_count finite numbers, each named in the message when it is not.
+std::vector<double> parseFlagList(const std::string& flag, const std::string& text,
+                                  size_t min_count, size_t max_count) {
+  std::vector<double> values;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    try {
+      size_t used = 0;
+      values.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw std::invalid_argument("--" + flag + ": '" + item + "' is not a number");
+    }
+    if (!std::isfinite(values.back()))
+      throw std::invalid_argument("--" + flag + " must be finite, got " + shortest(values.back()));
+  }
+  if (!text.empty() && text.back() == ',')
+    throw std::invalid_argument("--" + flag + ": '" + text +
+                                "' ends with a comma (a value is missing)");
+  if (values.size() < min_count || values.size() > max_count)
+    throw std::invalid_argument("--" + flag + " takes " + std::to_string(min_count) +
+                                (max_count > min_count ? " to " + std::to_string(max_count) : "") +
+                                " comma-separated numbers, got '" + text + "'");
+  return values;
+}
+
+}  // namespace
+
+TorqueProfile TorqueProfile::fromFlag(const std::string& flag, const std::string& text) {
+  try {
+    if (flag == "torque-step") {
+      const auto v = parseFlagList(flag, text, 3, 3);
+      return step(v[0], v[1], v[2]);
+    }
+    if (flag == "torque-sine") {
+      const auto v = parseFlagList(flag, text, 2, 3);
+      return sine(v[0], v[1], v.size() > 2 ? v[2] : 0.0);
+    }
+    if (flag == "torque-csv") return fromCsvFile(text);
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    if (what.rfind("--" + flag, 0) == 0) throw;  // already names the flag
+    throw std::invalid_argument("--" + flag + ": " + what);
+  }
+  throw std::invalid_argument("'" + flag + "' is not one of torque-step, torque-sine, torque-csv");
+}
+
+TorqueProfile::Parts TorqueProfile::parts() const {
+  return Parts{static_cast<int>(kind_), a_, b_, c_, points_};
+}
+
+TorqueProfile TorqueProfile::fromParts(const Parts& p) {
+  switch (p.kind) {
+    case 0:
+      return constant(p.a);
+    case 1:
+      return step(p.a, p.b, p.c);
+    case 2:
+      return sine(p.a, p.b, p.c);
+    case 3:
+      return table(p.points);
+  }
+  throw std::invalid_argument("torque profile kind " + std::to_string(p.kind) +
+                              " is not 0 (constant), 1 (step), 2 (sine) or 3 (table)");
 }
 
 double TorqueProfile::at(double t) const {

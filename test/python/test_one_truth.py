@@ -1,6 +1,7 @@
 """One case, one answer, through every offline door: `simulate` (a single run's last CSV row),
-`simulate --sweep` (the case's row), Python's Simulator.run, Python's sweep row and each
-mechanism of a BatchSimulator (lanes and drivers) driven step by step, over every
+`simulate --sweep` (the case's row), `rosrun kane_sim sweep`'s row, Python's Simulator.run,
+Python's sweep row and each mechanism of a BatchSimulator (lanes and drivers) driven step by
+step, over every
 command mode (effort, velocity, position), with and without a profile, sensors on and off,
 the physics options off and on (contact, and the five dampers: the joints' and the spring's). All four run the one driver, so they agree bit for bit; a door that
 applies a different command stream (a servo driven to setpoint 0 because no profile was given,
@@ -71,6 +72,9 @@ def test_every_offline_door_gives_the_same_final_state(tmp_path, mode, profile, 
     # A sweep of one case whose key holds the base config's value: the case is the base config.
     run_tool("simulate", "--config", cfg, "--duration", DURATION, "--csv", swept,
              "--sweep", "mechanism.gravity=9.81:9.81:1", *flags)
+    cli_swept = tmp_path / "sweep_cli.csv"  # rosrun kane_sim sweep (here; the cluster: its test)
+    run_tool("sweep", "--config", cfg, "--duration", DURATION, "--csv", cli_swept,
+             "--sweep", "mechanism.gravity=9.81:9.81:1", *flags)
     run = kane_sim.Simulator(cfg).run(DURATION, torque=torque)
     py_sweep = kane_sim.sweep(cfg, cases={"mechanism.gravity": [9.81]}, duration=DURATION,
                               torque=torque)
@@ -82,7 +86,7 @@ def test_every_offline_door_gives_the_same_final_state(tmp_path, mode, profile, 
     assert sweep_row["status"] == "ok" and py_sweep["status"][0] == "ok"
     for k, name in enumerate(("t", "q1", "q2", "u1", "u2")):
         doors = {"simulate --sweep": sweep_row[name], "Simulator.run": run[name][-1],
-                 "sweep()": py_sweep[name][0]}
+                 "sweep()": py_sweep[name][0], "sweep CLI": final_row(cli_swept)[name]}
         if batch is not None:  # every mechanism of the batch, on lanes where it can
             for path, (times, states) in batch.items():
                 for i in range(len(times)):

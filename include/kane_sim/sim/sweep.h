@@ -119,10 +119,11 @@ struct SweepColumn {
 const SweepColumn* sweepColumnsBegin();
 const SweepColumn* sweepColumnsEnd();
 
-// One CSV row per case: case, the swept keys, then the result columns.
+// One CSV row per case: case, the swept keys, then the result columns. first_case: the number
+// of plan's case 0 in the whole sweep (a chunk of it run elsewhere: a cluster's task).
 void writeSweepCsvHeader(std::ostream& out, const SweepPlan& plan);
 void writeSweepCsvRow(std::ostream& out, const SweepPlan& plan, size_t index,
-                      const SweepResult& result);
+                      const SweepResult& result, size_t first_case = 0);
 
 }  // namespace kane_sim
 

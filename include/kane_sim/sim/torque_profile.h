@@ -20,6 +20,20 @@ class TorqueProfile {
   // A CSV of `t,torque` lines (an optional header line, # comments); throws
   // std::invalid_argument naming the file, the line and the bad value.
   static TorqueProfile fromCsvFile(const std::string& path);
+  // simulate's flags, for every tool that takes them: flag "torque-step" (text "T,BEFORE,AFTER"),
+  // "torque-sine" ("A,F[,OFFSET]") or "torque-csv" (a file). Throws std::invalid_argument naming
+  // the flag and the value ("--torque-sine: 'x' is not a number").
+  static TorqueProfile fromFlag(const std::string& flag, const std::string& text);
+
+  // What it is made of, enough to make it again (on another machine: a cluster's worker).
+  struct Parts {
+    int kind = 0;  // 0 constant, 1 step, 2 sine, 3 table
+    double a = 0.0, b = 0.0, c = 0.0;
+    std::vector<std::pair<double, double>> points;
+  };
+  Parts parts() const;
+  // Through the factories above: what they refuse is refused (std::invalid_argument).
+  static TorqueProfile fromParts(const Parts& parts);
 
   double at(double t) const;  // [N m]
   bool isConstant() const { return kind_ == Kind::kConstant; }

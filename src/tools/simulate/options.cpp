@@ -90,53 +90,18 @@ double requireFinite(const std::string& flag, double value) {
   return value;
 }
 
-std::vector<double> parseList(const std::string& flag, const std::string& text, size_t min_count,
-                              size_t max_count) {
-  std::vector<double> values;
-  std::istringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    try {
-      size_t used = 0;
-      values.push_back(std::stod(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      throw UsageError("--" + flag + ": '" + item + "' is not a number");
-    }
-    requireFinite(flag, values.back());
-  }
-  if (!text.empty() && text.back() == ',')
-    throw UsageError("--" + flag + ": '" + text + "' ends with a comma (a value is missing)");
-  if (values.size() < min_count || values.size() > max_count)
-    throw UsageError("--" + flag + " takes " + std::to_string(min_count) +
-                     (max_count > min_count ? " to " + std::to_string(max_count) : "") +
-                     " comma-separated numbers, got '" + text + "'");
-  return values;
-}
-
 kane_sim::TorqueProfile parseProfile(const po::variables_map& vm) {
   int given = 0;
   for (const char* flag : {"torque", "torque-step", "torque-sine", "torque-csv"})
     given += static_cast<int>(vm.count(flag));
   if (given > 1)
     throw UsageError("give at most one of --torque, --torque-step, --torque-sine, --torque-csv");
-  if (vm.count("torque-step")) {
-    const auto v = parseList("torque-step", vm["torque-step"].as<std::string>(), 3, 3);
-    return kane_sim::TorqueProfile::step(v[0], v[1], v[2]);
-  }
-  if (vm.count("torque-sine")) {
-    const auto v = parseList("torque-sine", vm["torque-sine"].as<std::string>(), 2, 3);
+  for (const char* flag : {"torque-step", "torque-sine", "torque-csv"}) {
+    if (!vm.count(flag)) continue;
     try {
-      return kane_sim::TorqueProfile::sine(v[0], v[1], v.size() > 2 ? v[2] : 0.0);
+      return kane_sim::TorqueProfile::fromFlag(flag, vm[flag].as<std::string>());
     } catch (const std::invalid_argument& e) {
-      throw UsageError(std::string("--torque-sine: ") + e.what());
-    }
-  }
-  if (vm.count("torque-csv")) {
-    try {
-      return kane_sim::TorqueProfile::fromCsvFile(vm["torque-csv"].as<std::string>());
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(std::string("--torque-csv: ") + e.what());
+      throw UsageError(e.what());
     }
   }
   const double torque =

@@ -1,0 +1,107 @@
+"""Sweeps on a Dask distributed cluster (python3-distributed): the cases cut into chunks, each
+chunk one kane_sim._core.sweep call on a worker (C++, the GIL released, SIMD lanes where the
+cases allow), gathered in case order. The workers import the same kane_sim (start them after
+sourcing the same build's setup.bash). A worker lost mid-sweep loses nothing: the scheduler
+runs its chunks again elsewhere. doc/guide/cluster.md says how to start a cluster.
+"""
+import uuid
+
+import numpy as np
+import yaml
+
+from kane_sim import _core
+
+CONNECT_TIMEOUT = 10.0  # [s] to reach a scheduler before saying it cannot be reached
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C during a cluster sweep: the cluster's tasks are cancelled; `chunks` holds each
+    chunk's result, None where it had not finished."""
+
+    def __init__(self, chunks):
+        super().__init__("sweep interrupted: the cluster's tasks were cancelled")
+        self.chunks = chunks
+
+
+def run_chunk(config_yaml, keys, rows, first_case, duration, torque, simd, vector_trig):
+    """One chunk on a worker: its cases' columns (as kane_sim.sweep) and their CSV rows, numbered
+    from first_case, as `simulate --sweep` writes them ("csv_rows")."""
+    from kane_sim.core import Config  # on the worker
+    cfg = Config(yaml.safe_load(config_yaml))
+    out = _core.sweep(cfg._core, list(keys), [list(r) for r in rows], float(duration), torque,
+                      1, simd, bool(vector_trig), int(first_case))
+    return {k: (v if k == "csv_rows" else np.asarray(v)) for k, v in out.items()}
+
+
+def connect(scheduler):
+    """A distributed.Client of the scheduler at `scheduler` ("tcp://HOST:PORT", or a
+    scheduler file's path); ValueError naming the address when it cannot be reached."""
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ValueError("a cluster sweep needs Dask distributed (apt install "
+                         "python3-distributed)") from None
+    try:
+        if scheduler.endswith(".json"):
+            return Client(scheduler_file=scheduler, timeout=CONNECT_TIMEOUT)
+        return Client(scheduler, timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError, ValueError) as e:
+        raise ValueError("scheduler %s cannot be reached within %g s (%s): is `dask scheduler` "
+                         "running there, and the port open?" % (scheduler, CONNECT_TIMEOUT,
+                                                                str(e).splitlines()[0] if str(e)
+                                                                else type(e).__name__)) from None
+
+
+def run(client, config_yaml, keys, rows, duration, torque, simd="auto", vector_trig=False,
+        chunk=64, on_chunk=None):
+    """Every chunk of `rows` on the cluster of `client`: a list of run_chunk's results in case
+    order. on_chunk(index, result) is called as each finishes (any order). Ctrl-C (or any
+    exception while waiting) cancels the tasks; KeyboardInterrupt becomes Interrupted, with the
+    finished chunks."""
+    from distributed import as_completed
+    tag = uuid.uuid4().hex[:8]
+    starts = list(range(0, len(rows), chunk))
+    futures = [client.submit(run_chunk, config_yaml, keys, rows[s:s + chunk], s, duration,
+                             torque, simd, vector_trig, key="kane_sim-sweep-%s-%d" % (tag, s),
+                             pure=False)
+               for s in starts]
+    index = {f.key: i for i, f in enumerate(futures)}
+    chunks = [None] * len(futures)
+    try:
+        for future, result in as_completed(futures, with_results=True):
+            i = index[future.key]
+            chunks[i] = result
+            if on_chunk:
+                on_chunk(i, result)
+    except KeyboardInterrupt:
+        client.cancel(futures)
+        raise Interrupted(chunks) from None
+    except BaseException:
+        client.cancel(futures)
+        raise
+    return chunks
+
+
+def join(keys, rows, chunks, chunk):
+    """The chunks' columns as one kane_sim.sweep dict; an unfinished chunk's cases are
+    'interrupted' with NaN results (as a local sweep's after Ctrl-C)."""
+    columns = None
+    for c in chunks:
+        if c is not None:
+            columns = [k for k in c if k != "csv_rows"]
+            break
+    if columns is None:
+        return None
+    parts = []
+    for i, c in enumerate(chunks):
+        if c is not None:
+            parts.append(c)
+            continue
+        n = len(rows[i * chunk:(i + 1) * chunk])
+        filler = {k: np.full(n, np.nan) for k in columns}
+        for k, key in enumerate(keys):
+            filler[key] = np.array([r[k] for r in rows[i * chunk:(i + 1) * chunk]], dtype=float)
+        filler["status"] = np.array(["interrupted"] * n)
+        filler["error"] = np.array([""] * n)
+        parts.append(filler)
+    return {k: np.concatenate([np.asarray(p[k]) for p in parts]) for k in columns}
