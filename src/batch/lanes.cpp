@@ -60,7 +60,7 @@ LaneArch parseLaneArch(const std::string& name) {
                                   " (the widest it runs is " + laneArchName(bestLaneArch()) + ")");
     return e.arch;
   }
-  throw std::invalid_argument("simd '" + name + "' is not one of auto, avx512, avx2, sse2, scalar");
+  throw std::invalid_argument("simd '" + name + "' is not one of auto, avx512, avx2, sse2, scalar, off");
 }
 
 std::vector<LaneOutcome> runLanes(const LaneRun& run, LaneArch arch) {

@@ -17,7 +17,10 @@ import threading
 import numpy as np
 
 from kane_sim import _core
-from kane_sim.core import Config, _real
+from kane_sim.core import Config
+
+MAX_MECHANISMS = 1_000_000  # state ~1 KB a mechanism on lanes, ~7 KB on drivers: 1 / 7 GB
+MAX_SEED = 2 ** 31 - 1      # sensors.seed's range
 
 
 def _lane_configs(n, config, params):
@@ -25,30 +28,54 @@ def _lane_configs(n, config, params):
     identical rows share one Config. ConfigError names the mechanism."""
     base = config if isinstance(config, Config) else Config(config)
     params = dict(params or {})
+    if base["sensors.enabled"] and "sensors.seed" not in params:
+        # Each mechanism its own noise (Monte Carlo over n copies of one draw would be one draw).
+        first = base["sensors.seed"]
+        if first + n - 1 > MAX_SEED:
+            raise ValueError("sensors.seed %d + %d mechanisms passes %d: give a smaller seed"
+                             % (first, n, MAX_SEED))
+        params["sensors.seed"] = np.arange(first, first + n)
     columns = {}
     for name, values in params.items():
         if not isinstance(name, str):
             raise TypeError("params: names must be config names ('section.key'), got %r" % (name,))
-        array = np.asarray(values, dtype=float)
+        array = np.asarray(values)
+        if array.dtype.kind == "c" or array.dtype.kind not in "biufUSO":
+            raise TypeError("params[%r]: numbers, strings or bools, got %s" % (name, array.dtype))
         if array.ndim == 0:
-            array = np.full(n, float(array))
+            array = np.full(n, array.item(), dtype=object)
         if array.shape != (n,):
             raise ValueError("params[%r]: one value or %d (one per mechanism), got shape %s"
                              % (name, n, array.shape))
-        columns[name] = array
+        columns[name] = [v.item() if isinstance(v, np.generic) else v for v in array]
     names = list(columns)
-    rows = np.column_stack([columns[k] for k in names]) if names else np.zeros((n, 0))
     built = {}
     configs = []
     for i in range(n):
-        key = rows[i].tobytes()
+        row = tuple(columns[k][i] for k in names)
+        key = tuple((type(v).__name__, v) for v in row)
         if key not in built:
+            for name, value in zip(names, row):
+                if isinstance(value, complex) or not isinstance(value, (bool, int, float, str)):
+                    raise TypeError("params[%r][%d]: a number, a string or a bool, got %r"
+                                    % (name, i, value))
             try:
-                built[key] = base.with_values(dict(zip(names, rows[i].tolist())))
+                built[key] = base.with_values(dict(zip(names, row)))
             except _core.ConfigError as e:
                 raise _core.ConfigError("mechanism %d: %s" % (i, e)) from None
         configs.append(built[key])
     return configs
+
+
+def _real_array(what, values, n):
+    """values as n finite-or-not real numbers (ints, floats): TypeError for bools, complex
+    numbers, strings; ValueError for a scalar or a wrong shape."""
+    a = np.asarray(values)
+    if a.ndim == 0:
+        raise ValueError("%s must hold one value per mechanism (%d), got a scalar" % (what, n))
+    if a.dtype.kind not in "iuf":
+        raise TypeError("%s must be real numbers (ints or floats), got %s" % (what, a.dtype))
+    return a.astype(float)
 
 
 class BatchSimulator:
@@ -70,8 +97,9 @@ class BatchSimulator:
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
             raise ValueError("BatchSimulator: n must be a whole number of mechanisms >= 1, got %r"
                              % (n,))
-        if n > 1 << 24:
-            raise ValueError("BatchSimulator: n = %d mechanisms is more than 2^24" % n)
+        if n > MAX_MECHANISMS:
+            raise ValueError("BatchSimulator: n = %d mechanisms is more than %d (state memory: "
+                             "~1 KB each on SIMD lanes, ~7 KB on drivers)" % (n, MAX_MECHANISMS))
         if threads is None:
             threads = 2 if n >= 256 else 1
         if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or \
@@ -80,6 +108,9 @@ class BatchSimulator:
                              % (threads,))
         if not isinstance(simd, str):
             raise TypeError("BatchSimulator: simd must be a string, got %r" % (simd,))
+        if not isinstance(vector_trig, (bool, np.bool_)):
+            raise TypeError("BatchSimulator: vector_trig must be True or False, got %r"
+                            % (vector_trig,))
         self._configs = _lane_configs(int(n), config, params)
         self._batch = _core.BatchSimulator([c._core for c in self._configs], simd,
                                            bool(vector_trig), int(threads))
@@ -87,6 +118,18 @@ class BatchSimulator:
 
     def __len__(self):
         return self._batch.size
+
+    def __copy__(self):
+        raise TypeError("a BatchSimulator cannot be copied (a copy would share its mechanisms): "
+                        "build another with the same n, config and params")
+
+    def __deepcopy__(self, memo):
+        raise TypeError("a BatchSimulator cannot be deep-copied: build another with the same n, "
+                        "config and params, and set its states by stepping")
+
+    def __reduce__(self):
+        raise TypeError("a BatchSimulator cannot be pickled: pickle its configs' yaml() and "
+                        "states instead")
 
     @property
     def path(self):
@@ -118,10 +161,7 @@ class BatchSimulator:
                              % (steps,))
         if steps > 10_000_000:
             raise ValueError("step: steps = %d is more than 1e7 physics steps" % steps)
-        a = np.asarray(actions, dtype=float)
-        if a.ndim == 0:
-            raise ValueError("step: actions must hold one value per mechanism (%d), got a scalar"
-                             % len(self))
+        a = _real_array("step: actions", actions, len(self))
         m = None if mask is None else np.asarray(mask)
         if m is not None and m.dtype != bool:
             raise TypeError("step: mask must be booleans (one per mechanism), got %s" % m.dtype)
@@ -139,10 +179,12 @@ class BatchSimulator:
         with self._exclusive("reset"):
             if seed is None:
                 return self._batch.reset(m)
+            most = MAX_SEED - (len(self) - 1)
             if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or \
-                    not 0 <= seed < 2 ** 63:
-                raise ValueError("reset: seed must be a whole number in [0, 2^63), got %r"
-                                 % (seed,))
+                    not 0 <= seed <= most:
+                raise ValueError("reset: seed must be a whole number in [0, %d] (mechanism i "
+                                 "takes sensors.seed = seed + i <= %d), got %r"
+                                 % (most, MAX_SEED, seed))
             for i in np.flatnonzero(m):
                 self._configs[i] = self._configs[i].with_values({"sensors.seed": int(seed) + int(i)})
             return self._batch.reseed(m, int(seed))
@@ -171,12 +213,10 @@ class BatchSimulator:
         """With sensors: (positions, velocities), each (n, 4) in joint_states' order (crank,
         coupler, slider 3, slider 4), of the last reading to reach each mechanism (the true
         joints at the start until the first arrives)."""
+        if not self._batch.sensors:
+            raise ValueError("readings: the sensors are off (sensors.enabled false): the states "
+                             "are the mechanisms' exact values")
         return self._batch.reading_positions, self._batch.reading_velocities
-
-
-def _default_reward(states, actions):
-    """Keep the crank turning with little torque: u1 minus 1e-3 torque^2, per mechanism."""
-    return states[:, 2] - 1e-3 * np.square(actions)
 
 
 class VectorEnv:
@@ -184,10 +224,14 @@ class VectorEnv:
     Gymnasium is not needed): reset(seed=None, options=None) -> (obs, info);
     step(actions) -> (obs, reward, terminated, truncated, info), each an array over the
     mechanisms. obs: the states (n, 4), or with sensors the readings' positions and velocities
-    (n, 8). reward: reward(obs, actions) -> (n,) (default: u1 - 1e-3 torque^2). An episode is
-    truncated after max_episode_steps actions; each action is held for `substeps` physics steps.
-    Autoreset as Gymnasium 1.x's default (next step): the step after a mechanism's episode
-    ended resets it and returns its first observation, with reward 0 and both flags false."""
+    (n, 8; the true joints until a mechanism's first reading arrives). reward: reward(obs,
+    actions) -> (n,) finite reals (default: the crank's speed u1 minus 1e-3 times the square of
+    the torque delivered, the action clamped to command.torque_limit; in servo modes u1 alone).
+    An episode is truncated after max_episode_steps actions; each action is held for `substeps`
+    physics steps. Autoreset as Gymnasium 1.x's default (next step): the step after a mechanism's
+    episode ended resets it and returns its first observation, with reward 0 and both flags
+    false. action_low / action_high: the command's range per mechanism (effort: the torque
+    limit; velocity: what the servo follows; position: a million turns)."""
 
     metadata = {"autoreset_mode": "NextStep"}
 
@@ -208,15 +252,33 @@ class VectorEnv:
         self.num_envs = len(self.sim)
         self.substeps = int(substeps)
         self.max_episode_steps = int(max_episode_steps)
-        self.reward = reward or _default_reward
+        self.reward = reward or self._default_reward
         self._sensors = self.sim._batch.sensors
         self.single_observation_shape = (8,) if self._sensors else (4,)
         self.single_action_shape = ()
-        limits = np.array([self.sim.config(i)["command.torque_limit"]
-                           for i in range(self.num_envs)])
-        self.action_low, self.action_high = -limits, limits  # effort mode: the torque limit
+        self._mode = [self.sim.config(i)["command.mode"] for i in range(self.num_envs)]
+        self.action_high = np.array([self._action_range(i) for i in range(self.num_envs)])
+        self.action_low = -self.action_high
         self._steps = np.zeros(self.num_envs, dtype=np.int64)
         self._ended = np.zeros(self.num_envs, dtype=bool)
+        self._started = False
+
+    def _action_range(self, i):
+        c = self.sim.config(i)
+        if self._mode[i] == "effort":
+            return c["command.torque_limit"]
+        if self._mode[i] == "velocity":  # the servo's refusal: 0.5 rad a physics step
+            return 0.5 * c["simulation.physics_rate"]
+        return 2e6 * np.pi  # position: a million turns
+
+    def _default_reward(self, obs, actions):
+        u1 = obs[:, 4] if self._sensors else obs[:, 2]
+        effort = np.array([m == "effort" for m in self._mode])
+        delivered = np.clip(actions, self.action_low, self.action_high)
+        return u1 - 1e-3 * np.where(effort, np.square(delivered), 0.0)
+
+    def close(self):
+        """Nothing to release (Gymnasium's API)."""
 
     def _observe(self):
         if self._sensors:
@@ -226,18 +288,29 @@ class VectorEnv:
     def reset(self, seed=None, options=None):
         """All mechanisms back to their start (seed: their sensors' noise drawn afresh from
         seed + i). options={"mask": bools} resets only those. Returns (obs, info)."""
+        if options is not None and not isinstance(options, dict):
+            raise TypeError("reset: options must be a dict ({'mask': bools}), got %r" % (options,))
+        unknown = set(options or {}) - {"mask"}
+        if unknown:
+            raise ValueError("reset: options takes 'mask' only, got %s" % ", ".join(sorted(unknown)))
         mask = None if not options else options.get("mask")
         self.sim.reset(mask, seed)
+        self._started = True
         m = np.ones(self.num_envs, dtype=bool) if mask is None else np.asarray(mask, dtype=bool)
         self._steps[m] = 0
         self._ended[m] = False
         return self._observe(), {}
 
     def step(self, actions):
-        a = np.asarray(actions, dtype=float)
+        if not self._started:
+            raise RuntimeError("step: call reset() first (Gymnasium's order)")
+        a = _real_array("step: actions", actions, self.num_envs)
         if a.shape != (self.num_envs,):
             raise ValueError("step: actions must have shape (%d,), got %s"
                              % (self.num_envs, a.shape))
+        bad = np.flatnonzero(~np.isfinite(a))
+        if bad.size:
+            raise ValueError("step: actions[%d] = %r is not finite" % (bad[0], a[bad[0]]))
         restart = self._ended.copy()  # their episode ended last step: this step resets them
         if restart.any():
             self.sim.reset(restart)
@@ -245,10 +318,13 @@ class VectorEnv:
         self.sim.step(np.where(restart, 0.0, a), self.substeps, mask=~restart)
         obs = self._observe()
         self._steps[~restart] += 1
-        reward = np.asarray(self.reward(obs, a), dtype=float)
-        if reward.shape != (self.num_envs,):
-            raise ValueError("reward(obs, actions) must return shape (%d,), got %s"
-                             % (self.num_envs, reward.shape))
+        # The physics has stepped: a reward that fails is raised with the step taken.
+        reward = np.asarray(self.reward(obs, a))
+        if reward.shape != (self.num_envs,) or reward.dtype.kind not in "iuf" or \
+                not np.all(np.isfinite(reward)):
+            raise ValueError("reward(obs, actions) must return %d finite reals, got %s of %s"
+                             % (self.num_envs, reward.shape, reward.dtype))
+        reward = reward.astype(float)
         terminated = self.sim.terminated & ~restart
         truncated = (self._steps >= self.max_episode_steps) & ~terminated & ~restart
         reward = np.where(restart, 0.0, reward)

@@ -1,6 +1,11 @@
 // kane_sim._core.BatchSimulator: the C++ BatchSimulator (sim/batch_simulator.h) with NumPy
 // arrays in and out; a step releases the GIL (its threads and lanes run without Python).
+#include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <exception>
+#include <future>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,10 +22,10 @@ namespace {
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using Mask = py::array_t<bool, py::array::c_style | py::array::forcecast>;
 
-std::vector<bool> maskOf(const BatchSimulator& batch, const Mask& mask) {
+std::vector<bool> maskOf(const BatchSimulator& batch, const Mask& mask, const char* call) {
   if (mask.ndim() != 1 || static_cast<std::size_t>(mask.shape(0)) != batch.size())
-    throw py::value_error("mask must hold one bool per mechanism (" + std::to_string(batch.size()) +
-                          ")");
+    throw py::value_error(std::string(call) + ": mask must hold one bool per mechanism (" +
+                          std::to_string(batch.size()) + ")");
   return std::vector<bool>(mask.data(), mask.data() + mask.shape(0));
 }
 
@@ -82,30 +87,55 @@ void bindBatch(py::module_& m) {
           "step",
           [](BatchSimulator& b, const Array& actions, long steps, const py::object& mask) {
             if (actions.ndim() != 1 || static_cast<std::size_t>(actions.shape(0)) != b.size())
-              throw py::value_error("actions must hold one value per mechanism (" +
+              throw py::value_error("step: actions must hold one value per mechanism (" +
                                     std::to_string(b.size()) + ")");
             std::vector<bool> active;
-            if (!mask.is_none()) active = maskOf(b, mask.cast<Mask>());
-            try {
+            if (!mask.is_none()) active = maskOf(b, mask.cast<Mask>(), "step");
+            // The step on a thread of its own; this one, without the GIL, looks at Python's
+            // signals every 20 ms: Ctrl-C stops every lane where it is (KeyboardInterrupt).
+            std::atomic<bool> stop{false};
+            std::unique_ptr<py::error_already_set> raised;
+            std::exception_ptr failure;
+            {
               py::gil_scoped_release release;
-              b.step(actions.data(), steps, mask.is_none() ? nullptr : &active);
-            } catch (const std::invalid_argument& e) {
-              throw py::value_error(e.what());
+              std::future<void> done = std::async(std::launch::async, [&] {
+                try {
+                  b.step(actions.data(), steps, mask.is_none() ? nullptr : &active, &stop);
+                } catch (...) {
+                  failure = std::current_exception();
+                }
+              });
+              while (done.wait_for(std::chrono::milliseconds(20)) != std::future_status::ready) {
+                if (stop) continue;
+                py::gil_scoped_acquire acquire;
+                if (PyErr_CheckSignals() != 0) {
+                  raised = std::make_unique<py::error_already_set>();
+                  stop = true;
+                }
+              }
             }
+            if (failure) {
+              try {
+                std::rethrow_exception(failure);
+              } catch (const std::invalid_argument& e) {
+                throw py::value_error(std::string("step: ") + e.what());
+              }
+            }
+            if (raised) throw *raised;
             return states(b);
           },
           py::arg("actions"), py::arg("steps") = 1, py::arg("mask") = py::none())
       .def(
           "reset",
           [](BatchSimulator& b, const Mask& mask) {
-            b.reset(maskOf(b, mask));
+            b.reset(maskOf(b, mask, "reset"));
             return states(b);
           },
           py::arg("mask"))
       .def(
           "reseed",
           [](BatchSimulator& b, const Mask& mask, std::uint64_t seed) {
-            b.reseed(maskOf(b, mask), seed);
+            b.reseed(maskOf(b, mask, "reset"), seed);
             return states(b);
           },
           py::arg("mask"), py::arg("seed"))

@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <thread>
 
 #include "kane_sim/format_number.h"
 #include "kane_sim/model/generated_mechanism.h"
+#include "kane_sim/sim/profile_commands.h"
 #include "lane_sweep.h"
 
 namespace kane_sim {
@@ -16,6 +18,11 @@ namespace kane_sim {
 namespace {
 
 std::string num(double v) { return formatNumber(v); }
+std::string timeText(double t) {  // a tick's time without its rounding's tail: 0.477, not ...04
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.9g", t);
+  return text;
+}
 
 // Why the lanes path is not taken for all of `configs`, or "": every lane on it, one rate.
 std::string whyDrivers(const std::vector<Config>& configs, const BatchSettings& settings) {
@@ -98,7 +105,7 @@ void BatchSimulator::buildDriver(std::size_t lane, const Config& config) {
     if (l.terminated) return;
     if (e.kind == SimEvent::Kind::kStepRefused || e.kind == SimEvent::Kind::kFirstSliderCrossing) {
       l.terminated = true;
-      l.reason = "t = " + num(e.time) + " s: " + e.message;
+      l.reason = "t = " + timeText(e.time) + " s: " + e.message;
     }
   });
   l.terminated = false;
@@ -123,25 +130,17 @@ void BatchSimulator::parallel(std::size_t count, const F& work) {
   for (std::thread& th : pool) th.join();
 }
 
-void BatchSimulator::step(const double* actions, long steps, const std::vector<bool>* active) {
+bool BatchSimulator::step(const double* actions, long steps, const std::vector<bool>* active,
+                          const std::atomic<bool>* stop) {
   if (steps < 1)
     throw std::invalid_argument("steps must be 1 or more, got " + std::to_string(steps));
   if (active && active->size() != size())
     throw std::invalid_argument("active must hold one flag per lane");
   // Everything is checked before any lane moves.
   for (std::size_t i = 0; i < size(); ++i) {
-    if (active && !(*active)[i]) continue;
-    const Config& c = configs_[i];
     if (!std::isfinite(actions[i]))
       throw std::invalid_argument("actions[" + std::to_string(i) + "] = " + num(actions[i]) +
                                   " is not finite");
-    if (c.command.timeout > 0.0 && static_cast<double>(steps) * step_size_ > c.command.timeout)
-      throw std::invalid_argument(
-          "steps = " + std::to_string(steps) + " physics steps (" +
-          num(static_cast<double>(steps) * step_size_) + " s) outlast lane " + std::to_string(i) +
-          "'s command.timeout " + num(c.command.timeout) +
-          " s: its drive would drop the torque within one action (step more often, or set "
-          "command.timeout 0)");
     if (!on_lanes_ && lanes_[i].driver->servoMode()) {
       const std::string problem = lanes_[i].driver->setpointProblem(actions[i]);
       if (!problem.empty())
@@ -149,7 +148,9 @@ void BatchSimulator::step(const double* actions, long steps, const std::vector<b
     }
   }
   active_ = active;
+  stop_ = stop;
   if (on_lanes_) {
+    for (Chunk& chunk : chunks_) chunk.run.stop = stop;
     parallel(chunks_.size(), [&](std::size_t k) { stepLanes(actions, steps, k); });
   } else {
     const std::size_t threads = static_cast<std::size_t>(settings_.threads);
@@ -159,6 +160,8 @@ void BatchSimulator::step(const double* actions, long steps, const std::vector<b
     });
   }
   active_ = nullptr;
+  stop_ = nullptr;
+  return !(stop && stop->load());
 }
 
 void BatchSimulator::stepDrivers(const double* actions, long steps, std::size_t begin,
@@ -168,12 +171,16 @@ void BatchSimulator::stepDrivers(const double* actions, long steps, std::size_t 
     Lane& l = lanes_[i];
     if (!stepping(i)) continue;
     SimDriver& d = *l.driver;
-    if (d.servoMode())
-      d.setpoint(actions[i]);
-    else
-      d.command(actions[i]);  // finite: clamped to command.torque_limit like torque_command
+    // A single Simulator's set_torque(a) then step(steps): the command sent, then re-sent by
+    // the held profile whenever command.timeout would otherwise lapse.
+    sendCommand(d, actions[i]);
+    const TorqueProfile held = TorqueProfile::constant(actions[i]);
+    ProfileCommands commands(held, configs_[i].command.timeout);
+    commands.update(d);
     for (long s = 0; s < steps && !l.terminated; ++s) {
+      if (stop_ && stop_->load(std::memory_order_relaxed)) return;
       d.step();
+      commands.update(d);
       while (d.takeSensorReading(&reading)) l.reading = reading.joints;
     }
   }
@@ -191,22 +198,27 @@ void BatchSimulator::stepLanes(const double* actions, long steps, std::size_t ch
   run.held_steps = steps;
   const std::vector<LaneOutcome> outcomes = runLanes(run, arch_);
   for (std::size_t k = 0; k < chunk.members.size(); ++k) {
-    Lane& l = lanes_[chunk.members[k]];
-    if (!stepping(chunk.members[k])) continue;
+    const std::size_t i = chunk.members[k];
+    Lane& l = lanes_[i];
+    if (!stepping(i)) continue;
     const LaneOutcome& o = outcomes[k];
     l.x = o.state;
     l.ticks += static_cast<std::uint64_t>(o.steps);
+    const std::string at = "t = " + timeText(static_cast<double>(l.ticks) * step_size_) + " s: ";
     if (o.refused) {
-      // The step after o.steps was refused: the driver's words (Simulator::step's checks).
+      // The Simulator's checks refused the next step (its message needs its own loop: say what
+      // it checks, and where the lane stopped).
+      const double torque = std::clamp(actions[i], -configs_[i].command.torque_limit,
+                                       configs_[i].command.torque_limit);
       l.terminated = true;
-      l.reason = "t = " + num(static_cast<double>(l.ticks) * step_size_) +
-                 " s: the step was refused (the state would go non-finite, run away or turn the "
-                 "crank more than 1 rad in one step); the last good state is kept";
+      l.reason = at +
+                 "the step was refused (it would go non-finite or beyond 1e100, or turn the "
+                 "crank more than 1 rad) from " +
+                 Simulator::stateText(fromOdeState(l.x)) + " with M_m = " + num(torque) +
+                 " N m; the last good state is kept";
     } else if (o.slider_crossings > 0) {
       l.terminated = true;
-      l.reason = "t = " + num(static_cast<double>(l.ticks) * step_size_) +
-                 " s: slider 4 passed through slider 3 (the textbook example models no contact; "
-                 "contact.enabled stops it)";
+      l.reason = at + kSliderCrossingReport;
     }
   }
 }

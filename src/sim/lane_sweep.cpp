@@ -20,7 +20,8 @@ std::string whyNotOnLanes(const Config& config) {
   if (config.command.mode != CommandMode::kEffort)
     return std::string("command.mode ") + commandModeName(config.command.mode);
   if (config.mechanism.contact.enabled) return "contact.enabled";
-  if (config.mechanism.motor.no_load_speed > 0.0) return "a motor line (motor.no_load_speed)";
+  if (config.mechanism.motor.no_load_speed > 0.0)
+    return "a motor line (command.motor_no_load_speed)";
   if (config.sensors.command_latency != 0.0) return "sensors.command_latency";
   return "";
 }

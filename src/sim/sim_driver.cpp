@@ -5,6 +5,11 @@
 #include <utility>
 
 namespace kane_sim {
+
+const char* const kSliderCrossingReport =
+    "slider 4 passed through slider 3: the textbook example models no contact between the "
+    "sliders (counted in slider_crossings; reported once per start or reset; contact.enabled "
+    "stops it)";
 namespace {
 
 template <typename... Args>
@@ -142,10 +147,7 @@ bool SimDriver::step() {
     return false;
   }
   if (crossings_before == 0 && sim_.sliderCrossings() > 0)
-    report(SimEvent::Kind::kFirstSliderCrossing,
-           format("slider 4 passed through slider 3: the textbook example models no contact "
-                  "between the sliders (counted in slider_crossings; reported once per start or "
-                  "reset; contact.enabled stops it)"));
+    report(SimEvent::Kind::kFirstSliderCrossing, kSliderCrossingReport);
   if (!coarse_before && sim_.stepTooCoarse())
     report(SimEvent::Kind::kStepTooCoarse,
            format("the crank turns %.3f rad per physics step (u1 = %.1f rad/s): rk4 at %g Hz no "

@@ -137,12 +137,24 @@ def test_hostile_inputs_are_refused_by_name_and_move_nothing():
                                   ([0.0, 0.0], 1, "one value per mechanism"),
                                   ([0.0, 0.0, 0.0], 0, "steps must be"),
                                   ([0.0, 0.0, 0.0], 1.5, "steps must be"),
-                                  ([0.0, 0.0, 0.0], True, "steps must be"),
-                                  ([0.0, 0.0, 0.0], 600, "outlast lane 0's command.timeout")):
+                                  ([0.0, 0.0, 0.0], True, "steps must be")):
         with pytest.raises(ValueError, match=words):
             batch.step(np.array(actions), steps)
     with pytest.raises(ValueError, match="got a scalar"):
         batch.step(1.0)
+    for actions in (np.array([1j, 0, 0]), np.array([True, False, True]), np.array(["1", "2", "3"])):
+        with pytest.raises(TypeError, match="actions must be real numbers"):
+            batch.step(actions)
+    import copy
+    import pickle
+    for attempt in (lambda: copy.copy(batch), lambda: copy.deepcopy(batch),
+                    lambda: pickle.dumps(batch)):
+        with pytest.raises(TypeError, match="BatchSimulator cannot be"):
+            attempt()
+    with pytest.raises(ValueError, match="sensors are off"):
+        batch.readings()
+    with pytest.raises(ValueError, match=r"seed must be a whole number in \[0, 2147483645\]"):
+        batch.reset(seed=2 ** 31 - 1)
     assert np.array_equal(batch.states, before) and np.all(batch.times == 0.0)
     for kwargs, words in (({"n": 0}, "n must be"), ({"n": True}, "n must be"),
                           ({"n": 2.5}, "n must be"), ({"n": 2, "simd": "avx9"}, "avx9"),
@@ -164,6 +176,72 @@ def test_hostile_inputs_are_refused_by_name_and_move_nothing():
         batch.reset(np.array([True]))
     with pytest.raises(ValueError, match="seed"):
         batch.reset(seed=-1)
+
+
+def test_a_held_torque_outlasts_the_command_timeout_as_a_single_run(tmp_path):
+    # Simulator.step(n) re-sends its command within command.timeout: so does every mechanism,
+    # on lanes and on drivers, whatever its physics rate (mechanisms 1, 3 at 500 Hz: drivers).
+    params = {"initial_state.q1": [0.3, 0.4, 0.5, 0.6]}
+    for rates, path in (([1000.0] * 4, "lanes"), ([1000.0, 500.0, 1000.0, 500.0], "drivers")):
+        batch = kane_sim.BatchSimulator(4, config_path(),
+                                        dict(params, **{"simulation.physics_rate": rates}))
+        assert path in batch.path
+        batch.step(np.full(4, 3.0), 1500)  # 1.5 s or 3 s, beyond the 0.5 s timeout
+        for i in range(4):
+            sim = kane_sim.Simulator(batch.config(i))
+            sim.set_torque(3.0)
+            sim.step(1500)
+            assert np.array_equal(batch.states[i], sim.state) and batch.times[i] == sim.time
+
+
+def test_modes_per_mechanism_and_their_own_noise(tmp_path):
+    cfg = yaml.safe_load(open(config_path()))
+    cfg["sensors"] = yaml.safe_load(open(config_path("sensors.yaml")))["sensors"]
+    path = tmp_path / "sensors.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    modes = ["effort", "velocity", "position", "effort"]
+    batch = kane_sim.BatchSimulator(4, str(path), {"command.mode": modes,
+                                                   "contact.enabled": [True, False, True, False]})
+    assert [batch.config(i)["sensors.seed"] for i in range(4)] == [1, 2, 3, 4]
+    actions = np.array([2.0, 1.0, 0.5, 2.0])
+    for _ in range(20):
+        batch.step(actions, 10)
+    positions, _ = batch.readings()
+    # Mechanisms 0 and 3 are the same but for their noise: their readings differ, their states
+    # do not.
+    assert np.array_equal(batch.states[0], batch.states[3])
+    assert not np.array_equal(positions[0], positions[3])
+    for i in range(4):
+        sim = kane_sim.Simulator(batch.config(i))
+        assert sim["command.mode"] == modes[i]
+        sim.set_torque(actions[i])
+        for _ in range(20):
+            sim.step(10)
+        assert np.array_equal(batch.states[i], sim.state), i
+    with pytest.raises(TypeError, match="params"):
+        kane_sim.BatchSimulator(2, config_path(), {"mechanism.rod_mass": [1j, 1.0]})
+
+
+@pytest.mark.parametrize("simd", ["auto", "off"])
+def test_ctrl_c_stops_a_long_step_where_it_is(simd):
+    script = (
+        "import signal, time, threading, os, numpy as np, kane_sim\n"
+        "b = kane_sim.BatchSimulator(64, params={'command.timeout': 0.0}, simd='%s')\n" % simd +
+        "threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()\n"
+        "t = time.monotonic()\n"
+        "try:\n"
+        "    b.step(np.full(64, 0.1), 10_000_000)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('stopped after %.2f s, times %.1f to %.1f s' % (time.monotonic() - t,\n"
+        "          b.times.min(), b.times.max()))\n")
+    import subprocess
+    import sys
+    r = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0 and "stopped after" in r.stdout, r.stdout + r.stderr
+    words = r.stdout.split()
+    # Each lane ends where it is: some ran (blocks, drivers run one after another), none all
+    # 10 000 s of the 1e7 steps.
+    assert float(words[2]) < 5.0 and float(words[5]) < 10000.0 and float(words[7]) > 0, r.stdout
 
 
 def test_one_call_at_a_time():
@@ -209,10 +287,33 @@ def test_vector_env_shapes_truncation_and_next_step_autoreset():
     assert not np.array_equal(obs, start) and seen[-1] == (5, 4)
     with pytest.raises(ValueError, match=r"shape \(5,\)"):
         env.step(np.zeros(4))
-    bad = kane_sim.VectorEnv(2, config_path(), reward=lambda o, a: 0.0)
-    bad.reset()
-    with pytest.raises(ValueError, match="reward"):
-        bad.step(np.zeros(2))
+    for reward in (lambda o, a: 0.0, lambda o, a: np.full(2, np.nan), lambda o, a: np.ones(2) * 1j):
+        bad = kane_sim.VectorEnv(2, config_path(), reward=reward)
+        with pytest.raises(RuntimeError, match="reset"):
+            bad.step(np.zeros(2))
+        bad.reset()
+        with pytest.raises(ValueError, match="reward"):
+            bad.step(np.zeros(2))
+    with pytest.raises(ValueError, match="options takes 'mask' only, got maks"):
+        env.reset(options={"maks": [True] * 5})
+    with pytest.raises(ValueError, match=r"actions\[1\] = nan"):
+        env.step(np.array([0.0, np.nan, 0.0, 0.0, 0.0]))
+
+
+def test_vector_env_default_reward_is_the_crank_speed_with_sensors_too(tmp_path):
+    cfg = yaml.safe_load(open(config_path()))
+    cfg["sensors"] = yaml.safe_load(open(config_path("sensors.yaml")))["sensors"]
+    path = tmp_path / "sensors.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    env = kane_sim.VectorEnv(3, str(path), substeps=10)
+    obs, _ = env.reset(seed=3)
+    assert obs.shape == (3, 8)
+    for _ in range(5):
+        obs, reward, *_ = env.step(np.array([1.0, 100.0, -100.0]))
+    # u1 read by the crank's sensor minus 1e-3 (torque delivered: clamped to 50 N m)^2.
+    np.testing.assert_array_equal(reward, obs[:, 4] - 1e-3 * np.array([1.0, 2500.0, 2500.0]))
+    servo = kane_sim.VectorEnv(2, config_path(), {"command.mode": "velocity"})
+    assert np.all(servo.action_high == 500.0)
 
 
 def test_vector_env_terminates_a_crossing_and_restarts_it():

@@ -9,6 +9,7 @@
 #define KANE_SIM_SIM_BATCH_SIMULATOR_H
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -39,11 +40,14 @@ class BatchSimulator {
   bool onLanes() const { return on_lanes_; }
 
   // Each running lane i takes actions[i] (a torque [N m], or in servo modes a setpoint) and
-  // steps `steps` physics steps; terminated lanes stay as they are. Refused before anything
-  // moves (std::invalid_argument naming the lane and value): a non-finite action; steps < 1;
-  // steps longer than command.timeout (the drive would drop the torque within one action).
-  // `active` (when not null): only lanes with active[i] step (and their actions are checked).
-  void step(const double* actions, long steps, const std::vector<bool>* active = nullptr);
+  // steps `steps` physics steps, as a single Simulator's set_torque then step(steps) (the
+  // command re-sent within command.timeout); terminated lanes stay as they are. Refused before
+  // anything moves (std::invalid_argument naming the lane and value): a non-finite action (of
+  // any lane), steps < 1, a setpoint the servo refuses. `active` (when not null): only lanes
+  // with active[i] step. `stop` (when not null) is checked at every step (drivers) or every 256
+  // (lanes): set, each lane ends where it is; returns false then.
+  bool step(const double* actions, long steps, const std::vector<bool>* active = nullptr,
+            const std::atomic<bool>* stop = nullptr);
 
   // Lanes with mask[i] back to their initial state (the driver's reset: sim time runs on), or
   // with a seed rebuilt from their config with sensors.seed = seed + i (time 0 again).
@@ -94,6 +98,7 @@ class BatchSimulator {
   };
   std::vector<Chunk> chunks_;
   const std::vector<bool>* active_ = nullptr;  // during step()
+  const std::atomic<bool>* stop_ = nullptr;    // during step()
 };
 
 }  // namespace kane_sim

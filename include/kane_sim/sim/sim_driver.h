@@ -19,6 +19,9 @@
 
 namespace kane_sim {
 
+// What kFirstSliderCrossing says (the batched simulator's lanes say it too).
+extern const char* const kSliderCrossingReport;
+
 struct SimEvent {
   enum class Kind {
     kCommandRejected,      // a non-finite torque command was ignored (every time)
