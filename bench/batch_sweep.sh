@@ -7,17 +7,6 @@
 # Usage: bash bench/batch_sweep.sh BUILD_DIR
 # shellcheck source=common.sh
 source "$(dirname "$0")/common.sh"
-best_of_three() {  # prints the best wall time [s] of three runs of "$@"
-  local best="" start end t
-  for _ in 1 2 3; do
-    start=$(now)
-    "$@" >/dev/null 2>&1
-    end=$(now)
-    t=$(echo "$end - $start" | bc)
-    if [ -z "$best" ] || [ "$(echo "$t < $best" | bc)" = 1 ]; then best=$t; fi
-  done
-  echo "$best"
-}
 drive=(--torque-sine 2,0.5)
 single=$(best_of_three "$simulate" --config "$config" --duration 10000 "${drive[@]}" \
   --output-rate 0.1 --csv "$work/single.csv")

@@ -9,17 +9,6 @@ source "$(dirname "$0")/common.sh"
 sweep="$build_dir/devel/lib/kane_sim/sweep"
 plan=(--config "$config" --duration 10 --torque-sine 2,0.5
   --sweep mechanism.spring_stiffness=100:400:200 --sweep damping.slider4_joint=0:2:10)
-best_of_three() {
-  local best="" start end t
-  for _ in 1 2 3; do
-    start=$(now)
-    "$@" >/dev/null 2>&1
-    end=$(now)
-    t=$(echo "$end - $start" | bc)
-    if [ -z "$best" ] || [ "$(echo "$t < $best" | bc)" = 1 ]; then best=$t; fi
-  done
-  echo "$best"
-}
 pids=()
 cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; rm -rf "$work"; }
 trap cleanup EXIT

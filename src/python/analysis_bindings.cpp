@@ -53,24 +53,9 @@ std::vector<SweepResult> runSweepStoppable(const PythonConfig& config, const Swe
   std::atomic<bool> stop{false};
   settings.stop = &stop;
   std::vector<SweepResult> results;
-  std::exception_ptr failure;
-  py::gil_scoped_release release;
-  std::future<void> done = std::async(std::launch::async, [&] {
-    try {
-      results = runSweep(config.tree(), plan, settings);
-    } catch (...) {
-      failure = std::current_exception();
-    }
-  });
-  while (done.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
-    if (stop) continue;
-    py::gil_scoped_acquire acquire;
-    if (PyErr_CheckSignals() != 0) {
-      *raised = std::make_unique<py::error_already_set>();
-      stop = true;
-    }
-  }
-  if (failure) std::rethrow_exception(failure);
+  *raised = runStoppable(
+      stop, [&] { results = runSweep(config.tree(), plan, settings); },
+      std::chrono::milliseconds(50));
   return results;
 }
 

@@ -95,31 +95,13 @@ void bindBatch(py::module_& m) {
             // signals every 20 ms: Ctrl-C stops every lane where it is (KeyboardInterrupt).
             std::atomic<bool> stop{false};
             std::unique_ptr<py::error_already_set> raised;
-            std::exception_ptr failure;
-            {
-              py::gil_scoped_release release;
-              std::future<void> done = std::async(std::launch::async, [&] {
-                try {
-                  b.step(actions.data(), steps, mask.is_none() ? nullptr : &active, &stop);
-                } catch (...) {
-                  failure = std::current_exception();
-                }
-              });
-              while (done.wait_for(std::chrono::milliseconds(20)) != std::future_status::ready) {
-                if (stop) continue;
-                py::gil_scoped_acquire acquire;
-                if (PyErr_CheckSignals() != 0) {
-                  raised = std::make_unique<py::error_already_set>();
-                  stop = true;
-                }
-              }
-            }
-            if (failure) {
-              try {
-                std::rethrow_exception(failure);
-              } catch (const std::invalid_argument& e) {
-                throw py::value_error(std::string("step: ") + e.what());
-              }
+            try {
+              raised = runStoppable(
+                  stop,
+                  [&] { b.step(actions.data(), steps, mask.is_none() ? nullptr : &active, &stop); },
+                  std::chrono::milliseconds(20));
+            } catch (const std::invalid_argument& e) {
+              throw py::value_error(std::string("step: ") + e.what());
             }
             if (raised) throw *raised;
             return states(b);

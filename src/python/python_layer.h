@@ -4,6 +4,11 @@
 #ifndef KANE_SIM_PYTHON_PYTHON_LAYER_H
 #define KANE_SIM_PYTHON_PYTHON_LAYER_H
 
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <future>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -45,6 +50,36 @@ class PythonConfig {
   LoadedConfig loaded_;
   std::string source_;
 };
+
+// Runs work() (C++ that checks `stop`) on a thread of its own while this one, without the GIL,
+// looks at Python's signals every `poll`: a handler that raises (Ctrl-C) sets `stop`, and that
+// exception is returned (null when none was raised). work()'s own exception is rethrown here.
+template <class Work>
+std::unique_ptr<py::error_already_set> runStoppable(std::atomic<bool>& stop, Work work,
+                                                    std::chrono::milliseconds poll) {
+  std::unique_ptr<py::error_already_set> raised;
+  std::exception_ptr failure;
+  {
+    py::gil_scoped_release release;
+    std::future<void> done = std::async(std::launch::async, [&] {
+      try {
+        work();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    });
+    while (done.wait_for(poll) != std::future_status::ready) {
+      if (stop) continue;
+      py::gil_scoped_acquire acquire;
+      if (PyErr_CheckSignals() != 0) {
+        raised = std::make_unique<py::error_already_set>();
+        stop = true;
+      }
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+  return raised;
+}
 
 void bindConfig(py::module_& m);
 void bindSimulator(py::module_& m);
