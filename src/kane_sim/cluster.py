@@ -4,6 +4,8 @@ cases allow), gathered in case order. The workers import the same kane_sim (star
 sourcing the same build's setup.bash). A worker lost mid-sweep loses nothing: the scheduler
 runs its chunks again elsewhere. doc/guide/cluster.md says how to start a cluster.
 """
+import os
+import sys
 import uuid
 
 import numpy as np
@@ -23,6 +25,26 @@ class Interrupted(KeyboardInterrupt):
         self.chunks = chunks
 
 
+class Failed(RuntimeError):
+    """The cluster failed mid-sweep (the scheduler lost, a worker that cannot import kane_sim):
+    the message says what; `chunks` holds the finished chunks' results (None elsewhere)."""
+
+    def __init__(self, message, chunks):
+        super().__init__(message)
+        self.chunks = chunks
+
+
+def _why(error):
+    """A cluster's failure in one sentence."""
+    if isinstance(error, ImportError):
+        return ("a worker cannot import %s (%s): start every worker after sourcing this build's "
+                "devel/setup.bash (doc/guide/cluster.md)" % (getattr(error, "name", "kane_sim")
+                                                              or "kane_sim", error))
+    text = str(error).splitlines()[0] if str(error) else ""
+    return "the scheduler was lost mid-sweep (%s%s)" % (type(error).__name__,
+                                                        ": " + text[:200] if text else "")
+
+
 def run_chunk(config_yaml, keys, rows, first_case, duration, torque, simd, vector_trig):
     """One chunk on a worker: its cases' columns (as kane_sim.sweep) and their CSV rows, numbered
     from first_case, as `simulate --sweep` writes them ("csv_rows")."""
@@ -35,21 +57,42 @@ def run_chunk(config_yaml, keys, rows, first_case, duration, torque, simd, vecto
 
 def connect(scheduler):
     """A distributed.Client of the scheduler at `scheduler` ("tcp://HOST:PORT", or a
-    scheduler file's path); ValueError naming the address when it cannot be reached."""
+    scheduler file's path: .json); ValueError naming the address when it cannot be reached."""
     try:
         from distributed import Client
     except ImportError:
         raise ValueError("a cluster sweep needs Dask distributed (apt install "
                          "python3-distributed)") from None
+    if not isinstance(scheduler, str) or not scheduler.strip():
+        raise ValueError("scheduler: give tcp://HOST:PORT or a scheduler file, got %r"
+                         % (scheduler,))
+    if scheduler.endswith(".json"):
+        if not os.path.isfile(scheduler):
+            raise ValueError("scheduler file %s does not exist (dask scheduler "
+                             "--scheduler-file writes it)" % scheduler)
+        kwargs = {"scheduler_file": scheduler}
+    else:
+        kwargs = {"address": scheduler}
     try:
-        if scheduler.endswith(".json"):
-            return Client(scheduler_file=scheduler, timeout=CONNECT_TIMEOUT)
-        return Client(scheduler, timeout=CONNECT_TIMEOUT)
-    except (OSError, TimeoutError, ValueError) as e:
-        raise ValueError("scheduler %s cannot be reached within %g s (%s): is `dask scheduler` "
-                         "running there, and the port open?" % (scheduler, CONNECT_TIMEOUT,
-                                                                str(e).splitlines()[0] if str(e)
-                                                                else type(e).__name__)) from None
+        return Client(timeout=CONNECT_TIMEOUT, **kwargs)
+    except KeyboardInterrupt:
+        raise
+    except Exception as e:  # Dask raises OSError, TimeoutError, ValueError, TypeError, ...
+        text = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise ValueError("scheduler %s cannot be reached (%s): is `dask scheduler` running "
+                         "there, and the port open?" % (scheduler, text[:300])) from None
+
+
+def client_of(client):
+    """`client` checked: a running distributed.Client (ValueError, TypeError otherwise)."""
+    from distributed import Client
+    if not isinstance(client, Client):
+        raise TypeError("client must be a distributed.Client or a scheduler's address, got %r"
+                        % (client,))
+    if client.status != "running":
+        raise ValueError("client: the distributed.Client is %s (a closed Client sends nothing)"
+                         % client.status)
+    return client
 
 
 def run(client, config_yaml, keys, rows, duration, torque, simd="auto", vector_trig=False,
@@ -67,19 +110,39 @@ def run(client, config_yaml, keys, rows, duration, torque, simd="auto", vector_t
                for s in starts]
     index = {f.key: i for i, f in enumerate(futures)}
     chunks = [None] * len(futures)
+    if not client.scheduler_info().get("workers"):
+        print("sweep: the scheduler has no workers yet: waiting for them (Ctrl-C stops)",
+              file=sys.stderr)
     try:
-        for future, result in as_completed(futures, with_results=True):
+        for future in as_completed(futures):
             i = index[future.key]
+            if future.status == "cancelled":
+                raise Failed("the sweep's tasks were cancelled on the cluster (the scheduler "
+                             "lost, or another client cancelled them)", chunks)
+            if future.status != "finished":
+                raise future.exception()
+            result = future.result()
             chunks[i] = result
             if on_chunk:
                 on_chunk(i, result)
     except KeyboardInterrupt:
-        client.cancel(futures)
+        _cancel(client, futures)
         raise Interrupted(chunks) from None
-    except BaseException:
-        client.cancel(futures)
+    except Failed:
+        _cancel(client, futures)
         raise
+    except Exception as e:
+        _cancel(client, futures)
+        raise Failed(_why(e), chunks) from None
     return chunks
+
+
+def _cancel(client, futures):
+    """Cancels the sweep's tasks if the scheduler is still there to hear it."""
+    try:
+        client.cancel(futures)
+    except Exception:  # the scheduler is gone: nothing runs for this sweep any more
+        pass
 
 
 def join(keys, rows, chunks, chunk):

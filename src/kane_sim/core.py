@@ -368,6 +368,16 @@ def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0
         profile = TorqueProfile.constant(float(torque))
     if not isinstance(simd, str):
         raise TypeError("sweep: simd must be a string, got %r" % (simd,))
+    if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or \
+            not 1 <= chunk <= 100000:
+        raise ValueError("sweep: chunk must be a whole number of cases in [1, 100000], got %r"
+                         % (chunk,))
+    if isinstance(jobs, bool) or not isinstance(jobs, (int, np.integer)):
+        raise TypeError("sweep: jobs must be a whole number, got %r" % (jobs,))
+    # What the sweep refuses before it runs (keys, duration, jobs, simd), refused before
+    # anything runs or is sent.
+    _core.sweep(cfg._core, list(keys), [], float(duration), profile, int(jobs), simd,
+                bool(vector_trig))
     if client is not None:
         return _sweep_on_cluster(cfg, keys, rows, duration, profile, simd, vector_trig, client,
                                  chunk)
@@ -383,22 +393,20 @@ def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0
 
 
 def _sweep_on_cluster(cfg, keys, rows, duration, profile, simd, vector_trig, client, chunk):
+    """kane_sim.sweep's cases on a cluster (kane_sim.cluster). A cluster that fails mid-sweep
+    raises kane_sim.cluster.Failed (a RuntimeError) with the finished cases in `.result`."""
     from kane_sim import cluster
-    if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or \
-            not 1 <= chunk <= 100000:
-        raise ValueError("sweep: chunk must be a whole number of cases in [1, 100000], got %r"
-                         % (chunk,))
-    # What a local sweep refuses before it runs (keys, duration, simd) is refused here too,
-    # before anything is sent.
-    _core.sweep(cfg._core, list(keys), [], float(duration), profile, 1, simd, bool(vector_trig))
+    if not rows:  # nothing to send: the local sweep's empty columns
+        return {k: np.asarray(v) for k, v in _core.sweep(
+            cfg._core, list(keys), [], float(duration), profile, 1, simd,
+            bool(vector_trig)).items()}
     own = isinstance(client, str)
-    if own:
-        client = cluster.connect(client)
+    client = cluster.connect(client) if own else cluster.client_of(client)
     try:
         chunks = cluster.run(client, cfg.yaml(), list(keys), rows, float(duration), profile,
                              simd, bool(vector_trig), int(chunk))
-    except cluster.Interrupted as interrupted:
-        interrupted.result = cluster.join(list(keys), rows, interrupted.chunks, int(chunk))
+    except (cluster.Interrupted, cluster.Failed) as stopped:
+        stopped.result = cluster.join(list(keys), rows, stopped.chunks, int(chunk))
         raise
     finally:
         if own:

@@ -156,6 +156,21 @@ def test_ctrl_c_cancels_the_tasks_and_keeps_the_finished_rows(cluster, tmp_path)
     assert client.run_on_scheduler(lambda dask_scheduler: len(dask_scheduler.tasks)) == 0
 
 
+def test_python_sweep_refuses_bad_clients_and_takes_no_cases(cluster):
+    _, address, client, _ = cluster
+    empty = kane_sim.sweep(cases={"mechanism.rod_mass": []}, duration=0.1, client=address)
+    assert all(len(v) == 0 for v in empty.values()) and "q1" in empty
+    with pytest.raises(TypeError, match="client must be a distributed.Client"):
+        kane_sim.sweep(cases={"mechanism.rod_mass": [1.0]}, duration=0.1, client=5)
+    closed = distributed.Client(address, timeout=30)
+    closed.close()
+    with pytest.raises(ValueError, match="the distributed.Client is closed"):
+        kane_sim.sweep(cases={"mechanism.rod_mass": [1.0]}, duration=0.1, client=closed)
+    for chunk in (0, "x", 1.5):
+        with pytest.raises(ValueError, match="chunk"):
+            kane_sim.sweep(cases={"mechanism.rod_mass": [1.0]}, duration=0.1, chunk=chunk)
+
+
 def test_an_unreachable_scheduler_is_named(tmp_path):
     r = run_tool("sweep", "--duration", "1", *GRID, "--scheduler", "tcp://127.0.0.1:1",
                  check=False)
@@ -183,6 +198,13 @@ def test_an_unreachable_scheduler_is_named(tmp_path):
     (["--duration", "1"], "one of the arguments --sweep --sweep-file is required"),
     (["--duration", "1", "--swee", "a=1:2:3", *GRID], "unrecognized arguments: --swee"),
     (["--duration", "1", "--torque", "1", "--torque-sine", "1,1", *GRID], "not allowed with"),
+    (["--duration", "1_0", *GRID], "--duration takes a number, got '1_0'"),
+    (["--duration", "2 ", *GRID], "--duration takes a number"),
+    (["--duration", "1", "--duration", "2", *GRID], "--duration given more than once"),
+    (["--duration", "1", "--jobs", "100000", *GRID], "jobs must be in [0,"),
+    (["--duration", "1", "--scheduler", "", *GRID], "--scheduler needs"),
+    (["--duration", "1", "--scheduler", "nofile.json", *GRID], "nofile.json does not exist"),
+    (["--duration", "1", "--scheduler", "garbage", *GRID], "scheduler garbage cannot be reached"),
 ])
 def test_cli_refuses_by_name(args, words):
     r = run_tool("sweep", *args, check=False)
@@ -190,15 +212,73 @@ def test_cli_refuses_by_name(args, words):
     assert "Traceback" not in r.stderr
 
 
-def test_cli_local_ctrl_c_keeps_the_finished_rows(tmp_path):
+def test_cli_takes_what_simulate_takes(tmp_path):
+    # Values that start with '-', an integrator, a link as --csv (written through, as simulate).
+    for extra in (["--torque-sine", "-1,2"], ["--torque-step", "-0.5,0,-2"], ["--torque", "-1e-3"],
+                  ["--integrator", "dopri5"]):
+        local, mine = tmp_path / "local.csv", tmp_path / "target.csv"
+        mine.write_text("")
+        link = tmp_path / "link.csv"
+        if link.is_symlink():
+            link.unlink()
+        link.symlink_to(mine)
+        run_tool("simulate", "--duration", "0.5", *extra, *GRID, "--csv", local)
+        run_tool("sweep", "--duration", "0.5", *extra, *GRID, "--csv", link)
+        assert link.is_symlink() and not os.path.exists(str(link) + ".partial")
+        assert rows_without_wall_time(mine) == rows_without_wall_time(local), extra
+
+
+@pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_cli_local_stop_keeps_the_finished_rows(tmp_path, signum, code):
     out = tmp_path / "local.csv"
     sweep = subprocess.Popen([tool("sweep"), "--duration", "2000", "--torque", "1", "--simd",
                               "off", "--jobs", "1", "--sweep",
                               "mechanism.spring_stiffness=100:400:50", "--csv", str(out)],
                              stderr=subprocess.PIPE, text=True)
     time.sleep(3.0)
-    sweep.send_signal(signal.SIGINT)
+    sweep.send_signal(signum)
     _, err = sweep.communicate(timeout=60)
-    assert sweep.returncode == 130 and "interrupted: kept the" in err, err
+    assert sweep.returncode == code and "interrupted: kept the" in err, err
     rows = rows_without_wall_time(out)
     assert 1 <= len(rows) - 1 < 50 and all(r[2] == "ok" for r in rows[1:])
+
+
+def test_a_lost_scheduler_and_a_worker_without_kane_sim_are_named(tmp_path):
+    folder = str(tmp_path)
+    scheduler_file = os.path.join(folder, "s.json")
+    scheduler = _start(["dask", "scheduler", "--host", "127.0.0.1", "--port", "0",
+                        "--scheduler-file", scheduler_file, "--no-dashboard"],
+                       open(os.path.join(folder, "scheduler.log"), "w"))
+    deadline = time.monotonic() + 60
+    while not os.path.exists(scheduler_file) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    # A worker started without the build's environment: it cannot import kane_sim.
+    bare = subprocess.Popen(["dask", "worker", "--scheduler-file", scheduler_file, "--nthreads",
+                             "1", "--no-nanny", "--no-dashboard"], env={"PATH": "/usr/bin:/bin"},
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            start_new_session=True)
+    client = distributed.Client(scheduler_file=scheduler_file, timeout=30)
+    client.wait_for_workers(1, timeout=60)
+    r = run_tool("sweep", "--duration", "1", *GRID, "--scheduler", scheduler_file, check=False)
+    assert r.returncode == 5 and "a worker cannot import kane_sim" in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr
+    os.killpg(bare.pid, signal.SIGKILL)
+    good = _worker(scheduler_file, folder, "good")
+    out = tmp_path / "lost.csv"
+    sweep = subprocess.Popen([tool("sweep"), "--duration", "100", "--torque", "1", "--simd", "off",
+                              "--sweep", "mechanism.spring_stiffness=100:400:600", "--csv",
+                              str(out), "--scheduler", scheduler_file, "--chunk", "4"],
+                             stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:  # some rows in: then the scheduler dies
+        if os.path.exists(str(out) + ".partial") and \
+                open(str(out) + ".partial").read().count("\n") > 8:
+            break
+        time.sleep(0.05)
+    client.close()
+    os.killpg(scheduler.pid, signal.SIGKILL)
+    _, err = sweep.communicate(timeout=120)
+    os.killpg(good.pid, signal.SIGKILL)
+    assert sweep.returncode == 5 and "cancelled on the cluster" in err and "kept the" in err, err
+    assert "Traceback" not in err
+    assert 8 <= len(rows_without_wall_time(out)) - 1 < 600
