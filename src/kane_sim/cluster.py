@@ -14,6 +14,8 @@ import yaml
 from kane_sim import _core
 
 CONNECT_TIMEOUT = 10.0  # [s] to reach a scheduler before saying it cannot be reached
+LOST = ("the sweep's tasks were lost on the cluster: the scheduler gone, or another client "
+        "cancelled them (%s)")
 
 
 class Interrupted(KeyboardInterrupt):
@@ -41,8 +43,7 @@ def _why(error):
                 "devel/setup.bash (doc/guide/cluster.md)" % (getattr(error, "name", "kane_sim")
                                                               or "kane_sim", error))
     text = str(error).splitlines()[0] if str(error) else ""
-    return "the scheduler was lost mid-sweep (%s%s)" % (type(error).__name__,
-                                                        ": " + text[:200] if text else "")
+    return LOST % ("%s%s" % (type(error).__name__, ": " + text[:200] if text else ""))
 
 
 def run_chunk(config_yaml, keys, rows, first_case, duration, torque, simd, vector_trig):
@@ -55,9 +56,11 @@ def run_chunk(config_yaml, keys, rows, first_case, duration, torque, simd, vecto
     return {k: (v if k == "csv_rows" else np.asarray(v)) for k, v in out.items()}
 
 
-def connect(scheduler):
+def connect(scheduler, timeout=None):
     """A distributed.Client of the scheduler at `scheduler` ("tcp://HOST:PORT", or a
-    scheduler file's path: .json); ValueError naming the address when it cannot be reached."""
+    scheduler file's path: .json), tried for `timeout` seconds (default CONNECT_TIMEOUT);
+    ValueError naming the address when it cannot be reached."""
+    timeout = CONNECT_TIMEOUT if timeout is None else timeout
     try:
         from distributed import Client
     except ImportError:
@@ -74,7 +77,7 @@ def connect(scheduler):
     else:
         kwargs = {"address": scheduler}
     try:
-        return Client(timeout=CONNECT_TIMEOUT, **kwargs)
+        return Client(timeout=timeout, **kwargs)
     except KeyboardInterrupt:
         raise
     except Exception as e:  # Dask raises OSError, TimeoutError, ValueError, TypeError, ...
@@ -117,8 +120,7 @@ def run(client, config_yaml, keys, rows, duration, torque, simd="auto", vector_t
         for future in as_completed(futures):
             i = index[future.key]
             if future.status == "cancelled":
-                raise Failed("the sweep's tasks were cancelled on the cluster (the scheduler "
-                             "lost, or another client cancelled them)", chunks)
+                raise Failed(LOST % "cancelled", chunks)
             if future.status != "finished":
                 raise future.exception()
             result = future.result()

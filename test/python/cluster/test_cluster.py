@@ -171,10 +171,12 @@ def test_python_sweep_refuses_bad_clients_and_takes_no_cases(cluster):
             kane_sim.sweep(cases={"mechanism.rod_mass": [1.0]}, duration=0.1, chunk=chunk)
 
 
-def test_an_unreachable_scheduler_is_named(tmp_path):
+def test_an_unreachable_scheduler_is_named(tmp_path, monkeypatch):
     r = run_tool("sweep", "--duration", "1", *GRID, "--scheduler", "tcp://127.0.0.1:1",
-                 check=False)
+                 "--connect-timeout", "2", check=False)
     assert r.returncode == 2 and "scheduler tcp://127.0.0.1:1 cannot be reached" in r.stderr
+    from kane_sim import cluster
+    monkeypatch.setattr(cluster, "CONNECT_TIMEOUT", 2.0)
     with pytest.raises(ValueError, match="scheduler tcp://127.0.0.1:1 cannot be reached"):
         kane_sim.sweep(grid={"mechanism.rod_mass": [1.0]}, duration=0.1,
                        client="tcp://127.0.0.1:1")
@@ -205,6 +207,7 @@ def test_an_unreachable_scheduler_is_named(tmp_path):
     (["--duration", "1", "--scheduler", "", *GRID], "--scheduler needs"),
     (["--duration", "1", "--scheduler", "nofile.json", *GRID], "nofile.json does not exist"),
     (["--duration", "1", "--scheduler", "garbage", *GRID], "scheduler garbage cannot be reached"),
+    (["--duration", "1", "--connect-timeout", "0", *GRID], "--connect-timeout must be in"),
 ])
 def test_cli_refuses_by_name(args, words):
     r = run_tool("sweep", *args, check=False)
@@ -279,6 +282,6 @@ def test_a_lost_scheduler_and_a_worker_without_kane_sim_are_named(tmp_path):
     os.killpg(scheduler.pid, signal.SIGKILL)
     _, err = sweep.communicate(timeout=120)
     os.killpg(good.pid, signal.SIGKILL)
-    assert sweep.returncode == 5 and "cancelled on the cluster" in err and "kept the" in err, err
+    assert sweep.returncode == 5 and "tasks were lost on the cluster" in err and "kept the" in err, err
     assert "Traceback" not in err
     assert 8 <= len(rows_without_wall_time(out)) - 1 < 600
