@@ -115,6 +115,7 @@ class BatchSimulator:
         self._batch = _core.BatchSimulator([c._core for c in self._configs], simd,
                                            bool(vector_trig), int(threads))
         self._lock = threading.Lock()
+        self._seeds = np.array([c["sensors.seed"] for c in self._configs], dtype=np.int64)
 
     def __len__(self):
         return self._batch.size
@@ -137,8 +138,10 @@ class BatchSimulator:
         return self._batch.path
 
     def config(self, i):
-        """Mechanism i's Config."""
-        return self._configs[i]
+        """Mechanism i's Config (with the sensors.seed a reset(seed=) gave it)."""
+        c = self._configs[i]
+        seed = int(self._seeds[i])
+        return c if seed == c["sensors.seed"] else c.with_values({"sensors.seed": seed})
 
     @contextlib.contextmanager
     def _exclusive(self, call):
@@ -185,8 +188,7 @@ class BatchSimulator:
                 raise ValueError("reset: seed must be a whole number in [0, %d] (mechanism i "
                                  "takes sensors.seed = seed + i <= %d), got %r"
                                  % (most, MAX_SEED, seed))
-            for i in np.flatnonzero(m):
-                self._configs[i] = self._configs[i].with_values({"sensors.seed": int(seed) + int(i)})
+            self._seeds[m] = int(seed) + np.flatnonzero(m)  # config(i) applies it when asked
             return self._batch.reseed(m, int(seed))
 
     @property

@@ -1068,26 +1068,38 @@ def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=4):
                          "by %.3g rad only (the parameters need a visible motion): raise the "
                          "limit to what the rig's drive delivers" % (base["command.torque_limit"],
                                                                     span))
-    share = _torque_share(base, names, run)
+    states, y = _run_rows(base, names, run)
+    share = _torque_share(base, names, run, y)
     if share < 0.01:
         raise ValueError("excite: within command.torque_limit %g N m the torque is %.2g %% of the "
                          "torques the mechanism's own motion puts on the crank: the parameters' "
                          "scale would rest on it; raise the limit to what the rig's drive "
                          "delivers" % (base["command.torque_limit"], 100 * share))
-    if not np.all(design):
-        score = _excitation_score(base, names, t, torque, run)
+    if not np.all(design):  # the whole profile's score, from the rows already made
+        score = _condition(base, names, states, y)
     return t, torque, score
 
 
-def _torque_share(base, names, run):
-    """RMS of the driving torque over the largest RMS of one parameter's term of the crank's
-    equation (the base's values): near 0, the motion is the mechanism's own and fixes the
-    parameters only up to a common scale."""
+def _run_rows(base, names, run):
+    """The states of a run and its regressor rows (Kane's equations, two per sample)."""
     states = np.ascontiguousarray(np.column_stack([run.q, run.u]))
     y, _ = _core.identification_rows(base._core, names, states, np.ascontiguousarray(run.u_dot),
                                      run.torque)
+    return states, y.reshape(-1, len(names))
+
+
+def _condition(base, names, states, y):
+    # The condition number of what the mechanism can tell at all (the crank's and the coupler's
+    # dampers act alike on it, whatever the motion): the fit's own rank rule drops the rest.
+    return _estimate(base, names, y, np.zeros(len(y)), 2, states)[4]
+
+
+def _torque_share(base, names, run, y):
+    """RMS of the driving torque over the largest RMS of one parameter's term of the crank's
+    equation (rows y, the base's values): near 0, the motion is the mechanism's own and fixes
+    the parameters only up to a common scale."""
     theta = np.array([_base_theta(base, n) for n in names])
-    terms = y.reshape(-1, len(names))[0::2] * theta
+    terms = y[0::2] * theta
     return _rms(run.torque) / max(np.max(np.sqrt(np.mean(terms ** 2, axis=0))), 1e-300)
 
 
@@ -1129,16 +1141,8 @@ def _excitation_run(base, t, torque):
     return run
 
 
-def _excitation_score(base, names, t, torque, run=None):
-    """The scaled regressor's condition number of the base mechanism driven by `torque` (`run`
-    when already simulated), or None when _excitation_run refuses it."""
-    run = run if run is not None else _excitation_run(base, t, torque)
-    if run is None:
-        return None
-    states = np.ascontiguousarray(np.column_stack([run.q, run.u]))
-    y, _ = _core.identification_rows(base._core, names, states, np.ascontiguousarray(run.u_dot),
-                                     run.torque)
-    y = y.reshape(-1, len(names))
-    # The condition number of what the mechanism can tell at all (the crank's and the coupler's
-    # dampers act alike on it, whatever the motion): the fit's own rank rule drops the rest.
-    return _estimate(base, names, y, np.zeros(len(y)), 2, states)[4]
+def _excitation_score(base, names, t, torque):
+    """The scaled regressor's condition number of the base mechanism driven by `torque`, or None
+    when _excitation_run refuses it."""
+    run = _excitation_run(base, t, torque)
+    return None if run is None else _condition(base, names, *_run_rows(base, names, run))

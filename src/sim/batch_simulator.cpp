@@ -224,18 +224,20 @@ void BatchSimulator::stepLanes(const double* actions, long steps, std::size_t ch
 }
 
 void BatchSimulator::reset(const std::vector<bool>& mask) {
-  for (std::size_t i = 0; i < size(); ++i) {
-    if (!mask[i]) continue;
-    Lane& l = lanes_[i];
-    l.terminated = false;
-    l.reason.clear();
-    if (l.driver) {
-      l.driver->reset();
-      l.reading = l.driver->simulator().joints();
-    } else {
-      const State& x0 = configs_[i].initial_state;
-      l.x = {x0.q1, x0.q2, x0.u1, x0.u2, 0.0, 0.0};
-    }
+  for (std::size_t i = 0; i < size(); ++i)
+    if (mask[i]) resetLane(i);
+}
+
+void BatchSimulator::resetLane(std::size_t i) {
+  Lane& l = lanes_[i];
+  l.terminated = false;
+  l.reason.clear();
+  if (l.driver) {
+    l.driver->reset();
+    l.reading = l.driver->simulator().joints();
+  } else {
+    const State& x0 = configs_[i].initial_state;
+    l.x = {x0.q1, x0.q2, x0.u1, x0.u2, 0.0, 0.0};
   }
 }
 
@@ -243,11 +245,9 @@ void BatchSimulator::reseed(const std::vector<bool>& mask, std::uint64_t seed) {
   for (std::size_t i = 0; i < size(); ++i) {
     if (!mask[i]) continue;
     configs_[i].sensors.seed = seed + i;
-    if (on_lanes_) {
+    if (on_lanes_) {  // no sensors on lanes: a fresh start, its clock at 0
       lanes_[i].ticks = 0;
-      std::vector<bool> one(size(), false);
-      one[i] = true;
-      reset(one);
+      resetLane(i);
     } else {
       buildDriver(i, configs_[i]);
     }

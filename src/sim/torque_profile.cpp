@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -114,12 +113,6 @@ TorqueProfile TorqueProfile::fromCsvFile(const std::string& path) {
 
 namespace {
 
-std::string shortest(double value) {  // 1e+12, 0.5, 300: as simulate's messages print numbers
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.15g", value);
-  return buffer;
-}
-
 // "a,b[,c]": min_count to max_count finite numbers, each named in the message when it is not.
 std::vector<double> parseFlagList(const std::string& flag, const std::string& text,
                                   size_t min_count, size_t max_count) {
@@ -135,7 +128,8 @@ std::vector<double> parseFlagList(const std::string& flag, const std::string& te
       throw std::invalid_argument("--" + flag + ": '" + item + "' is not a number");
     }
     if (!std::isfinite(values.back()))
-      throw std::invalid_argument("--" + flag + " must be finite, got " + shortest(values.back()));
+      throw std::invalid_argument("--" + flag + " must be finite, got " +
+                                  formatNumber(values.back()));
   }
   if (!text.empty() && text.back() == ',')
     throw std::invalid_argument("--" + flag + ": '" + text +

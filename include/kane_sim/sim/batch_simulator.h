@@ -74,6 +74,7 @@ class BatchSimulator {
     std::unique_ptr<SimDriver> driver;  // the drivers path
   };
   void buildDriver(std::size_t lane, const Config& config);
+  void resetLane(std::size_t lane);
   bool stepping(std::size_t lane) const {
     return !lanes_[lane].terminated && (!active_ || (*active_)[lane]);
   }
