@@ -47,11 +47,59 @@ PARAMETERS = [
     ("c_C", "slider4_damping", "c_C [N s/m], slider 4 on the rail"),
     ("c_S", "spring_damping", "c_S [N s/m], beside the spring between the sliders"),
 ]
+# Where each C++ constant comes from: a member of MechanismParameters (p), or the model (s0).
+SOURCES = {
+    "m": "p.rod_mass", "L": "p.rod_half_length", "I": "p.rod_inertia", "M1": "p.slider3_mass",
+    "M2": "p.slider4_mass", "k": "p.spring_stiffness", "g": "p.gravity",
+    "s0": "spring_rest_length",
+    "c_O": "p.damping.crank", "c_A": "p.damping.coupler", "c_B": "p.damping.slider3",
+    "c_C": "p.damping.slider4", "c_S": "p.damping.spring",
+}
+
+# The loads, one named list as `kanes_equations(bodies, loads)` takes them: every load's name,
+# the kind of load it is, and for a resistance (a load opposing a joint's rate) its site, its
+# law and its coefficient's symbol. The C++ model (LoadName, kLoadInfo) and every per-load
+# output derive from this table through the generated header; a resistance needs nothing else
+# (MechanismModel::loads() applies any site's law). To add one: a row here, its coefficient in
+# PARAMETERS and SOURCES, its schema row (src/config/parameter_schema.cpp), regenerate.
+#   site: where it acts and on which rate (SITES below); law: LAWS below.
+LOADS = [
+    # name,             kind,          site,      law,       coefficient
+    ("gravity",         "gravity",     None,      None,      None),  # eq (14): G1 ... G4
+    ("spring",          "spring",      None,      None,      None),  # eq (15): F_eB, F_eC
+    ("motor",           "motor",       None,      None,      None),  # M_m k on rod 1
+    ("crank_damper",    "resistance",  "crank",   "viscous", "c_O"),
+    ("coupler_damper",  "resistance",  "coupler", "viscous", "c_A"),
+    ("slider3_damper",  "resistance",  "slider3", "viscous", "c_B"),
+    ("slider4_damper",  "resistance",  "slider4", "viscous", "c_C"),
+    ("spring_damper",   "resistance",  "spring",  "viscous", "c_S"),
+    ("contact",         "contact",     None,      None,      None),  # N at C, -N at B (sim)
+]
+# A resistance's law: the magnitude it opposes the site's rate v with, from its coefficient c.
+# In order of cost: the generated rates come in one variant per prefix of this list (no
+# resistance; the viscous ones; ...; every law), and a config runs the shortest that holds the
+# laws of its non-zero coefficients, so a law whose coefficients are all zero costs nothing and
+# changes no bit.
+LAWS = {
+    "viscous": lambda c, v, p: c * v,
+}
+
+
+def variants():
+    """(C++ enumerator, function name, laws kept): none, then each prefix of LAWS; the last,
+    every term, is `rates`."""
+    laws = list(LAWS)
+    out = [("kUndamped", "ratesUndamped", ())]
+    for i, law in enumerate(laws):
+        name = "rates" if i == len(laws) - 1 else "rates" + law.capitalize()
+        out.append(("k" + law.capitalize(), name, tuple(laws[:i + 1])))
+    return out
 
 
 def derive():
     """The mechanism in KanesMethod's vocabulary: frames, points, bodies, loads. Returns the
-    symbols and (u', dissipated power) as expressions of q1, q2, u1, u2, M_m and the parameters."""
+    symbols and (u', dissipated power) as expressions of q1, q2, u1, u2, M_m and the parameters,
+    twice: with the viscous resistances only, and with every resistance."""
     q1, q2, u1, u2 = me.dynamicsymbols("q1 q2 u1 u2")
     p = {name: sp.Symbol(name, real=True) for name, _, _ in PARAMETERS}
     m, L, I, M1, M2, k, g, s0 = (p[n] for n in ("m", "L", "I", "M1", "M2", "k", "g", "s0"))
@@ -83,15 +131,25 @@ def derive():
     # Eq (15): e = (x_B - x_C) - (x_B0 - x_C0) > 0 compressed; F_eB = -k e i, F_eC = +k e i.
     e = (B.pos_from(O).dot(N.x) - q2) + s0
     w1, w2 = R1.ang_vel_in(N).dot(N.z), R2.ang_vel_in(N).dot(N.z)
-    dampers = [
-        (R1, -p["c_O"] * w1 * N.z),  # pin O on rod 1
-        (R2, -p["c_A"] * (w2 - w1) * N.z),  # pin A on rod 2 ...
-        (R1, p["c_A"] * (w2 - w1) * N.z),  # ... and its reaction on rod 1
-        (B, -p["c_B"] * B.vel(N)),
-        (C, -p["c_C"] * C.vel(N)),
-        (C, -p["c_S"] * (C.vel(N) - B.vel(N))),  # beside the spring: on slider 4 ...
-        (B, p["c_S"] * (C.vel(N) - B.vel(N))),  # ... and the opposite on slider 3
-    ]
+    # Each site: its rate v and the entries of a resistance F = -law(v) there (a torque on a
+    # rod's frame, or a force at a slider's point, and the reaction where there is one).
+    sites = {
+        "crank": (w1, lambda F: [(R1, -F * N.z)]),  # pin O on rod 1
+        "coupler": (w2 - w1, lambda F: [(R2, -F * N.z), (R1, F * N.z)]),  # pin A, rod 2 on rod 1
+        "slider3": (B.vel(N).dot(N.x), lambda F: [(B, -F * N.x)]),
+        "slider4": (C.vel(N).dot(N.x), lambda F: [(C, -F * N.x)]),
+        "spring": ((C.vel(N) - B.vel(N)).dot(N.x), lambda F: [(C, -F * N.x), (B, F * N.x)]),
+    }
+    # The viscous resistances enter the derivation; the other laws' generalized forces are
+    # added to its result (below): simplify() with tanh terms takes tens of minutes, and the
+    # variants without them keep the text, hence the bits, they had before friction existed.
+    resistances, nonlinear = [], []
+    for name, kind, site, law, coefficient in LOADS:
+        if kind != "resistance":
+            continue
+        rate, entries = sites[site]
+        (resistances if law == "viscous" else nonlinear).extend(
+            entries(LAWS[law](p[coefficient], rate, p)))
     loads = [
         (C1, m * g * N.x),  # eq (14): G1 ... G4
         (C2, m * g * N.x),
@@ -100,7 +158,7 @@ def derive():
         (B, -k * e * N.x),  # eq (15)
         (C, k * e * N.x),
         (R1, M_m * N.z),  # the driver moment
-    ] + dampers
+    ] + resistances
 
     kane = me.KanesMethod(N, q_ind=[q1, q2], u_ind=[u1, u2], kd_eqs=[q1.diff() - u1, q2.diff() - u2])
     kane.kanes_equations(bodies, loads)
@@ -108,22 +166,35 @@ def derive():
     u_dot = kane.mass_matrix.LUsolve(kane.forcing)
     speeds = {u1: sp.Symbol("u1"), u2: sp.Symbol("u2")}
     coords = {q1: sp.Symbol("q1"), q2: sp.Symbol("q2")}
-    # The dampers' power, -Σ F · v >= 0, for the energy ledger's D'.
+    def velocity(where):
+        return where.ang_vel_in(N) if isinstance(where, me.ReferenceFrame) else where.vel(N)
+
+    # The resistances' power, -Σ F · v >= 0, for the energy ledger's D'.
     power = 0
-    for where, load in dampers:
-        velocity = where.ang_vel_in(N) if isinstance(where, me.ReferenceFrame) else where.vel(N)
-        power -= load.dot(velocity)
+    for where, load in resistances:
+        power -= load.dot(velocity(where))
+    # The nonlinear resistances: their generalized active forces F_r = Σ F · ∂v/∂u_r (eq 16),
+    # through the same mass matrix, and their power.
+    u = [u1, u2]
+    active = sp.Matrix([sum((load.dot(velocity(where).diff(u_r, N)) for where, load in nonlinear),
+                            sp.S.Zero) for u_r in u])
+    nonlinear_u_dot = kane.mass_matrix.LUsolve(active)
+    nonlinear_power = -sum((load.dot(velocity(where)) for where, load in nonlinear), sp.S.Zero)
     # Simplified (cos^2 = 1 - sin^2 shortens M11), then any sin 2q1 that simplify() folds
     # written back as 2 sin q1 cos q1: one sincos serves the whole kernel.
     q1s = sp.Symbol("q1")
-    plain = []
-    for ex in list(u_dot) + [power]:
-        ex = sp.simplify(ex.subs(speeds).subs(coords))
+
+    def plain(ex, simplify=True):
+        ex = ex.subs(speeds).subs(coords)
+        ex = sp.simplify(ex) if simplify else sp.cancel(ex)
         ex = ex.subs(sp.cos(q1s) ** 2, 1 - sp.sin(q1s) ** 2)
         ex = ex.replace(lambda e: e.func in (sp.sin, sp.cos) and e.args[0] != q1s,
                         lambda e: sp.expand_trig(e))
-        plain.append(sp.factor_terms(sp.expand(ex)))
-    return p, M_m, plain
+        return sp.factor_terms(sp.expand(ex))
+
+    viscous = [plain(ex) for ex in list(u_dot) + [power]]
+    added = [plain(ex, simplify=False) for ex in list(nonlinear_u_dot) + [nonlinear_power]]
+    return p, M_m, viscous, [a + b for a, b in zip(viscous, added)]
 
 
 class _Printer(CXX11CodePrinter):
@@ -139,19 +210,25 @@ class _Printer(CXX11CodePrinter):
             return "1.0/%s" % self.parenthesize(base, PRECEDENCE["Mul"])
         return super()._print_Pow(expr)
 
+    def _print_tanh(self, expr):
+        # Through the math policy: libm's tanh for double and, lane by lane, for SIMD batches.
+        return "MathOf::tanh(%s)" % self._print(expr.args[0])
+
 
 def to_cpp(expr):
     return _Printer().doprint(expr)
 
 
-DAMPERS = tuple(name for name, _, _ in PARAMETERS if name.startswith("c_"))  # the c_X above
+def coefficients(laws):
+    """The coefficient symbols of the resistances obeying `laws`."""
+    return tuple(c for _, kind, _, law, c in LOADS if kind == "resistance" and law in laws)
 
 
 def render_function(out, name, p, M_m, rates, skipped=()):
     """One inline C++ function template returning RatesOf<Real>; `skipped` parameters are zero
     in this variant (the caller guarantees it) and not read."""
     # sin q1 and cos q1 as two named inputs of the common subexpressions, computed by one
-    # Trig<Real>::sinCos call.
+    # Math<Real>::sinCos call.
     q1 = sp.Symbol("q1")
     sin_q1, cos_q1 = sp.Symbol("sin_q1"), sp.Symbol("cos_q1")
     rates = [ex.subs({sp.sin(q1): sin_q1, sp.cos(q1): cos_q1}) for ex in rates]
@@ -160,7 +237,7 @@ def render_function(out, name, p, M_m, rates, skipped=()):
                                         optimizations="basic")
     used = set().union(*(ex.free_symbols for _, ex in replacements), e1.free_symbols,
                        e2.free_symbols, ep.free_symbols)
-    out("template <class Real, class SinCos = Trig<Real>>")
+    out("template <class Real, class MathOf = Math<Real>>")
     out("inline RatesOf<Real> %s(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,"
         % name)
     out(" " * len("inline RatesOf<Real> %s(" % name) + "Real M_m) {")
@@ -173,7 +250,7 @@ def render_function(out, name, p, M_m, rates, skipped=()):
     if M_m not in used:
         out("  static_cast<void>(M_m);")
     out("  Real sin_q1, cos_q1;")
-    out("  SinCos::sinCos(q1, &sin_q1, &cos_q1);")
+    out("  MathOf::sinCos(q1, &sin_q1, &cos_q1);")
     for symbol, ex in replacements:
         out("  const Real %s = %s;" % (symbol, to_cpp(ex)))
     out("  return {%s," % to_cpp(e1))
@@ -182,8 +259,64 @@ def render_function(out, name, p, M_m, rates, skipped=()):
     out("}")
 
 
+def render_loads(out):
+    """The load table: LoadName and, per load, its name, kind, site, law, coefficient."""
+    out("// The loads, one named list (codegen/generate_equations.py's LOADS): each load's name, kind")
+    out("// and, for a resistance, where it acts, its law and its coefficient (an index into")
+    out("// ConstantsOf's fields). Several entries of MechanismModel::loads() can share a name.")
+    out("enum class LoadName {")
+    for name, kind, site, law, coefficient in LOADS:
+        out("  k%s," % "".join(w.capitalize() for w in name.split("_")))
+    out("  kCount")
+    out("};")
+    out("constexpr int kNumLoadNames = static_cast<int>(LoadName::kCount);")
+    out("enum class LoadKind { kGravity, kSpring, kMotor, kResistance, kContact };")
+    out("// Where a resistance acts, and the rate it opposes: the crank's pin O (w1, on rod 1), the")
+    out("// coupler's pin A (w2 - w1, on rod 2 and its reaction on rod 1), the sliders on the rail")
+    out("// (v_B, v_C), the pair beside the spring (v_C - v_B, on slider 4 and the opposite on 3).")
+    sites = ["crank", "coupler", "slider3", "slider4", "spring"]
+    out("enum class LoadSite { kNone, %s };" % ", ".join("k%s" % x.capitalize() for x in sites))
+    out("// The laws of codegen/generate_equations.py's LAWS (viscous: c v).")
+    out("enum class LoadLaw { kNone, %s };" % ", ".join("k%s" % law.capitalize() for law in LAWS))
+    out("struct LoadInfo {")
+    out("  const char* name;   // snake_case: power column power_<name>, ...")
+    out("  LoadKind kind;")
+    out("  LoadSite site;      // resistances only")
+    out("  LoadLaw law;        // resistances only")
+    out("  int coefficient;    // resistances: the index of its coefficient among the constants")
+    out("  const char* symbol; // resistances: that coefficient's symbol")
+    out("  bool dissipative;   // its power is <= 0 and counts in the ledger's D'")
+    out("};")
+    out("// Indexed by LoadName.")
+    out("constexpr LoadInfo kLoadInfo[kNumLoadNames] = {")
+    index = {name: i for i, (name, _, _) in enumerate(PARAMETERS)}
+    for name, kind, site, law, coefficient in LOADS:
+        out('    {"%s", LoadKind::k%s, LoadSite::k%s, LoadLaw::k%s, %d, "%s", %s},' % (
+            name, kind.capitalize(), (site or "none").capitalize(), (law or "none").capitalize(),
+            index[coefficient] if coefficient else -1, coefficient or "",
+            "true" if kind == "resistance" else "false"))
+    out("};")
+    out("// The constants' symbols, in ConstantsOf's order (a schema row's equation symbol is one).")
+    out("constexpr const char* kConstantSymbols[] = {%s};" % ", ".join(
+        '"%s"' % n for n, _, _ in PARAMETERS))
+
+
+def render_constants_source(out):
+    """constantsFrom: every constant from MechanismParameters, in one generated function (no
+    constant can be left unset)."""
+    out("// Every constant from the mechanism's parameters (p: a MechanismParameters or anything")
+    out("// with its members) and the spring's rest separation.")
+    out("template <class Parameters>")
+    out("Constants constantsFrom(const Parameters& p, double spring_rest_length) {")
+    out("  Constants c;")
+    for name, field, _ in PARAMETERS:
+        out("  c.%s = %s;  // %s" % (field, SOURCES[name], name))
+    out("  return c;")
+    out("}")
+
+
 def render():
-    p, M_m, rates = derive()
+    p, M_m, viscous_rates, rates = derive()
     lines = []
     out = lines.append
     out("// GENERATED by codegen/generate_equations.py from a SymPy %s KanesMethod derivation of the"
@@ -212,8 +345,12 @@ def render():
     out("};")
     out("using Constants = ConstantsOf<double>;")
     out("")
-    out("// u1', u2' of F*_r + F_r = 0 (eq 18) and the dampers' dissipated power [W] at (q, u) under")
-    out("// the applied driver moment M_m [N m].")
+    render_constants_source(out)
+    out("")
+    render_loads(out)
+    out("")
+    out("// u1', u2' of F*_r + F_r = 0 (eq 18) and the resistances' dissipated power [W] at (q, u)")
+    out("// under the applied driver moment M_m [N m].")
     out("template <class Real>")
     out("struct RatesOf {")
     out("  Real u1_dot;")
@@ -222,22 +359,65 @@ def render():
     out("};")
     out("using Rates = RatesOf<double>;")
     out("")
-    out("// sin q1 and cos q1 in one call: libm's sincos for double (GCC and Clang fuse std::sin and")
-    out("// std::cos of one argument only sometimes once inlined into an integrator's stages). A SIMD")
-    out("// batch type passes its own as the functions' SinCos (libm's per lane, or a vector sincos).")
+    out("// The math the equations call, one policy (every path uses the same functions): sin q1 and")
+    out("// cos q1 in one call (libm's sincos for double: GCC and Clang fuse std::sin and std::cos of")
+    out("// one argument only sometimes once inlined into an integrator's stages) and tanh (libm's),")
+    out("// for the laws that call it. A SIMD batch type passes its own as the functions' MathOf")
+    out("// (libm's per lane, the single run's bits, or a vector sincos).")
     out("template <class Real>")
-    out("struct Trig;")
+    out("struct Math;")
     out("template <>")
-    out("struct Trig<double> {")
+    out("struct Math<double> {")
     out("  static void sinCos(double x, double* s, double* c) { __builtin_sincos(x, s, c); }")
+    out("  static double tanh(double x) { return std::tanh(x); }")
     out("};")
     out("")
-    out("// Every term: the five dampers included.")
-    render_function(out, "rates", p, M_m, rates)
+    out("// Which variant a set of constants needs: each leaves out the terms of the laws after it in")
+    out("// LAWS (their coefficients all zero): fewer terms, and the bits those terms' absence gives.")
+    out("enum class RatesVariant { %s };" % ", ".join(e for e, _, _ in variants()))
+    out("constexpr RatesVariant kRatesVariants[] = {%s};" % ", ".join(
+        "RatesVariant::" + e for e, _, _ in variants()))
+    out("constexpr RatesVariant kEveryTerm = RatesVariant::%s;  // rates()" % variants()[-1][0])
+    for enumerator, name, laws in variants():
+        out("")
+        if laws:
+            out("// The terms of every resistance whose law is %s; only for Constants whose other"
+                % " or ".join(laws))
+            out("// resistances' coefficients are 0." if len(laws) < len(LAWS) else
+                "// (that is, every term).")
+        else:
+            out("// No resistance (every coefficient 0): the textbook's model; dissipated power 0.")
+        nonlinear = [law for law in laws if law != "viscous"]
+        source = rates if nonlinear else viscous_rates
+        skipped = coefficients(tuple(law for law in LAWS if law not in laws))
+        render_function(out, name, p, M_m, source, skipped=skipped)
     out("")
-    out("// The same with the five dampers zero (the textbook's model; the dissipated power is 0):")
-    out("// fewer terms where no damper is configured. Only for Constants whose dampers are all 0.")
-    render_function(out, "ratesUndamped", p, M_m, rates, skipped=DAMPERS)
+    out("// The variant `constants` need: the shortest that keeps every non-zero resistance's law.")
+    out("inline RatesVariant variantFor(const Constants& constants) {")
+    out("  const double* value = &constants.%s;" % PARAMETERS[0][1])
+    out("  static_assert(sizeof(Constants) == %d * sizeof(double), \"Constants holds doubles\");"
+        % len(PARAMETERS))
+    out("  int need = 0;  // LoadLaw's order is the variants' (kNone: kUndamped)")
+    out("  for (const LoadInfo& load : kLoadInfo)")
+    out("    if (load.kind == LoadKind::kResistance && value[load.coefficient] != 0.0 &&")
+    out("        static_cast<int>(load.law) > need)")
+    out("      need = static_cast<int>(load.law);")
+    out("  return static_cast<RatesVariant>(need);")
+    out("}")
+    out("")
+    out("// The rates by `variant` (the caller keeps it fixed over a run: the branch is predicted).")
+    out("template <class Real, class MathOf = Math<Real>>")
+    out("inline RatesOf<Real> ratesFor(RatesVariant variant, const ConstantsOf<Real>& p, Real q1,")
+    out("                              Real q2, Real u1, Real u2, Real M_m) {")
+    out("  switch (variant) {")
+    for enumerator, name, laws in variants()[:-1]:
+        out("    case RatesVariant::%s:" % enumerator)
+        out("      return %s<Real, MathOf>(p, q1, q2, u1, u2, M_m);" % name)
+    out("    default:")
+    out("      break;")
+    out("  }")
+    out("  return rates<Real, MathOf>(p, q1, q2, u1, u2, M_m);")
+    out("}")
     out("")
     out("}  // namespace generated")
     out("}  // namespace kane_sim")

@@ -42,6 +42,7 @@ class JsonNumbers {
 
 std::string analysisJson(const LinearModel& l, const ModalAnalysis& modal) {
   JsonNumbers number;
+  for (const std::string& note : l.notes) number.note(note);
   const auto jsonRow = [&number](const Eigen::VectorXd& v, const std::string& what) {
     return number.row(v, what);
   };

@@ -128,16 +128,16 @@ LinearModel linearize(const MechanismModel& model, const State& x, double torque
   const auto forcing = [&](const Eigen::Vector4d& v) {
     return Eigen::Vector2d(model.equations(State{v[0], v[1], v[2], v[3]}, torque).forcing());
   };
+  const auto step = [&](int j) { return stepFor(x0[j]); };
   for (int j = 0; j < 4; ++j) {
     const auto along = [&](double value) {
       Eigen::Vector4d v = x0;
       v[j] = value;
       return v;
     };
-    linear.A.col(j) =
-        derivative([&](double s) { return rates(along(s), torque); }, x0[j], stepFor(x0[j]));
+    linear.A.col(j) = derivative([&](double s) { return rates(along(s), torque); }, x0[j], step(j));
     const Eigen::Vector2d dforcing =
-        derivative([&](double s) { return forcing(along(s)); }, x0[j], stepFor(x0[j]));
+        derivative([&](double s) { return forcing(along(s)); }, x0[j], step(j));
     (j < 2 ? linear.stiffness.col(j) : linear.damping.col(j - 2)) = -dforcing;
   }
   linear.B = derivative([&](double m) { return rates(x0, m); }, torque, stepFor(torque));

@@ -22,7 +22,7 @@ struct LaneBlock {
   const generated::Constants* constants;
   const double* torque_limit;
   const LaneState* start;
-  bool damped;
+  generated::RatesVariant variant;
   double step;
   const double* command;       // one for all lanes per step, or
   const double* lane_command;  // one per lane for every step (when not null)
@@ -66,23 +66,22 @@ struct Lanes<double> {
 
 namespace {
 
-// x' = f(x) at the held torque: q' = u, u' (generated), W' = M_m u1, D' (the dampers' power),
-// as GeneratedMechanism::stateDerivative without the motor line.
-template <class B, class SinCos>
+// x' = f(x) at the held torque: q' = u, u' (generated), W' = M_m u1, D' (the resistances'
+// power), as GeneratedMechanism::stateDerivative without the motor line.
+template <class B, class MathOf>
 struct LaneEquations {
   const generated::ConstantsOf<B>* constants;
   B torque;
-  bool damped;
+  generated::RatesVariant variant;
   void operator()(const std::array<B, 6>& x, std::array<B, 6>& dxdt, double /*t*/) const {
     const generated::RatesOf<B> r =
-        damped ? generated::rates<B, SinCos>(*constants, x[0], x[1], x[2], x[3], torque)
-               : generated::ratesUndamped<B, SinCos>(*constants, x[0], x[1], x[2], x[3], torque);
+        generated::ratesFor<B, MathOf>(variant, *constants, x[0], x[1], x[2], x[3], torque);
     dxdt = {x[2], x[3], r.u1_dot, r.u2_dot, torque * x[2], r.dissipated_power};
   }
 };
 
-// B: the number type; SinCos: sin and cos of B (generated::Trig's shape).
-template <class B, class SinCos>
+// B: the number type; MathOf: the functions the equations call on B (generated::Math's shape).
+template <class B, class MathOf>
 void runLaneBlockOf(const LaneBlock& block) {
   using L = Lanes<B>;
   using Mask = typename L::Mask;
@@ -133,7 +132,7 @@ void runLaneBlockOf(const LaneBlock& block) {
     const B command = block.lane_command ? held : B(block.command[i]);
     // std::clamp(command, -limit, limit), the same comparisons.
     const B torque = L::select(command < lower, lower, L::select(limit < command, limit, command));
-    const LaneEquations<B, SinCos> equations{&constants, torque, block.damped};
+    const LaneEquations<B, MathOf> equations{&constants, torque, block.variant};
     std::array<B, 6> trial = x;
     rk4.do_step(equations, trial, 0.0, block.step);
     // The Simulator's checks: finite and within 1e100, the crank under 1 rad in the step.

@@ -60,7 +60,8 @@ LaneArch parseLaneArch(const std::string& name) {
                                   " (the widest it runs is " + laneArchName(bestLaneArch()) + ")");
     return e.arch;
   }
-  throw std::invalid_argument("simd '" + name + "' is not one of auto, avx512, avx2, sse2, scalar, off");
+  throw std::invalid_argument("simd '" + name +
+                              "' is not one of auto, avx512, avx2, sse2, scalar, off");
 }
 
 std::vector<LaneOutcome> runLanes(const LaneRun& run, LaneArch arch) {
@@ -76,7 +77,7 @@ std::vector<LaneOutcome> runLanes(const LaneRun& run, LaneArch arch) {
     LaneBlock block{run.constants.data(),
                     run.torque_limit.data(),
                     run.start.data(),
-                    run.damped,
+                    run.variant,
                     run.step,
                     run.command.data(),
                     per_lane ? run.lane_command.data() : nullptr,

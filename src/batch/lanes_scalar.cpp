@@ -3,6 +3,6 @@
 
 namespace kane_sim {
 void runLaneBlockScalar(const LaneBlock& block) {
-  runLaneBlockOf<double, generated::Trig<double>>(block);
+  runLaneBlockOf<double, generated::Math<double>>(block);
 }
 }  // namespace kane_sim

@@ -28,10 +28,21 @@ struct Lanes<xsimd::batch<double, A>> {
   static Mask fromBools(const bool* in) { return Mask::load_unaligned(in); }
 };
 
+// tanh of W lanes, bit for bit libm's, one call per lane: friction's law (LoadLaw::kCoulomb) on
+// every path, so that lanes with friction keep the single run's bits (vector sin/cos or not).
+template <class B>
+B libmTanh(const B& x) {
+  alignas(64) double values[B::size];
+  x.store_aligned(values);
+  for (std::size_t j = 0; j < B::size; ++j) values[j] = std::tanh(values[j]);
+  return B::load_aligned(values);
+}
+
 // sin and cos of W lanes, bit for bit libm's: one call per lane (what makes SIMD lanes equal the
 // single run's bits; about half of a lane's time, doc/guide/batches.md).
 template <class B>
-struct LibmSinCos {
+struct LibmMath {
+  static B tanh(const B& x) { return libmTanh(x); }
   static void sinCos(const B& x, B* s, B* c) {
     alignas(64) double in[B::size], sines[B::size], cosines[B::size];
     x.store_aligned(in);
@@ -44,7 +55,8 @@ struct LibmSinCos {
 // xsimd's vector sincos (Cody-Waite reduction, polynomials): faster, within an ulp or two of
 // libm's but not its bits; sensitive motion grows the difference (measured: batches.md).
 template <class B>
-struct VectorSinCos {
+struct VectorMath {
+  static B tanh(const B& x) { return libmTanh(x); }
   static void sinCos(const B& x, B* s, B* c) {
     const auto both = xsimd::sincos(x);
     *s = both.first;
@@ -57,9 +69,9 @@ template <class A>
 void runSimdLaneBlock(const LaneBlock& block) {
   using B = xsimd::batch<double, A>;
   if (block.vector_trig)
-    runLaneBlockOf<B, VectorSinCos<B>>(block);
+    runLaneBlockOf<B, VectorMath<B>>(block);
   else
-    runLaneBlockOf<B, LibmSinCos<B>>(block);
+    runLaneBlockOf<B, LibmMath<B>>(block);
 }
 
 }  // namespace kane_sim

@@ -2,8 +2,11 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <utility>
 
 #include "kane_sim/format_number.h"
+#include "kane_sim/model/generated_equations.h"
 #include "kane_sim/model/joint_names.h"
 
 namespace kane_sim {
@@ -21,6 +24,12 @@ struct Row {
   ParameterSpec spec;
   Row& symbol(const char* s) {
     spec.symbol = s;
+    return *this;
+  }
+  // What the parameter is (ParameterRole); physical roles name their constant in the equations.
+  Row& role(ParameterRole r, const char* equation_symbol = "") {
+    spec.role = r;
+    spec.equation_symbol = equation_symbol;
     return *this;
   }
   Row& required() {
@@ -160,39 +169,39 @@ std::vector<ParameterSpec> declareParameters() {
   std::vector<ParameterSpec> parameters = {
       // ---- mechanism: the textbook's parameters --------------------------------------------
       row("mechanism", "rod_mass", KANE_SIM_FIELD(mechanism.rod_mass), "kg", kPositive)
-          .symbol("m").required().reconfigure(physical("rod_mass", 0.0, 1e3))
+          .symbol("m").role(ParameterRole::kInertial, "m").required().reconfigure(physical("rod_mass", 0.0, 1e3))
           .doc("mass of each rod (OA and AB)"),
       row("mechanism", "rod_half_length", KANE_SIM_FIELD(mechanism.rod_half_length), "m", kPositive)
-          .symbol("L").required()
+          .symbol("L").role(ParameterRole::kGeometric, "L").required()
           .doc("half the length of each rod (2L long)"),
       row("mechanism", "slider3_mass", KANE_SIM_FIELD(mechanism.slider3_mass), "kg", kPositive)
-          .symbol("M1").required().reconfigure(physical("slider3_mass", 0.0, 1e3))
+          .symbol("M1").role(ParameterRole::kInertial, "M1").required().reconfigure(physical("slider3_mass", 0.0, 1e3))
           .doc("mass of slider 3 at B"),
       row("mechanism", "slider4_mass", KANE_SIM_FIELD(mechanism.slider4_mass), "kg", kPositive)
-          .symbol("M2").required().reconfigure(physical("slider4_mass", 0.0, 1e3))
+          .symbol("M2").role(ParameterRole::kInertial, "M2").required().reconfigure(physical("slider4_mass", 0.0, 1e3))
           .doc("mass of slider 4 at C"),
       row("mechanism", "spring_stiffness", KANE_SIM_FIELD(mechanism.spring_stiffness), "N/m",
               kNonNegative)
-          .symbol("k").required().reconfigure(physical("spring_stiffness", 0.0, 1e7))
+          .symbol("k").role(ParameterRole::kStiffness, "k").required().reconfigure(physical("spring_stiffness", 0.0, 1e7))
           .doc("stiffness of the spring between B and C"),
       row("mechanism", "gravity", KANE_SIM_FIELD(mechanism.gravity), "m/s²", kAny)
-          .symbol("g").required().reconfigure(physical("gravity", -100.0, 100.0))
+          .symbol("g").role(ParameterRole::kGravity, "g").required().reconfigure(physical("gravity", -100.0, 100.0))
           .doc("gravity along +i (down the rail)"),
       row("mechanism", "rod_inertia", KANE_SIM_FIELD(mechanism.rod_inertia), "kg m²", kPositive)
-          .symbol("I1z = I2z").defaultText("m (2L)²/12")
+          .symbol("I1z = I2z").role(ParameterRole::kInertial, "I").defaultText("m (2L)²/12")
           .doc("central moment of inertia of each rod about k"),
       // ---- initial_state: where the motion starts; the spring is unstretched there ---------
       row("initial_state", "q1", KANE_SIM_FIELD(initial_state.q1), "rad", kAny)
-          .symbol("q10").required()
+          .symbol("q10").role(ParameterRole::kInitialState).required()
           .doc("crank angle"),
       row("initial_state", "q2", KANE_SIM_FIELD(initial_state.q2), "m", kAny)
-          .symbol("q20").required()
+          .symbol("q20").role(ParameterRole::kInitialState).required()
           .doc("x of slider 4 (C); the spring is unstretched at (q10, q20)"),
       row("initial_state", "u1", KANE_SIM_FIELD(initial_state.u1), "rad/s", kAny)
-          .symbol("u10").required()
+          .symbol("u10").role(ParameterRole::kInitialState).required()
           .doc("crank speed"),
       row("initial_state", "u2", KANE_SIM_FIELD(initial_state.u2), "m/s", kAny)
-          .symbol("u20").required()
+          .symbol("u20").role(ParameterRole::kInitialState).required()
           .doc("speed of slider 4"),
       // ---- simulation ------------------------------------------------------------------------
       // Below 1 Hz a "physics step" is not a simulation; above 1 MHz a step nears double's
@@ -273,27 +282,27 @@ std::vector<ParameterSpec> declareParameters() {
           .doc("velocity servo: integral gain"),
       row("command", "motor_no_load_speed", KANE_SIM_FIELD(mechanism.motor.no_load_speed),
               "rad/s", kNonNegative)
-          .symbol("ω0").reconfigure(physical("motor_no_load_speed", 0.0, 1e5))
+          .symbol("ω0").role(ParameterRole::kDrive).reconfigure(physical("motor_no_load_speed", 0.0, 1e5))
           .doc("the motor's torque–speed line (below); 0 = off"),
       // ---- damping: viscous, at the joints joint_states names, and beside the spring ----------
       row("damping", "crank_joint", KANE_SIM_FIELD(mechanism.damping.crank), "N m s/rad",
               kNonNegative)
-          .symbol("c_O").reconfigure(physical("crank_damping", 0.0, 1e4))
+          .symbol("c_O").role(ParameterRole::kDissipative, "c_O").reconfigure(physical("crank_damping", 0.0, 1e4))
           .doc("pin O: −c_O u1 on rod 1"),
       row("damping", "coupler_joint", KANE_SIM_FIELD(mechanism.damping.coupler), "N m s/rad",
               kNonNegative)
-          .symbol("c_A").reconfigure(physical("coupler_damping", 0.0, 1e4))
+          .symbol("c_A").role(ParameterRole::kDissipative, "c_A").reconfigure(physical("coupler_damping", 0.0, 1e4))
           .doc("pin A: on the relative rate of rods 2 and 1"),
       row("damping", "slider3_joint", KANE_SIM_FIELD(mechanism.damping.slider3), "N s/m",
               kNonNegative)
-          .symbol("c_B").reconfigure(physical("slider3_damping", 0.0, 1e4))
+          .symbol("c_B").role(ParameterRole::kDissipative, "c_B").reconfigure(physical("slider3_damping", 0.0, 1e4))
           .doc("slider 3 on the rail"),
       row("damping", "slider4_joint", KANE_SIM_FIELD(mechanism.damping.slider4), "N s/m",
               kNonNegative)
-          .symbol("c_C").reconfigure(physical("slider4_damping", 0.0, 1e4))
+          .symbol("c_C").role(ParameterRole::kDissipative, "c_C").reconfigure(physical("slider4_damping", 0.0, 1e4))
           .doc("slider 4 on the rail"),
       row("damping", "spring", KANE_SIM_FIELD(mechanism.damping.spring), "N s/m", kNonNegative)
-          .symbol("c_S").reconfigure(physical("spring_damping", 0.0, 1e4))
+          .symbol("c_S").role(ParameterRole::kDissipative, "c_S").reconfigure(physical("spring_damping", 0.0, 1e4))
           .doc("beside the spring: −c_S (v_C − v_B) on slider 4, the opposite on slider 3"),
       // ---- contact between the sliders -------------------------------------------------------
       row("contact", "enabled", KANE_SIM_FIELD(mechanism.contact.enabled), "", kFlag)
@@ -341,11 +350,39 @@ std::vector<ParameterSpec> declareParameters() {
           .doc("a torque command is in force this much after it arrives (rounded to physics steps)"),
   };
   // clang-format on
+  // The sections whose rows are all of one role say it here, once; any other row says its own
+  // (parameterSchema() refuses a row without one, so a new section cannot go unclassified).
+  const std::pair<const char*, ParameterRole> kSectionRoles[] = {
+      {"simulation", ParameterRole::kOperational}, {"command", ParameterRole::kOperational},
+      {"frames", ParameterRole::kOperational},     {"diagnostics", ParameterRole::kOperational},
+      {"contact", ParameterRole::kContact},        {"sensors", ParameterRole::kMeasurement}};
   appendJointSensor<kCrankJoint>(&parameters);
   appendJointSensor<kCouplerJoint>(&parameters);
   appendJointSensor<kSlider3Joint>(&parameters);
   appendJointSensor<kSlider4Joint>(&parameters);
+  for (ParameterSpec& p : parameters)
+    for (const auto& [section, role] : kSectionRoles)
+      if (p.role == ParameterRole::kUnset && std::string(p.section) == section) p.role = role;
   return parameters;
+}
+
+// A schema that breaks its own promises stops every program at its first use, naming the row.
+void checkRoles(const std::vector<ParameterSpec>& schema) {
+  for (const ParameterSpec& p : schema) {
+    if (p.role == ParameterRole::kUnset)
+      throw std::logic_error("parameter schema: " + p.path() + " has no role");
+    if (inEquations(p.role) != (*p.equation_symbol != '\0'))
+      throw std::logic_error("parameter schema: " + p.path() +
+                             (inEquations(p.role) ? " needs" : " must not have") +
+                             " an equation symbol");
+    if (!inEquations(p.role)) continue;
+    bool known = false;
+    for (const char* symbol : generated::kConstantSymbols)
+      known |= std::string(symbol) == p.equation_symbol;
+    if (!known || !p.field.number)
+      throw std::logic_error("parameter schema: " + p.path() + "'s equation symbol " +
+                             p.equation_symbol + " is not a constant of the generated equations");
+  }
 }
 
 #undef KANE_SIM_FIELD
@@ -381,16 +418,76 @@ std::string ruleText(const ValueRule& rule, const std::vector<std::string>& choi
 
 }  // namespace
 
+bool inEquations(ParameterRole role) {
+  switch (role) {
+    case ParameterRole::kInertial:
+    case ParameterRole::kGeometric:
+    case ParameterRole::kGravity:
+    case ParameterRole::kStiffness:
+    case ParameterRole::kDissipative:
+    case ParameterRole::kLoadShape:
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool identifiable(ParameterRole role) {
+  return role == ParameterRole::kInertial || role == ParameterRole::kStiffness ||
+         role == ParameterRole::kDissipative;
+}
+
+const char* roleName(ParameterRole role) {
+  switch (role) {
+    case ParameterRole::kUnset:
+      return "unset";
+    case ParameterRole::kInertial:
+      return "inertial";
+    case ParameterRole::kGeometric:
+      return "geometric";
+    case ParameterRole::kGravity:
+      return "gravity";
+    case ParameterRole::kStiffness:
+      return "stiffness";
+    case ParameterRole::kDissipative:
+      return "dissipative";
+    case ParameterRole::kLoadShape:
+      return "load shape";
+    case ParameterRole::kDrive:
+      return "drive";
+    case ParameterRole::kContact:
+      return "contact";
+    case ParameterRole::kInitialState:
+      return "initial state";
+    case ParameterRole::kOperational:
+      return "operational";
+    case ParameterRole::kMeasurement:
+      return "measurement";
+  }
+  return "";
+}
+
 const std::vector<ParameterSpec>& parameterSchema() {
-  static const std::vector<ParameterSpec> schema = declareParameters();
+  static const std::vector<ParameterSpec> schema = [] {
+    std::vector<ParameterSpec> rows = declareParameters();
+    checkRoles(rows);
+    return rows;
+  }();
   return schema;
+}
+
+std::vector<const ParameterSpec*> parametersOfRole(ParameterRole role) {
+  std::vector<const ParameterSpec*> rows;
+  for (const ParameterSpec& p : parameterSchema())
+    if (p.role == role) rows.push_back(&p);
+  return rows;
 }
 
 const std::vector<SectionSpec>& configSections() {
   static const std::vector<SectionSpec> sections = {
-      {"mechanism", true}, {"initial_state", true}, {"simulation", false},
-      {"command", false},  {"damping", false},      {"contact", false},
-      {"frames", false},   {"diagnostics", false},  {"sensors", false}};
+      {"mechanism", true},    {"initial_state", true}, {"simulation", false}, {"command", false},
+      {"damping", false},         {"contact", false},    {"frames", false},
+      {"diagnostics", false}, {"sensors", false}};
   return sections;
 }
 
@@ -428,7 +525,7 @@ std::string valueText(const ParameterSpec& spec, const Config& config) {
 namespace {
 
 struct ParameterRow {
-  std::string key, symbol, unit, fallback, rule, reconfigure, meaning;
+  std::string key, symbol, unit, fallback, rule, role, reconfigure, meaning;
 };
 
 ParameterRow parameterRow(const ParameterSpec& p, const Config& defaults) {
@@ -444,6 +541,7 @@ ParameterRow parameterRow(const ParameterSpec& p, const Config& defaults) {
   row.rule = ruleText(p.rule, p.choices);
   if (*p.cross_rule)
     row.rule = p.rule.kind == ValueRule::kFinite ? p.cross_rule : row.rule + "; " + p.cross_rule;
+  row.role = roleName(p.role);
   row.reconfigure = p.reconfigurable() ? p.reconfigure.name : "";
   row.meaning = p.doc;
   return row;
@@ -458,6 +556,7 @@ std::string rowText(const ParameterRow& r) {
   field("unit", r.unit);
   field("default", r.fallback);
   field("rule", r.rule);
+  field("role", r.role);
   field("reconfigure", r.reconfigure.empty() ? "" : r.reconfigure + " (dynamic_reconfigure)");
   field("meaning", r.meaning);
   return out;
@@ -468,13 +567,14 @@ std::string rowText(const ParameterRow& r) {
 std::string parameterTable() {
   const Config defaults;
   std::ostringstream table;
-  table << "| key | symbol | unit | default | rule | reconfigure name | meaning |\n"
-        << "|---|---|---|---|---|---|---|\n";
+  table << "| key | symbol | unit | default | rule | role | reconfigure name | meaning |\n"
+        << "|---|---|---|---|---|---|---|---|\n";
   for (const ParameterSpec& p : parameterSchema()) {
     const ParameterRow r = parameterRow(p, defaults);
     table << "| " << r.key << " | " << r.symbol << " | " << r.unit << " | " << r.fallback << " | "
-          << r.rule << " | " << (r.reconfigure.empty() ? "" : "`" + r.reconfigure + "`") << " | "
-          << r.meaning << " |\n";
+          << r.rule << " | " << r.role << " | "
+          << (r.reconfigure.empty() ? "" : "`" + r.reconfigure + "`") << " | " << r.meaning
+          << " |\n";
   }
   return table.str();
 }

@@ -9,14 +9,19 @@
 namespace kane_sim {
 namespace {
 
-// L and g are measured (a ruler, a level): the rest of the mechanism and damping sections is
-// what the motion can tell.
-bool measured(const ParameterSpec& spec) {
-  return spec.path() == "mechanism.rod_half_length" || spec.path() == "mechanism.gravity";
-}
-bool identifiable(const ParameterSpec& spec) {
-  const std::string section = spec.section;
-  return (section == "mechanism" || section == "damping") && spec.field.number && !measured(spec);
+// What the motion can tell: the schema's inertial, stiffness and dissipative rows (L and g are
+// measured, a ruler and a level; friction's v_s shapes its law).
+bool estimable(const ParameterSpec& spec) { return identifiable(spec.role) && spec.field.number; }
+// Fitted unless the caller names the parameters: not the rod inertia (tied to m through the
+// rod's radius of gyration, which the base gives), nor the coefficient of a resistance whose law
+// is not viscous (Coulomb friction: estimated when named, --params friction.crank_joint,...;
+// its columns rest on the base's v_s).
+bool byDefault(const ParameterSpec& spec) {
+  if (spec.path() == "mechanism.rod_inertia") return false;
+  for (const LoadInfo& load : kLoadInfo)
+    if (load.kind == LoadKind::kResistance && std::string(load.symbol) == spec.equation_symbol)
+      return load.law == LoadLaw::kViscous;
+  return true;
 }
 
 bool contains(const std::vector<std::string>& names, const std::string& name) {
@@ -49,9 +54,7 @@ const std::vector<IdentifiableParameter>& identifiableParameters() {
   static const std::vector<IdentifiableParameter> all = [] {
     std::vector<IdentifiableParameter> list;
     for (const ParameterSpec& spec : parameterSchema())
-      if (identifiable(spec))
-        list.push_back(
-            {spec.path(), spec.unit, spec.symbol, spec.path() != "mechanism.rod_inertia"});
+      if (estimable(spec)) list.push_back({spec.path(), spec.unit, spec.symbol, byDefault(spec)});
     list.push_back({kSpringRestLength, "m", "s0", false});
     list.push_back({kTorqueOffset, "N m", "", true});
     return list;
@@ -100,7 +103,7 @@ Regressor::Regressor(const Config& base, const std::vector<std::string>& identif
   known.mechanism.motor.no_load_speed = 0.0;  // the data's torque is the delivered one
   zero.mechanism.motor.no_load_speed = 0.0;
   for (const ParameterSpec& spec : parameterSchema()) {
-    if (!identifiable(spec)) continue;
+    if (!estimable(spec)) continue;
     spec.field.number(zero) = 0.0;
     if (contains(names_, spec.path())) spec.field.number(known) = 0.0;
   }

@@ -63,9 +63,17 @@ class Config:
         return out
 
     @staticmethod
-    def names():
-        """Every config name ("section.key") a Config takes."""
-        return list(_core.Config.names())
+    def names(role=None):
+        """Every config name ("section.key") a Config takes; with `role`, those of that role
+        (Config.role's names: "inertial", "dissipative", ...)."""
+        names = list(_core.Config.names())
+        return names if role is None else [n for n in names if _core.Config.role(n) == role]
+
+    @staticmethod
+    def role(name):
+        """What a parameter is (the schema's role): inertial, geometric, gravity, stiffness,
+        dissipative, load shape, drive, contact, initial state, operational or measurement."""
+        return _core.Config.role(name)
 
     @property
     def warnings(self):

@@ -53,6 +53,11 @@ class Motion:
         return (len(self.t) - 1) / (self.t[-1] - self.t[0])
 
 
+
+def _dissipative(name):
+    """A resistance's coefficient (a damper's, friction's): >= 0, 0 = off (the schema's role)."""
+    return name in Config.names() and Config.role(name) == "dissipative"
+
 def _check_file(path):
     if not os.path.exists(path):
         raise ValueError("data: %s does not exist" % path)
@@ -854,9 +859,10 @@ def fitted_config(base, estimates, std_errors=None):
             values["initial_state.q2"] = float(value - _separation(base, q1, np.zeros(1))[0])
             continue
         bound = 0.0
-        if value < bound or (value <= bound and not name.startswith("damping.")):
+        dissipative = _dissipative(name)
+        if value < bound or (value <= bound and not dissipative):
             err = (std_errors or {}).get(name, 0.0)
-            if name.startswith("damping.") and value > bound - 3 * err:
+            if dissipative and value > bound - 3 * err:
                 values[name] = bound
                 clipped.append(name)
                 continue
@@ -940,10 +946,10 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=50):
                         max(2, int(np.ceil((t_data[-1] - t_data[0]) / BIAS_KNOT_SPACING)) + 1))
     n_state = 4
     x0 = np.concatenate([theta[free], prepared.states[0], np.zeros(len(knots))])
-    floors = [0.01 if names[i].startswith("damping.") or names[i] == "torque_offset" else 1e-3
+    floors = [0.01 if _dissipative(names[i]) or names[i] == "torque_offset" else 1e-3
               for i in free] + [0.1, 0.01, 0.5, 0.1] + [0.01] * len(knots)
     scale = np.maximum(np.abs(x0), floors)
-    lower = np.array([0.0 if names[i].startswith("damping.")
+    lower = np.array([0.0 if _dissipative(names[i])
                       else (-np.inf if names[i] == "torque_offset" else 1e-6 * scale[k])
                       for k, i in enumerate(free)] + [-np.inf] * (n_state + len(knots))) / scale
     z0 = np.maximum(x0 / scale, lower + 1e-12)
@@ -1065,7 +1071,7 @@ def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=4):
         amplitude *= 0.5
         torque = bias + amplitude * shape
     else:
-        undamped = all(base[k] == 0 for k in Config.names() if k.startswith("damping."))
+        undamped = all(base[k] == 0 for k in Config.names("dissipative"))
         raise ValueError("excite: no multisine keeps the sliders apart over %g s on this config%s"
                          % (duration, " (it has no damping: under any long excitation its energy "
                             "drifts; give the dampers' rough values, or excite in shorter runs)"

@@ -27,6 +27,21 @@ REACTIONS = columns.REACTIONS
 
 # /mechanism_state's fields as CSV columns: (column, field, index or None).
 _BAG_FIELDS = columns.BAG_FIELDS
+_POWER_KEYS = dict(columns.POWERS)  # load name -> its power column
+
+
+def _bag_fields(m):
+    """(column, field, index) for one message. The loads' powers by their names in load_names
+    (whatever order or loads the recording's version had); a bag recorded before the named
+    arrays (2026-11-25) has one <load>_power field per load instead."""
+    names = getattr(m, "load_names", None)
+    fields = [f for f in _BAG_FIELDS if f[1] != "load_powers"]
+    if names is not None:
+        fields += [(_POWER_KEYS[n], "load_powers", i) for i, n in enumerate(names)
+                   if n in _POWER_KEYS]
+    else:
+        fields += [(column, key + "_power", None) for key, column in _POWER_KEYS.items()]
+    return fields
 
 
 def require_regular_file(path):
@@ -57,7 +72,7 @@ def read_bag(path):
                     readings.append((m.header.stamp.to_sec(), m.position[0]))
                 continue
             stamps.append((m.header.stamp.to_sec(), m.sim_time))
-            for column, field, index in _BAG_FIELDS:
+            for column, field, index in _bag_fields(m):
                 value = getattr(m, field, None)  # bags recorded before a field existed lack it
                 if value is not None:
                     columns.setdefault(column, []).append(value if index is None else value[index])

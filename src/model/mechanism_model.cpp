@@ -35,7 +35,24 @@ MechanismGeometry mechanismGeometry(double rod_half_length, double q1, double q2
 }
 
 MechanismModel::MechanismModel(const MechanismParameters& parameters, double spring_rest_length)
-    : parameters_(parameters), spring_rest_length_(spring_rest_length) {}
+    : parameters_(parameters),
+      spring_rest_length_(spring_rest_length),
+      constants_(generated::constantsFrom(parameters, spring_rest_length)) {}
+
+double MechanismModel::resistanceCoefficient(const LoadInfo& load) const {
+  return (&constants_.rod_mass)[load.coefficient];
+}
+
+double MechanismModel::resistance(const LoadInfo& load, double rate) const {
+  const double c = resistanceCoefficient(load);
+  switch (load.law) {
+    case LoadLaw::kViscous:  // c v
+      return c * rate;
+    case LoadLaw::kNone:
+      break;
+  }
+  return 0.0;
+}
 
 MechanismKinematics MechanismModel::kinematics(const State& x) const {
   const MechanismParameters& p = parameters_;
@@ -84,7 +101,6 @@ double MechanismModel::appliedMotorTorque(double command, double u1) const {
 MechanismLoads MechanismModel::loads(const MechanismKinematics& k, const State& x,
                                      double motor_command) const {
   const MechanismParameters& p = parameters_;
-  const JointDamping& c = p.damping;
   const SpeedVector u = x.speeds();
   MechanismLoads l;
   auto add = [&l](LoadName name, Body body, const kane::Load<kNumSpeeds>& load) {
@@ -103,21 +119,40 @@ MechanismLoads MechanismModel::loads(const MechanismKinematics& k, const State& 
   add(LoadName::kMotor, kRod1,
       kane::torqueOn(k.rod1, appliedMotorTorque(motor_command, x.u1) * kK));
 
-  // Dampers, opposing the joint rates: torques on the rods' frames, forces at the sliders.
+  // The resistances (dampers, friction), opposing their sites' rates: torques on the rods'
+  // frames, forces at the sliders, and the reactions where a site joins two bodies.
   const double w1 = k.rod1.angularVelocity(u).z(), w2 = k.rod2.angularVelocity(u).z();
-  add(LoadName::kCrankDamper, kRod1, kane::torqueOn(k.rod1, Eigen::Vector3d(-c.crank * w1 * kK)));
-  const Eigen::Vector3d coupler_on_rod2 = -c.coupler * (w2 - w1) * kK;
-  add(LoadName::kCouplerDamper, kRod2, kane::torqueOn(k.rod2, coupler_on_rod2));
-  add(LoadName::kCouplerDamper, kRod1, kane::torqueOn(k.rod1, -coupler_on_rod2));  // reaction at A
-  const Eigen::Vector3d v_b = k.slider3.velocity(u), v_c = k.slider4.velocity(u);
-  add(LoadName::kSlider3Damper, kSlider3,
-      kane::forceAt(k.slider3, Eigen::Vector3d(-c.slider3 * v_b)));
-  add(LoadName::kSlider4Damper, kSlider4,
-      kane::forceAt(k.slider4, Eigen::Vector3d(-c.slider4 * v_c)));
-  // The damper beside the spring: -c_S (v_C - v_B) i on slider 4, the opposite on slider 3.
-  const Eigen::Vector3d spring_damper_on_c = -c.spring * (v_c - v_b);
-  add(LoadName::kSpringDamper, kSlider3, kane::forceAt(k.slider3, -spring_damper_on_c));
-  add(LoadName::kSpringDamper, kSlider4, kane::forceAt(k.slider4, spring_damper_on_c));
+  const double v_b = k.slider3.velocity(u).x(), v_c = k.slider4.velocity(u).x();
+  for (int n = 0; n < kNumLoadNames; ++n) {
+    const LoadInfo& info = kLoadInfo[n];
+    if (info.kind != LoadKind::kResistance) continue;
+    const LoadName name = static_cast<LoadName>(n);
+    switch (info.site) {
+      case LoadSite::kCrank:  // pin O: -F k on rod 1, F from w1
+        add(name, kRod1, kane::torqueOn(k.rod1, Eigen::Vector3d(-resistance(info, w1) * kK)));
+        break;
+      case LoadSite::kCoupler: {  // pin A: -F k on rod 2 from w2 - w1, its reaction on rod 1
+        const Eigen::Vector3d on_rod2 = -resistance(info, w2 - w1) * kK;
+        add(name, kRod2, kane::torqueOn(k.rod2, on_rod2));
+        add(name, kRod1, kane::torqueOn(k.rod1, Eigen::Vector3d(-on_rod2)));
+        break;
+      }
+      case LoadSite::kSlider3:  // -F i at B, F from v_B
+        add(name, kSlider3, kane::forceAt(k.slider3, Eigen::Vector3d(-resistance(info, v_b) * kI)));
+        break;
+      case LoadSite::kSlider4:  // -F i at C, F from v_C
+        add(name, kSlider4, kane::forceAt(k.slider4, Eigen::Vector3d(-resistance(info, v_c) * kI)));
+        break;
+      case LoadSite::kSpring: {  // -F i on slider 4 from v_C - v_B, the opposite on slider 3
+        const Eigen::Vector3d on_c = -resistance(info, v_c - v_b) * kI;
+        add(name, kSlider3, kane::forceAt(k.slider3, Eigen::Vector3d(-on_c)));
+        add(name, kSlider4, kane::forceAt(k.slider4, on_c));
+        break;
+      }
+      case LoadSite::kNone:
+        break;
+    }
+  }
   return l;
 }
 

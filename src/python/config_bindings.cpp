@@ -81,6 +81,8 @@ std::vector<std::string> PythonConfig::names() {
 
 bool PythonConfig::reconfigurable(const std::string& name) { return specOf(name).reconfigurable(); }
 
+std::string PythonConfig::role(const std::string& name) { return roleName(specOf(name).role); }
+
 void bindConfig(py::module_& m) {
   py::class_<PythonConfig>(m, "Config",
                            "A validated config: the loader's checks, values by config name.")
@@ -91,6 +93,9 @@ void bindConfig(py::module_& m) {
       .def("with_value", &PythonConfig::with, py::arg("name"), py::arg("value_yaml"))
       .def_static("names", &PythonConfig::names, "Every parameter's config name.")
       .def_static("reconfigurable", &PythonConfig::reconfigurable, py::arg("name"))
+      .def_static("role", &PythonConfig::role, py::arg("name"),
+                  "The parameter's role: inertial, geometric, gravity, stiffness, dissipative, "
+                  "load shape, drive, contact, initial state, operational or measurement.")
       .def_property_readonly("warnings", &PythonConfig::warnings)
       .def_property_readonly("source", &PythonConfig::source)
       .def("yaml", &PythonConfig::yaml, "The config as YAML text (a file for `simulate`).");

@@ -43,6 +43,8 @@ class PythonConfig {
   PythonConfig with(const std::string& name, const std::string& value_yaml) const;
   static std::vector<std::string> names();
   static bool reconfigurable(const std::string& name);
+  // The parameter's role in the schema ("inertial", "dissipative", ...: ParameterRole).
+  static std::string role(const std::string& name);
 
  private:
   PythonConfig(YAML::Node tree, std::string source);

@@ -60,24 +60,14 @@ std::vector<geometry_msgs::TransformStamped> jointTransforms(const RobotDescript
   return transformMessages(movingJointPoses(robot, joints), stamp);
 }
 
-// The message's load-power fields, indexed by LoadName: "<load>_power", as the output table
-// (sim/csv_format.h) names them; a .msg is static, so this is the one place a load meets its
-// field (test_ros_messages checks each against the table's name and value).
-double kane_sim::MechanismState::*const kLoadPowerFields[] = {
-    &kane_sim::MechanismState::gravity_power,
-    &kane_sim::MechanismState::spring_power,
-    &kane_sim::MechanismState::motor_power,
-    &kane_sim::MechanismState::crank_damper_power,
-    &kane_sim::MechanismState::coupler_damper_power,
-    &kane_sim::MechanismState::slider3_damper_power,
-    &kane_sim::MechanismState::slider4_damper_power,
-    &kane_sim::MechanismState::spring_damper_power,
-    &kane_sim::MechanismState::contact_power,
-};
-// A load added to the model without its message field stops the build here (a missing entry
-// would otherwise be a null member pointer).
-static_assert(std::size(kLoadPowerFields) == kNumLoadNames,
-              "every LoadName needs its <load>_power field in MechanismState.msg and here");
+const std::vector<std::string>& loadNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const LoadInfo& load : kLoadInfo) out.push_back(load.name);
+    return out;
+  }();
+  return names;
+}
 
 kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_time_factor,
                                                const ros::Time& stamp,
@@ -117,7 +107,8 @@ kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_ti
   msg.rail_force_slider4 = f.rail_slider4;
   msg.spring_force = f.spring;
   msg.reactions_determinate = f.determinate;
-  for (int n = 0; n < kNumLoadNames; ++n) msg.*kLoadPowerFields[n] = s.load_powers.by_name[n];
+  msg.load_names = loadNames();
+  msg.load_powers.assign(s.load_powers.by_name.begin(), s.load_powers.by_name.end());
   std::copy(s.body_kinetic_energy.begin(), s.body_kinetic_energy.end(),
             msg.body_kinetic_energy.begin());
   msg.impact_energy = s.impact_energy;

@@ -62,10 +62,13 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
   // Lanes of one equations variant run together (the single Simulator picks it per config);
   // each variant's lanes are cut into one chunk per thread, whole blocks of the width each.
   const std::size_t width = laneWidth(arch_);
-  for (bool damped : {false, true}) {
+  std::vector<generated::RatesVariant> variants(size());
+  for (std::size_t i = 0; i < size(); ++i)
+    variants[i] = GeneratedMechanism(mechanismModel(configs_[i])).variant();
+  for (generated::RatesVariant variant : generated::kRatesVariants) {
     std::vector<std::size_t> members;
     for (std::size_t i = 0; i < size(); ++i)
-      if (configs_[i].mechanism.damping.any() == damped) members.push_back(i);
+      if (variants[i] == variant) members.push_back(i);
     if (members.empty()) continue;
     const std::size_t blocks = (members.size() + width - 1) / width;
     const std::size_t per_chunk =
@@ -77,7 +80,7 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
           members.begin() + static_cast<long>(first),
           members.begin() + static_cast<long>(std::min(first + per_chunk, members.size())));
       LaneRun& run = chunk.run;
-      run.damped = damped;
+      run.variant = variant;
       run.step = step_size_;
       run.vector_trig = settings_.vector_trig;
       run.stop_at_crossing = true;

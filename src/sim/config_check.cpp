@@ -11,13 +11,13 @@
 namespace kane_sim {
 namespace {
 
-// ", damping.spring 1e+308" for every damper that is on (schema order): what else can make
+// ", damping.spring 1e+308" for every resistance that is on (schema order): what else can make
 // the equations stiff or overflow.
 std::string dampersOn(const Config& c) {
   std::string text;
-  for (const ParameterSpec& p : parameterSchema())
-    if (std::string(p.section) == "damping" && numericValue(p, c) != 0.0)
-      text += ", " + p.path() + " " + formatNumber(numericValue(p, c));
+  for (const ParameterSpec* p : parametersOfRole(ParameterRole::kDissipative))
+    if (numericValue(*p, c) != 0.0)
+      text += ", " + p->path() + " " + formatNumber(numericValue(*p, c));
   return text;
 }
 
@@ -69,7 +69,9 @@ void checkIntegrable(const Config& c) {
             " rad/s, from spring_stiffness, the masses, damping and the motor line) needs rate h "
             "<= " +
             formatNumber(kRk4StabilityLimit) + ", got " + formatNumber(stiffest.rate * h) + " at " +
-            formatNumber(c.simulation.physics_rate) + " Hz; " + rk4Remedy(stiffest.rate, c));
+            formatNumber(c.simulation.physics_rate) + " Hz" +
+            (dampersOn(c).empty() ? "" : " (with " + dampersOn(c).substr(2) + ")") + "; " +
+            rk4Remedy(stiffest.rate, c));
 }
 
 }  // namespace

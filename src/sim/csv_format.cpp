@@ -52,7 +52,7 @@ std::vector<CsvColumn> makeColumns() {
   };
   const auto loadPowerColumn = [&](int n, std::string name) {
     const std::string load = kLoadInfo[n].name;
-    return CsvColumn{std::move(name), "power", load, load + "_power", -1, loadPower(n)};
+    return CsvColumn{std::move(name), "power", load, "load_powers", n, loadPower(n)};
   };
   const int motor = static_cast<int>(LoadName::kMotor);
   c.push_back(loadPowerColumn(motor, "motor_power"));

@@ -58,7 +58,7 @@ void runGroup(const std::vector<size_t>& members, const std::vector<const Config
   const long steps = std::lround(settings.duration * rate);
   LaneRun run;
   run.step = step;
-  run.damped = first.mechanism.damping.any();
+  run.variant = GeneratedMechanism(mechanismModel(first)).variant();
   run.steps_per_sample = std::max(1L, std::lround(rate / settings.ledger_rate));
   run.stop = settings.stop;
   run.vector_trig = settings.vector_trig;
@@ -111,9 +111,11 @@ void runGroup(const std::vector<size_t>& members, const std::vector<const Config
 void runSweepLanes(const std::vector<const Config*>& configs, const SweepSettings& settings,
                    LaneArch arch, std::vector<SweepResult*>& results) {
   // One command stream and one equations variant per group.
-  std::map<std::pair<double, bool>, std::vector<size_t>> groups;
-  for (size_t i = 0; i < configs.size(); ++i)
-    groups[{configs[i]->simulation.physics_rate, configs[i]->mechanism.damping.any()}].push_back(i);
+  std::map<std::pair<double, generated::RatesVariant>, std::vector<size_t>> groups;
+  for (size_t i = 0; i < configs.size(); ++i) {
+    const auto variant = GeneratedMechanism(mechanismModel(*configs[i])).variant();
+    groups[{configs[i]->simulation.physics_rate, variant}].push_back(i);
+  }
   for (const auto& group : groups) runGroup(group.second, configs, settings, arch, results);
 }
 

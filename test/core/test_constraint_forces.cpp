@@ -181,7 +181,7 @@ TEST(PowerFlow, LoadPowersSumToTheKineticEnergysRate) {
     EXPECT_NEAR(gravity, -(plus.gravitational - minus.gravitational) / (2 * h), tol);
     EXPECT_NEAR(spring, -(plus.spring - minus.spring) / (2 * h), tol);
     for (int n = 0; n < kNumLoadNames; ++n) {
-      if (kLoadInfo[n].damper) {
+      if (kLoadInfo[n].dissipative) {
         EXPECT_LT(p.by_name[n], 0.0) << kLoadInfo[n].name << " takes power out";
       }
     }

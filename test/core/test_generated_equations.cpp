@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iostream>
 #include <random>
+#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -93,9 +94,13 @@ TEST_P(GeneratedEquations, RatesMatchTheGenericAssemblyAtRandomStates) {
     for (double* v : {&p.rod_mass, &p.rod_half_length, &p.rod_inertia, &p.slider3_mass,
                       &p.slider4_mass, &p.spring_stiffness, &p.gravity})
       *v = scaled(*v);
-    // Every damper the schema declares (a new one is drawn here without editing this test).
-    for (const ParameterSpec& spec : parameterSchema())
-      if (std::string(spec.section) == "damping") spec.field.number(drawn) *= 10 * unit(rng);
+    // Every resistance the schema declares (a new one is drawn here without editing this test),
+    // on or off at random so that every variant of the generated rates is compared, and the
+    // shape of their laws (friction's v_s) from 1/10 to 10 times its default.
+    for (const ParameterSpec* spec : parametersOfRole(ParameterRole::kDissipative))
+      spec->field.number(drawn) = unit(rng) < 0.3 ? 0.0 : 10 * unit(rng);
+    for (const ParameterSpec* spec : parametersOfRole(ParameterRole::kLoadShape))
+      spec->field.number(drawn) = scaled(std::max(spec->field.number(drawn), 0.05));
     const MechanismModel generic(p, position(rng));
     const GeneratedMechanism generated(generic);
     const State x{angle(rng), position(rng), speed(rng), speed(rng)};
@@ -177,13 +182,14 @@ TEST(EquationsSetting, DefaultIsGeneratedAndTheKeyIsRead) {
 namespace kane_sim {
 namespace {
 
-// Every physical parameter of the schema (the mechanism's, each damper, the motor line's
-// no-load speed) changes the rates on both paths, one at a time: a field left out of the
-// generated constants, of MechanismParameters' fields() (equality) or of the damped-kernel
-// choice (a damper once ran the undamped kernel) fails here. Contact's parameters act through
-// impacts between steps, not through the rates.
+// Every physical parameter of the schema (each row the equations hold by its role: masses, L,
+// k, g, every resistance, the shape of their laws; and the motor line's no-load speed) changes
+// the rates on both paths, one at a time: a field left out of MechanismParameters' fields()
+// (equality), of the generated constants or of the variant choice (a damper once ran the
+// undamped kernel) fails here. Rows are chosen by role, so a new section is not skipped; and
+// every constant of the generated equations but the rest length (the initial state's) must be
+// some row's. Contact's parameters act through impacts between steps, not through the rates.
 TEST(EveryParameter, ChangesTheRatesOnBothPaths) {
-  const Config base = test::defaultConfig();
   const State x{0.7, 1.2, 1.5, -0.4};
   const double torque = 7.0;
   const auto rates = [&](const Config& c) {
@@ -191,18 +197,24 @@ TEST(EveryParameter, ChangesTheRatesOnBothPaths) {
     return std::make_pair(GeneratedMechanism(model).stateDerivative(x, torque),
                           model.stateDerivative(x, torque));
   };
-  const auto before = rates(base);
-  int checked = 0;
+  std::set<std::string> symbols;
   for (const ParameterSpec& p : parameterSchema()) {
-    const std::string section = p.section;
-    const bool physical =
-        section == "mechanism" || section == "damping" || p.path() == "command.motor_no_load_speed";
+    const bool physical = inEquations(p.role) || p.role == ParameterRole::kDrive;
     if (!physical || !p.field.number) continue;
     SCOPED_TRACE(p.path());
+    Config base = test::defaultConfig();
+    // A law's shape changes nothing while its load is off, nor where it has saturated (tanh of
+    // 1.5 / 0.01 is 1 to the bit): every resistance on, and the shape at the state's speeds.
+    if (p.role == ParameterRole::kLoadShape) {
+      for (const ParameterSpec* r : parametersOfRole(ParameterRole::kDissipative))
+        r->field.number(base) = 0.5;
+      p.field.number(base) = 1.0;
+    }
     Config changed = base;
     double& value = p.field.number(changed);
     value = value == 0.0 ? 0.7 : value * 1.3;
     EXPECT_FALSE(changed.mechanism == base.mechanism) << "equality misses it";
+    const auto before = rates(base);
     const auto after = rates(changed);
     const auto differs = [](const OdeState& a, const OdeState& b) {
       return a[2] != b[2] || a[3] != b[3] || a[5] != b[5];
@@ -210,9 +222,14 @@ TEST(EveryParameter, ChangesTheRatesOnBothPaths) {
     EXPECT_TRUE(differs(after.first, before.first)) << "the generated equations ignore it";
     EXPECT_TRUE(differs(after.second, before.second)) << "the generic assembly ignores it";
     EXPECT_NEAR(after.first[2], after.second[2], 1e-9 * (1 + std::abs(after.second[2])));
-    ++checked;
+    if (*p.equation_symbol) {
+      EXPECT_TRUE(symbols.insert(p.equation_symbol).second) << "twice";
+    }
   }
-  EXPECT_EQ(checked, 7 + 5 + 1);  // m, L, M1, M2, k, g, I; five dampers; w0
+  std::set<std::string> constants(std::begin(generated::kConstantSymbols),
+                                  std::end(generated::kConstantSymbols));
+  constants.erase("s0");  // x_C0 - x_B0, from the initial state
+  EXPECT_EQ(symbols, constants) << "a constant of the generated equations no schema row sets";
 }
 
 }  // namespace

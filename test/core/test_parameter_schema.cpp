@@ -34,17 +34,20 @@ TEST(ParameterSchema, PathsAndReconfigureNamesAreUnique) {
     for (const SectionSpec& s : configSections()) in_a_section |= p.section == std::string(s.name);
     EXPECT_TRUE(in_a_section) << p.path();
   }
-  // Each name leads back to its row, and every damper (a physics option of a section the
-  // schema holds, however many rows it has) is reconfigurable with its energy booked.
+  // Each name leads back to its row; a reconfigurable row of the equations (or the drive's) has
+  // its energy booked and no other has; every resistance and its law's shape is reconfigurable.
   for (const std::string& name : names) EXPECT_NE(findReconfigurable(name), nullptr) << name;
-  int dampers = 0;
+  int physical = 0;
   for (const ParameterSpec& p : parameterSchema()) {
-    if (std::string(p.section) != "damping") continue;
-    ++dampers;
+    const bool booked = inEquations(p.role) || p.role == ParameterRole::kDrive;
+    if (p.reconfigurable()) {
+      EXPECT_EQ(p.reconfigure.level, booked ? 1 : 0) << p.path();
+    }
+    if (p.role != ParameterRole::kDissipative && p.role != ParameterRole::kLoadShape) continue;
+    ++physical;
     EXPECT_TRUE(p.reconfigurable()) << p.path();
-    EXPECT_EQ(p.reconfigure.level, 1) << p.path();
   }
-  EXPECT_GT(dampers, 0);
+  EXPECT_GT(physical, 0);
 }
 
 // The shipped config holds every key of the schema it sets and no other: a file written from the
@@ -136,8 +139,7 @@ TEST(ParameterSchema, EveryParameterOfTheEquationsReachesTheGeneratedOnes) {
   static_assert(sizeof(generated::Constants) % sizeof(double) == 0, "Constants holds doubles");
   constexpr std::size_t kCount = sizeof(generated::Constants) / sizeof(double);
   for (const ParameterSpec& p : parameterSchema()) {
-    const std::string section = p.section;
-    if (section != "mechanism" && section != "damping") continue;
+    if (!inEquations(p.role)) continue;
     Config config = base;
     const double marker = numericValue(p, base) + 0.123456789;
     p.field.number(config) = marker;

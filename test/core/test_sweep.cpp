@@ -143,7 +143,8 @@ std::vector<double> rowValues(const SweepResult& r) {
   return values;
 }
 
-// A grid that reaches every lane path: damped and undamped equations, slider crossings, a step
+// A grid that reaches every lane path: every variant of the equations (no resistance, dampers),
+// slider crossings, a step
 // the Simulator refuses mid-run (3000 N m from 0.6 s spin the crank past 1 rad a step), a motor
 // line (not a lane case: it runs alone), a refused config, and more cases than a chunk.
 SweepPlan laneGrid() {

@@ -123,7 +123,16 @@ inline bool allFinite(const MechanismState& m) {
   for (const auto* a : {&m.q, &m.u, &m.u_dot, &m.active_forces, &m.inertia_forces})
     for (double v : *a)
       if (!std::isfinite(v)) return false;
+  for (double v : m.load_powers)
+    if (!std::isfinite(v)) return false;
   return true;
+}
+
+// The power of the load `name` (load_names), NaN when the message has no such load.
+inline double loadPower(const MechanismState& m, const std::string& name) {
+  for (std::size_t i = 0; i < m.load_names.size() && i < m.load_powers.size(); ++i)
+    if (m.load_names[i] == name) return m.load_powers[i];
+  return std::nan("");
 }
 
 // The fixture most node tests share: the node under test (started by test/node/sim_node.launch)

@@ -14,6 +14,7 @@
 
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/SetState.h"
+#include "kane_sim/config/parameter_schema.h"
 #include "node_test_utils.h"
 
 namespace kane_sim {
@@ -26,11 +27,11 @@ TEST_F(Fuzz, ReconfigureSetStateAndCommandsNeverMakeItLie) {
   std::mt19937 rng(20);
   const std::vector<double> hostile = {NAN, INFINITY, -INFINITY, 1e308, -1e308, -1.0,
                                        0.0, 1e-300,   1e-9,      1e9,   -50.0};
-  const std::vector<std::string> names = {
-      "torque_limit",        "command_timeout", "real_time_factor", "rod_mass",
-      "slider3_mass",        "slider4_mass",    "spring_stiffness", "gravity",
-      "motor_no_load_speed", "crank_damping",   "coupler_damping",  "slider3_damping",
-      "slider4_damping"};
+  // Every number dynamic_reconfigure offers, from the schema (a new one is fuzzed unasked).
+  std::vector<std::string> names;
+  for (const ParameterSpec& p : parameterSchema())
+    if (p.reconfigurable() && p.field.number) names.push_back(p.reconfigure.name);
+  ASSERT_GE(names.size(), 19u);
   std::uniform_int_distribution<size_t> pick_name(0, names.size() - 1);
   std::uniform_int_distribution<size_t> pick_hostile(0, hostile.size() - 1);
   std::uniform_real_distribution<double> plausible(0.0, 20.0), unit(0.0, 1.0);

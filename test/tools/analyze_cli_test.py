@@ -75,7 +75,7 @@ def main(build_dir):
         text = open(CONFIG).read()
         for old, new in replacements:
             assert old in text, old
-            text = text.replace(old, new)
+            text = text.replace(old, new, 1)  # the first: damping.* before friction.*
         f = tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False)
         f.write(text)
         f.close()

@@ -65,7 +65,7 @@ check "config_info parameters prints the table, one KEY or --text; a wrong key o
 # power row names its CSV column, Python key and message field; an argument is a usage error.
 output_table() {
   "$bin/config_info" outputs >"$work/out" 2>"$work/err" || { cat "$work/err"; return 1; }
-  grep -qF '| `power_spring_damper` | power | `Result.powers["spring_damper"]` | `spring_damper_power` |' "$work/out" ||
+  grep -qF '| `power_spring_damper` | power | `Result.powers["spring_damper"]` | `load_powers[7]` |' "$work/out" ||
     { head -3 "$work/out"; return 1; }
   "$bin/config_info" outputs --text >"$work/out" 2>"$work/err"
   local code=$?

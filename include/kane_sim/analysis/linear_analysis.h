@@ -16,6 +16,7 @@
 #include <complex>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -50,6 +51,8 @@ struct LinearModel {
   Eigen::Matrix2d mass = Eigen::Matrix2d::Zero();  // M (Kane's mass matrix)
   Eigen::Matrix2d stiffness = Eigen::Matrix2d::Zero();  // K = -d forcing / d q at u = 0
   Eigen::Matrix2d damping = Eigen::Matrix2d::Zero();    // C = -d forcing / d u
+  // What the linear model leaves out or approximates, in words (analyze's "notes").
+  std::vector<std::string> notes;
 };
 LinearModel linearize(const MechanismModel& model, const State& x, double torque);
 

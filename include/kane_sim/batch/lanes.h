@@ -41,9 +41,9 @@ struct LaneRun {
   std::vector<generated::Constants> constants;  // per lane
   std::vector<double> torque_limit;             // per lane: command.torque_limit [N m]
   std::vector<LaneState> start;                 // per lane: q1, q2, u1, u2, W, D
-  // generated::rates (some lane has a damper) or ratesUndamped (no lane has one): the variant
-  // the single Simulator picks for each lane's config; lanes of different variants run apart.
-  bool damped = true;
+  // The generated equations' variant (generated::variantFor: the single Simulator picks it per
+  // config, by the resistances that are on); lanes of different variants run apart.
+  generated::RatesVariant variant = generated::kEveryTerm;
   double step = 1e-3;  // h [s]
   // The command in force during step i (i = 0 .. size-1), before each lane's clamp to its limit:
   // a profile's value at t = i h, as ProfileCommands sends it to a single run.

@@ -60,12 +60,40 @@ struct ReconfigureSpec {
   double gui_max = 0.0;
 };
 
+// What a parameter is to the physics and to the tools: every consumer that treats parameters by
+// kind (the equations' constants, equality, identification, the stiffness check's message, the
+// tests' random configs) asks the role, never the section or the key's prefix.
+enum class ParameterRole {
+  kUnset,         // no row may keep it: parameterSchema() refuses one
+  kInertial,      // masses and the rod inertia: identifiable from motion
+  kGeometric,     // L: measured with a ruler, not identified
+  kGravity,       // g: measured, not identified
+  kStiffness,     // k: identifiable
+  kDissipative,   // a resistance's coefficient (dampers, friction): identifiable, 0 = off
+  kLoadShape,     // shapes a load's law without scaling it (friction's v_s): not identified
+  kDrive,         // the motor line's no-load speed
+  kContact,       // the sliders' contact
+  kInitialState,  // where the motion starts
+  kOperational,   // how it is simulated, commanded, published, diagnosed
+  kMeasurement,   // what the sensors add
+};
+// Rows of these roles are constants of the equations of motion (each carries its symbol there).
+bool inEquations(ParameterRole role);
+// Rows of these roles can be estimated from a recorded motion.
+bool identifiable(ParameterRole role);
+// A role's name as the parameter table prints it ("inertial", "dissipative", ...).
+const char* roleName(ParameterRole role);
+
 // One row of the schema (src/config/parameter_schema.cpp writes them as a table, one row each).
 struct ParameterSpec {
   const char* section = "";
   const char* key = "";
   const char* symbol = "";  // the textbook's, or ""
-  const char* unit = "";    // SI, or ""
+  ParameterRole role = ParameterRole::kUnset;
+  // Roles inEquations(): the symbol of its constant in the generated equations
+  // (generated::kConstantSymbols: "m", "c_O", "F_O", "v_s"), checked when the schema is built.
+  const char* equation_symbol = "";
+  const char* unit = "";  // SI, or ""
   ValueRule rule;
   ConfigField field;
   bool required = false;
@@ -97,6 +125,9 @@ const ParameterSpec* findReconfigurable(const std::string& name);
 double numericValue(const ParameterSpec& spec, const Config& config);
 // The value as the config file would spell it ("rk4", "true", "0.5").
 std::string valueText(const ParameterSpec& spec, const Config& config);
+
+// The rows of one role, in schema order.
+std::vector<const ParameterSpec*> parametersOfRole(ParameterRole role);
 
 // The parameter table of doc/reference/parameters.md (Markdown), one row per parameter.
 std::string parameterTable();

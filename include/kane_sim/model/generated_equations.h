@@ -33,8 +33,76 @@ struct ConstantsOf {
 };
 using Constants = ConstantsOf<double>;
 
-// u1', u2' of F*_r + F_r = 0 (eq 18) and the dampers' dissipated power [W] at (q, u) under
-// the applied driver moment M_m [N m].
+// Every constant from the mechanism's parameters (p: a MechanismParameters or anything
+// with its members) and the spring's rest separation.
+template <class Parameters>
+Constants constantsFrom(const Parameters& p, double spring_rest_length) {
+  Constants c;
+  c.rod_mass = p.rod_mass;  // m
+  c.rod_half_length = p.rod_half_length;  // L
+  c.rod_inertia = p.rod_inertia;  // I
+  c.slider3_mass = p.slider3_mass;  // M1
+  c.slider4_mass = p.slider4_mass;  // M2
+  c.spring_stiffness = p.spring_stiffness;  // k
+  c.gravity = p.gravity;  // g
+  c.spring_rest_length = spring_rest_length;  // s0
+  c.crank_damping = p.damping.crank;  // c_O
+  c.coupler_damping = p.damping.coupler;  // c_A
+  c.slider3_damping = p.damping.slider3;  // c_B
+  c.slider4_damping = p.damping.slider4;  // c_C
+  c.spring_damping = p.damping.spring;  // c_S
+  return c;
+}
+
+// The loads, one named list (codegen/generate_equations.py's LOADS): each load's name, kind
+// and, for a resistance, where it acts, its law and its coefficient (an index into
+// ConstantsOf's fields). Several entries of MechanismModel::loads() can share a name.
+enum class LoadName {
+  kGravity,
+  kSpring,
+  kMotor,
+  kCrankDamper,
+  kCouplerDamper,
+  kSlider3Damper,
+  kSlider4Damper,
+  kSpringDamper,
+  kContact,
+  kCount
+};
+constexpr int kNumLoadNames = static_cast<int>(LoadName::kCount);
+enum class LoadKind { kGravity, kSpring, kMotor, kResistance, kContact };
+// Where a resistance acts, and the rate it opposes: the crank's pin O (w1, on rod 1), the
+// coupler's pin A (w2 - w1, on rod 2 and its reaction on rod 1), the sliders on the rail
+// (v_B, v_C), the pair beside the spring (v_C - v_B, on slider 4 and the opposite on 3).
+enum class LoadSite { kNone, kCrank, kCoupler, kSlider3, kSlider4, kSpring };
+// The laws of codegen/generate_equations.py's LAWS (viscous: c v).
+enum class LoadLaw { kNone, kViscous };
+struct LoadInfo {
+  const char* name;   // snake_case: power column power_<name>, ...
+  LoadKind kind;
+  LoadSite site;      // resistances only
+  LoadLaw law;        // resistances only
+  int coefficient;    // resistances: the index of its coefficient among the constants
+  const char* symbol; // resistances: that coefficient's symbol
+  bool dissipative;   // its power is <= 0 and counts in the ledger's D'
+};
+// Indexed by LoadName.
+constexpr LoadInfo kLoadInfo[kNumLoadNames] = {
+    {"gravity", LoadKind::kGravity, LoadSite::kNone, LoadLaw::kNone, -1, "", false},
+    {"spring", LoadKind::kSpring, LoadSite::kNone, LoadLaw::kNone, -1, "", false},
+    {"motor", LoadKind::kMotor, LoadSite::kNone, LoadLaw::kNone, -1, "", false},
+    {"crank_damper", LoadKind::kResistance, LoadSite::kCrank, LoadLaw::kViscous, 8, "c_O", true},
+    {"coupler_damper", LoadKind::kResistance, LoadSite::kCoupler, LoadLaw::kViscous, 9, "c_A", true},
+    {"slider3_damper", LoadKind::kResistance, LoadSite::kSlider3, LoadLaw::kViscous, 10, "c_B", true},
+    {"slider4_damper", LoadKind::kResistance, LoadSite::kSlider4, LoadLaw::kViscous, 11, "c_C", true},
+    {"spring_damper", LoadKind::kResistance, LoadSite::kSpring, LoadLaw::kViscous, 12, "c_S", true},
+    {"contact", LoadKind::kContact, LoadSite::kNone, LoadLaw::kNone, -1, "", false},
+};
+// The constants' symbols, in ConstantsOf's order (a schema row's equation symbol is one).
+constexpr const char* kConstantSymbols[] = {"m", "L", "I", "M1", "M2", "k", "g", "s0", "c_O", "c_A", "c_B", "c_C", "c_S"};
+
+// u1', u2' of F*_r + F_r = 0 (eq 18) and the resistances' dissipated power [W] at (q, u)
+// under the applied driver moment M_m [N m].
 template <class Real>
 struct RatesOf {
   Real u1_dot;
@@ -43,18 +111,60 @@ struct RatesOf {
 };
 using Rates = RatesOf<double>;
 
-// sin q1 and cos q1 in one call: libm's sincos for double (GCC and Clang fuse std::sin and
-// std::cos of one argument only sometimes once inlined into an integrator's stages). A SIMD
-// batch type passes its own as the functions' SinCos (libm's per lane, or a vector sincos).
+// The math the equations call, one policy (every path uses the same functions): sin q1 and
+// cos q1 in one call (libm's sincos for double: GCC and Clang fuse std::sin and std::cos of
+// one argument only sometimes once inlined into an integrator's stages) and tanh (libm's),
+// for the laws that call it. A SIMD batch type passes its own as the functions' MathOf
+// (libm's per lane, the single run's bits, or a vector sincos).
 template <class Real>
-struct Trig;
+struct Math;
 template <>
-struct Trig<double> {
+struct Math<double> {
   static void sinCos(double x, double* s, double* c) { __builtin_sincos(x, s, c); }
+  static double tanh(double x) { return std::tanh(x); }
 };
 
-// Every term: the five dampers included.
-template <class Real, class SinCos = Trig<Real>>
+// Which variant a set of constants needs: each leaves out the terms of the laws after it in
+// LAWS (their coefficients all zero): fewer terms, and the bits those terms' absence gives.
+enum class RatesVariant { kUndamped, kViscous };
+constexpr RatesVariant kRatesVariants[] = {RatesVariant::kUndamped, RatesVariant::kViscous};
+constexpr RatesVariant kEveryTerm = RatesVariant::kViscous;  // rates()
+
+// No resistance (every coefficient 0): the textbook's model; dissipated power 0.
+template <class Real, class MathOf = Math<Real>>
+inline RatesOf<Real> ratesUndamped(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
+                                   Real M_m) {
+  const Real m = p.rod_mass;
+  const Real L = p.rod_half_length;
+  const Real I = p.rod_inertia;
+  const Real M1 = p.slider3_mass;
+  const Real M2 = p.slider4_mass;
+  const Real k = p.spring_stiffness;
+  const Real g = p.gravity;
+  const Real s0 = p.spring_rest_length;
+  static_cast<void>(u2);
+  Real sin_q1, cos_q1;
+  MathOf::sinCos(q1, &sin_q1, &cos_q1);
+  const Real t0 = L*L;
+  const Real t1 = m*t0;
+  const Real t2 = sin_q1*sin_q1;
+  const Real t3 = 8*t0;
+  const Real t4 = M1*t3;
+  const Real t5 = 4*t1;
+  const Real t6 = 2*L;
+  const Real t7 = g*sin_q1*t6;
+  const Real t8 = k*sin_q1;
+  const Real t9 = t6*t8;
+  const Real t10 = cos_q1*sin_q1*u1*u1;
+  const Real t11 = k/M2;
+  return {-(M1*t7 - 1.0/2.0*M_m - cos_q1*t3*t8 + m*t7 + q2*t9 - s0*t9 + t10*t4 + t10*t5)/(I + t1 + t2*t4 + t2*t5),
+          4*L*cos_q1*t11 + g - q2*t11 + s0*t11,
+          0};
+}
+
+// The terms of every resistance whose law is viscous; only for Constants whose other
+// (that is, every term).
+template <class Real, class MathOf = Math<Real>>
 inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
                            Real M_m) {
   const Real m = p.rod_mass;
@@ -71,7 +181,7 @@ inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1
   const Real c_C = p.slider4_damping;
   const Real c_S = p.spring_damping;
   Real sin_q1, cos_q1;
-  SinCos::sinCos(q1, &sin_q1, &cos_q1);
+  MathOf::sinCos(q1, &sin_q1, &cos_q1);
   const Real t0 = L*L;
   const Real t1 = m*t0;
   const Real t2 = sin_q1*sin_q1;
@@ -97,37 +207,29 @@ inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1
           8*L*t17*t8 + c_A*t14 + c_B*t19 + c_C*t18 + c_O*t13 + c_S*t18 + c_S*t19};
 }
 
-// The same with the five dampers zero (the textbook's model; the dissipated power is 0):
-// fewer terms where no damper is configured. Only for Constants whose dampers are all 0.
-template <class Real, class SinCos = Trig<Real>>
-inline RatesOf<Real> ratesUndamped(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
-                                   Real M_m) {
-  const Real m = p.rod_mass;
-  const Real L = p.rod_half_length;
-  const Real I = p.rod_inertia;
-  const Real M1 = p.slider3_mass;
-  const Real M2 = p.slider4_mass;
-  const Real k = p.spring_stiffness;
-  const Real g = p.gravity;
-  const Real s0 = p.spring_rest_length;
-  static_cast<void>(u2);
-  Real sin_q1, cos_q1;
-  SinCos::sinCos(q1, &sin_q1, &cos_q1);
-  const Real t0 = L*L;
-  const Real t1 = m*t0;
-  const Real t2 = sin_q1*sin_q1;
-  const Real t3 = 8*t0;
-  const Real t4 = M1*t3;
-  const Real t5 = 4*t1;
-  const Real t6 = 2*L;
-  const Real t7 = g*sin_q1*t6;
-  const Real t8 = k*sin_q1;
-  const Real t9 = t6*t8;
-  const Real t10 = cos_q1*sin_q1*u1*u1;
-  const Real t11 = k/M2;
-  return {-(M1*t7 - 1.0/2.0*M_m - cos_q1*t3*t8 + m*t7 + q2*t9 - s0*t9 + t10*t4 + t10*t5)/(I + t1 + t2*t4 + t2*t5),
-          4*L*cos_q1*t11 + g - q2*t11 + s0*t11,
-          0};
+// The variant `constants` need: the shortest that keeps every non-zero resistance's law.
+inline RatesVariant variantFor(const Constants& constants) {
+  const double* value = &constants.rod_mass;
+  static_assert(sizeof(Constants) == 13 * sizeof(double), "Constants holds doubles");
+  int need = 0;  // LoadLaw's order is the variants' (kNone: kUndamped)
+  for (const LoadInfo& load : kLoadInfo)
+    if (load.kind == LoadKind::kResistance && value[load.coefficient] != 0.0 &&
+        static_cast<int>(load.law) > need)
+      need = static_cast<int>(load.law);
+  return static_cast<RatesVariant>(need);
+}
+
+// The rates by `variant` (the caller keeps it fixed over a run: the branch is predicted).
+template <class Real, class MathOf = Math<Real>>
+inline RatesOf<Real> ratesFor(RatesVariant variant, const ConstantsOf<Real>& p, Real q1,
+                              Real q2, Real u1, Real u2, Real M_m) {
+  switch (variant) {
+    case RatesVariant::kUndamped:
+      return ratesUndamped<Real, MathOf>(p, q1, q2, u1, u2, M_m);
+    default:
+      break;
+  }
+  return rates<Real, MathOf>(p, q1, q2, u1, u2, M_m);
 }
 
 }  // namespace generated

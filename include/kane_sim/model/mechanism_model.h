@@ -17,6 +17,7 @@
 #include <boost/container/static_vector.hpp>
 
 #include "kane_sim/kane/kane_method.h"
+#include "kane_sim/model/generated_equations.h"
 #include "kane_sim/model/joint_names.h"
 #include "kane_sim/model/mechanism_parameters.h"
 #include "kane_sim/model/slider_geometry.h"
@@ -45,7 +46,6 @@ struct MechanismGeometry {
 
 MechanismGeometry mechanismGeometry(double rod_half_length, double q1, double q2);
 
-
 // The four bodies at one instant (kinematics, eqs 1-4).
 struct MechanismKinematics {
   MechanismGeometry geometry;
@@ -58,33 +58,19 @@ struct MechanismKinematics {
 // The loads, one named list as SymPy's `kanes_equations(bodies, loads)` takes: each entry a force
 // at a point or a torque on a frame, under the name of the quantity it belongs to. Several entries
 // can share a name (gravity's four, the spring's pair, a damper's torque and its reaction): each
-// name's power is their sum. Every output that is per load (power flow, the ledger's dissipation,
-// the CSV's and the message's power columns, Python's Result.powers()) iterates this table, so a
-// new load is a row here and its entries in MechanismModel::loads().
-enum class LoadName {
-  kGravity,        // eq (14): G1 ... G4 at the mass centers
-  kSpring,         // eq (15): F_eB at B, F_eC = -F_eB at C
-  kMotor,          // the driver moment M_m k on rod 1 (through the motor line)
-  kCrankDamper,    // -c_O w1 k on rod 1
-  kCouplerDamper,  // -c_A (w2 - w1) k on rod 2, its reaction on rod 1
-  kSlider3Damper,  // -c_B v_B i at B
-  kSlider4Damper,  // -c_C v_C i at C
-  kSpringDamper,   // -c_S (v_C - v_B) i at C, the opposite at B
-  kContact,        // the resting contact's N i at C, -N i at B (added by the simulator)
-  kCount
-};
-constexpr int kNumLoadNames = static_cast<int>(LoadName::kCount);
-
-struct LoadInfo {
-  const char* name;  // snake_case: "spring_damper" (power column power_spring_damper, ...)
-  bool damper;       // dissipative: its power is <= 0 and counts in the ledger's D'
-};
-// Indexed by LoadName.
-constexpr LoadInfo kLoadInfo[kNumLoadNames] = {
-    {"gravity", false},       {"spring", false},        {"motor", false},
-    {"crank_damper", true},   {"coupler_damper", true}, {"slider3_damper", true},
-    {"slider4_damper", true}, {"spring_damper", true},  {"contact", false},
-};
+// name's power is their sum. The names, their kinds and, for the resistances (dampers, friction),
+// their sites, laws and coefficients are one table, declared once in
+// codegen/generate_equations.py's LOADS and generated into generated_equations.h (LoadName,
+// kLoadInfo): MechanismModel::loads() applies it, and every per-load output (power flow, the
+// ledger's dissipation, the CSV's and the message's powers, Python's Result.powers()) iterates
+// it, so a new resistance is a row there and its parameter.
+using generated::kLoadInfo;
+using generated::kNumLoadNames;
+using generated::LoadInfo;
+using generated::LoadKind;
+using generated::LoadLaw;
+using generated::LoadName;
+using generated::LoadSite;
 inline const LoadInfo& loadInfo(LoadName name) { return kLoadInfo[static_cast<int>(name)]; }
 
 // One entry of the list: the load, its name, and the body it acts on (for the reactions).
@@ -95,7 +81,7 @@ struct MechanismLoad {
 };
 // The list at one instant, every entry present (zero when its option is off) so that the
 // layout never depends on the parameters. Fixed capacity: no allocation in the integrators.
-using MechanismLoads = boost::container::static_vector<MechanismLoad, 16>;
+using MechanismLoads = boost::container::static_vector<MechanismLoad, 24>;
 
 // Σ of the vectors of the entries named `name` acting on `body` (e.g. the spring's force on
 // slider 4).
@@ -131,7 +117,7 @@ struct EnergyTerms {
 // Where the power goes at one instant: d(E)/dt = motor - dissipated (at fixed parameters).
 struct PowerTerms {
   double motor = 0.0;       // M_m u1 [W], the applied torque's power
-  double dissipated = 0.0;  // [W] >= 0: the dampers (impacts dissipate at instants)
+  double dissipated = 0.0;  // [W] >= 0: dampers and friction (impacts dissipate at instants)
 };
 
 class MechanismModel {
@@ -152,6 +138,11 @@ class MechanismModel {
   // The resting contact's force N [N]: +N i on slider 4 at C, -N i on slider 3 at B.
   static void addContactLoads(const MechanismKinematics& k, double contact_force,
                               MechanismLoads* loads);
+
+  // A resistance's coefficient (its LoadInfo's), and the force or torque it opposes a rate
+  // `rate` with: c v (viscous) or F_c tanh(v / v_s) (Coulomb, smoothed).
+  double resistanceCoefficient(const LoadInfo& load) const;
+  double resistance(const LoadInfo& load, double rate) const;
 
   // The torque the drive delivers at crank speed u1 for a command (MotorLine).
   double appliedMotorTorque(double command, double u1) const;
@@ -217,7 +208,8 @@ class MechanismModel {
 
  private:
   MechanismParameters parameters_;
-  double spring_rest_length_;  // x_C0 - x_B0 [m]
+  double spring_rest_length_;       // x_C0 - x_B0 [m]
+  generated::Constants constants_;  // the same parameters by the equations' symbols
 };
 
 }  // namespace kane_sim

@@ -62,8 +62,8 @@ std::vector<geometry_msgs::TransformStamped> jointTransforms(const RobotDescript
                                                              const JointValues& joints,
                                                              const ros::Time& stamp);
 
-// MechanismState's power field of each load, indexed by LoadName ("<load>_power").
-extern double kane_sim::MechanismState::*const kLoadPowerFields[];  // kNumLoadNames entries
+// MechanismState's load_names: the model's load names, indexed by LoadName (load_powers' order).
+const std::vector<std::string>& loadNames();
 
 // real_time_factor: sim time per wall time achieved by whoever produced the snapshot (0 offline).
 kane_sim::MechanismState mechanismStateMessage(const Snapshot& snapshot, double real_time_factor,
