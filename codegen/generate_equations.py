@@ -46,6 +46,12 @@ PARAMETERS = [
     ("c_B", "slider3_damping", "c_B [N s/m], slider 3 on the rail"),
     ("c_C", "slider4_damping", "c_C [N s/m], slider 4 on the rail"),
     ("c_S", "spring_damping", "c_S [N s/m], beside the spring between the sliders"),
+    ("F_O", "crank_friction", "F_O [N m], Coulomb friction at pin O"),
+    ("F_A", "coupler_friction", "F_A [N m], Coulomb friction at pin A"),
+    ("F_B", "slider3_friction", "F_B [N], Coulomb friction of slider 3 on the rail"),
+    ("F_C", "slider4_friction", "F_C [N], Coulomb friction of slider 4 on the rail"),
+    ("v_s", "friction_velocity_scale",
+     "v_s [rad/s or m/s], Coulomb friction's smoothing: F = -F_c tanh(v / v_s)"),
 ]
 # Where each C++ constant comes from: a member of MechanismParameters (p), or the model (s0).
 SOURCES = {
@@ -54,6 +60,8 @@ SOURCES = {
     "s0": "spring_rest_length",
     "c_O": "p.damping.crank", "c_A": "p.damping.coupler", "c_B": "p.damping.slider3",
     "c_C": "p.damping.slider4", "c_S": "p.damping.spring",
+    "F_O": "p.friction.crank", "F_A": "p.friction.coupler", "F_B": "p.friction.slider3",
+    "F_C": "p.friction.slider4", "v_s": "p.friction.velocity_scale",
 }
 
 # The loads, one named list as `kanes_equations(bodies, loads)` takes them: every load's name,
@@ -74,14 +82,20 @@ LOADS = [
     ("slider4_damper",  "resistance",  "slider4", "viscous", "c_C"),
     ("spring_damper",   "resistance",  "spring",  "viscous", "c_S"),
     ("contact",         "contact",     None,      None,      None),  # N at C, -N at B (sim)
+    ("crank_friction",  "resistance",  "crank",   "coulomb", "F_O"),
+    ("coupler_friction", "resistance", "coupler", "coulomb", "F_A"),
+    ("slider3_friction", "resistance", "slider3", "coulomb", "F_B"),
+    ("slider4_friction", "resistance", "slider4", "coulomb", "F_C"),
 ]
 # A resistance's law: the magnitude it opposes the site's rate v with, from its coefficient c.
 # In order of cost: the generated rates come in one variant per prefix of this list (no
 # resistance; the viscous ones; ...; every law), and a config runs the shortest that holds the
 # laws of its non-zero coefficients, so a law whose coefficients are all zero costs nothing and
-# changes no bit.
+# changes no bit. Coulomb friction is smoothed by tanh: no stiction (a held load creeps at
+# v ~ v_s F / F_c).
 LAWS = {
     "viscous": lambda c, v, p: c * v,
+    "coulomb": lambda c, v, p: c * sp.tanh(v / p["v_s"]),
 }
 
 

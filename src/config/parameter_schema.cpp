@@ -304,6 +304,37 @@ std::vector<ParameterSpec> declareParameters() {
       row("damping", "spring", KANE_SIM_FIELD(mechanism.damping.spring), "N s/m", kNonNegative)
           .symbol("c_S").role(ParameterRole::kDissipative, "c_S").reconfigure(physical("spring_damping", 0.0, 1e4))
           .doc("beside the spring: −c_S (v_C − v_B) on slider 4, the opposite on slider 3"),
+      // ---- friction: Coulomb, smoothed, at the joints joint_states names ----------------------
+      row("friction", "crank_joint", KANE_SIM_FIELD(mechanism.friction.crank), "N m",
+              kNonNegative)
+          .symbol("F_O").role(ParameterRole::kDissipative, "F_O")
+          .reconfigure(physical("crank_friction", 0.0, 1e3))
+          .doc("pin O: −F_O tanh(u1 / v_s) on rod 1"),
+      row("friction", "coupler_joint", KANE_SIM_FIELD(mechanism.friction.coupler), "N m",
+              kNonNegative)
+          .symbol("F_A").role(ParameterRole::kDissipative, "F_A")
+          .reconfigure(physical("coupler_friction", 0.0, 1e3))
+          .doc("pin A: on the relative rate of rods 2 and 1"),
+      row("friction", "slider3_joint", KANE_SIM_FIELD(mechanism.friction.slider3), "N",
+              kNonNegative)
+          .symbol("F_B").role(ParameterRole::kDissipative, "F_B")
+          .reconfigure(physical("slider3_friction", 0.0, 1e4))
+          .doc("slider 3 on the rail"),
+      row("friction", "slider4_joint", KANE_SIM_FIELD(mechanism.friction.slider4), "N",
+              kNonNegative)
+          .symbol("F_C").role(ParameterRole::kDissipative, "F_C")
+          .reconfigure(physical("slider4_friction", 0.0, 1e4))
+          .doc("slider 4 on the rail"),
+      // Below 1e-9 of a joint's rate tanh(v / v_s) is a step no fixed step can follow; the
+      // stiffness check (rk4) bounds it by the coefficients and the rate as well.
+      row("friction", "velocity_scale", KANE_SIM_FIELD(mechanism.friction.velocity_scale),
+              "rad/s or m/s", {ValueRule::kRange, 1e-9, 1e3, "rad/s or m/s"})
+          .symbol("v_s").role(ParameterRole::kLoadShape, "v_s")
+          .reconfigure(physical("friction_velocity_scale", 1e-6, 1.0))
+          .doc("the smoothing of F = −F_c tanh(v / v_s): below v_s friction acts as a damper of "
+              "F_c / v_s; no stiction (a load under F_c creeps at about v_s × load / F_c)")
+          .crossRule("with rk4 and friction on, F_c / v_s counts as a damper in the "
+              "physics_rate check"),
       // ---- contact between the sliders -------------------------------------------------------
       row("contact", "enabled", KANE_SIM_FIELD(mechanism.contact.enabled), "", kFlag)
           .doc("slider impacts and resting contact (below)"),
@@ -486,7 +517,7 @@ std::vector<const ParameterSpec*> parametersOfRole(ParameterRole role) {
 const std::vector<SectionSpec>& configSections() {
   static const std::vector<SectionSpec> sections = {
       {"mechanism", true},    {"initial_state", true}, {"simulation", false}, {"command", false},
-      {"damping", false},         {"contact", false},    {"frames", false},
+      {"damping", false},     {"friction", false},     {"contact", false},    {"frames", false},
       {"diagnostics", false}, {"sensors", false}};
   return sections;
 }

@@ -48,6 +48,8 @@ double MechanismModel::resistance(const LoadInfo& load, double rate) const {
   switch (load.law) {
     case LoadLaw::kViscous:  // c v
       return c * rate;
+    case LoadLaw::kCoulomb:  // F_c tanh(v / v_s); none at all when off, whatever v_s
+      return c == 0.0 ? 0.0 : c * std::tanh(rate / constants_.friction_velocity_scale);
     case LoadLaw::kNone:
       break;
   }

@@ -11,12 +11,16 @@
 namespace kane_sim {
 namespace {
 
-// ", damping.spring 1e+308" for every resistance that is on (schema order): what else can make
-// the equations stiff or overflow.
+// ", damping.spring 1e+308, friction.crank_joint 2" for every resistance that is on (schema
+// order), and friction's velocity scale when friction is: what else can make the equations
+// stiff or overflow.
 std::string dampersOn(const Config& c) {
   std::string text;
   for (const ParameterSpec* p : parametersOfRole(ParameterRole::kDissipative))
     if (numericValue(*p, c) != 0.0)
+      text += ", " + p->path() + " " + formatNumber(numericValue(*p, c));
+  if (c.mechanism.friction.any())
+    for (const ParameterSpec* p : parametersOfRole(ParameterRole::kLoadShape))
       text += ", " + p->path() + " " + formatNumber(numericValue(*p, c));
   return text;
 }
@@ -28,14 +32,15 @@ std::string rk4Remedy(double fastest_rate, const Config& c) {
   const double limit = findParameter("simulation", "physics_rate")->rule.hi;
   if (needed <= limit)
     return "use simulation.integrator dopri5 or a physics_rate of at least " +
-           formatNumber(needed) + " Hz";
+           formatNumber(needed) + " Hz" +
+           (c.mechanism.friction.any() ? ", or a larger friction.velocity_scale" : "");
   const std::string dampers = dampersOn(c);  // ", damping.spring 1e+12, ..."
   return "no physics_rate up to its limit of " + formatNumber(limit) +
          " Hz is enough (it would "
          "take " +
          formatNumber(needed) +
          " Hz): use simulation.integrator dopri5, or a softer "
-         "spring_stiffness or less damping" +
+         "spring_stiffness, less damping or friction, or a larger friction.velocity_scale" +
          (dampers.empty() ? "" : " (" + dampers.substr(2) + ")");
 }
 
@@ -54,7 +59,7 @@ void checkIntegrable(const Config& c) {
     throw ConfigError(
         "mechanism",
         "gives equations of motion that are not finite at q1 = " + formatNumber(stiffest.q1) +
-            " rad: the masses, lengths, stiffness and damping are too far apart "
+            " rad: the masses, lengths, stiffness, damping and friction are too far apart "
             "for double precision (rod_mass " +
             formatNumber(c.mechanism.rod_mass) + ", slider3_mass " +
             formatNumber(c.mechanism.slider3_mass) + ", slider4_mass " +
@@ -66,8 +71,8 @@ void checkIntegrable(const Config& c) {
         "is too low for rk4 on this mechanism: its fastest rate (" + formatNumber(stiffest.rate) +
             " 1/s at q1 = " + formatNumber(stiffest.q1) +
             " rad, u1 = " + formatNumber(stiffest.u1) +
-            " rad/s, from spring_stiffness, the masses, damping and the motor line) needs rate h "
-            "<= " +
+            " rad/s, from spring_stiffness, the masses, damping, friction (F_c / "
+            "friction.velocity_scale) and the motor line) needs rate h <= " +
             formatNumber(kRk4StabilityLimit) + ", got " + formatNumber(stiffest.rate * h) + " at " +
             formatNumber(c.simulation.physics_rate) + " Hz" +
             (dampersOn(c).empty() ? "" : " (with " + dampersOn(c).substr(2) + ")") + "; " +

@@ -1,6 +1,8 @@
 // What the loader cannot judge from the values alone (sim/config_check.h): an initial state the
 // simulator cannot start from, and with rk4 a mechanism too stiff for the physics rate. Each error
 // names the key and says what to change.
+#include <utility>
+
 #include <gtest/gtest.h>
 
 #include "kane_sim/sim/config_check.h"
@@ -39,6 +41,47 @@ TEST(ConfigCheck, DampingTooStrongForRk4IsRefused) {
   YAML::Node root = defaultYaml();
   root["damping"]["slider4_joint"] = 4000.0;
   expectError(root, "simulation.physics_rate", "is too low for rk4 on this mechanism");
+}
+
+// Friction's hostile values. The loader names the key for a value outside its rule (negative,
+// NaN, ±inf; v_s 0, 1e-300 or 1e308 outside [1e-9, 1e3]); a value within the rule that rk4
+// cannot follow (F_C / v_s too stiff for 1 kHz: 1 N over v_s 1e-6 m/s on 0.8 kg, or a 1e308 N
+// coefficient) is refused by the physics-rate check, which names the friction keys.
+TEST(ConfigCheck, FrictionHostileValuesAreRefusedNamingTheKey) {
+  const std::pair<const char*, const char*> refused_by_rule[] = {
+      {"slider4_joint", "-1"},     {"slider4_joint", ".nan"},   {"crank_joint", ".inf"},
+      {"coupler_joint", "-.inf"},  {"velocity_scale", "0"},     {"velocity_scale", "1e-300"},
+      {"velocity_scale", "1e308"}, {"velocity_scale", "-0.01"}, {"velocity_scale", ".nan"},
+      {"slider3_joint", "'text'"}};
+  for (const auto& [key, value] : refused_by_rule) {
+    YAML::Node root = defaultYaml();
+    root["friction"][key] = YAML::Load(value);
+    try {
+      loadConfig(root);
+      ADD_FAILURE() << "friction." << key << " " << value << " accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(e.key(), std::string("friction.") + key) << e.what();
+    }
+  }
+  for (const double coefficient : {1.0, 1e308}) {
+    YAML::Node root = defaultYaml();
+    root["friction"]["slider4_joint"] = coefficient;
+    root["friction"]["velocity_scale"] = coefficient == 1.0 ? 1e-6 : 0.01;
+    SCOPED_TRACE(coefficient);
+    try {
+      loadSimulationConfig(root);
+      ADD_FAILURE() << "accepted";
+    } catch (const ConfigError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("friction.slider4_joint"), std::string::npos) << what;
+      EXPECT_NE(what.find("friction.velocity_scale"), std::string::npos) << what;
+    }
+  }
+  // A v_s rk4 can follow: the same 1 N over 2e-3 m/s.
+  YAML::Node root = defaultYaml();
+  root["friction"]["slider4_joint"] = 1.0;
+  root["friction"]["velocity_scale"] = 2e-3;
+  EXPECT_NO_THROW(loadSimulationConfig(root));
 }
 
 // A finite initial state whose energy is not (V_g = -M2 g q2 overflows).

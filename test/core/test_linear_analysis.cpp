@@ -63,6 +63,33 @@ TEST(LinearAnalysis, DampingRatiosPerModeMatchTheDecoupledClosedForms) {
   }
 }
 
+// Friction at rest linearizes as the damper of its slope, F_c / v_s: a crank friction of 0.5 N m
+// over v_s 0.1 rad/s is a crank damper of 5 N m s/rad to the linear model (the same ratios as
+// that damper, 1e-6: the stencil's step is 1/100 of v_s), with v_s 1e-4 too (the step follows
+// v_s), and analyze says what that leaves out.
+TEST(LinearAnalysis, FrictionAtRestIsTheDamperOfItsSlope) {
+  for (const double v_s : {0.1, 1e-4}) {
+    Config rubbing = test::defaultConfig(), damped = rubbing;
+    rubbing.mechanism.friction.crank = 0.5 * v_s / 0.1;
+    rubbing.mechanism.friction.slider4 = 2.0 * v_s / 0.1;
+    rubbing.mechanism.friction.velocity_scale = v_s;
+    damped.mechanism.damping.crank = 5.0;
+    damped.mechanism.damping.slider4 = 20.0;
+    const MechanismModel with_friction = mechanismModel(rubbing),
+                         with_dampers = mechanismModel(damped);
+    const LinearModel a = linearize(with_friction, staticEquilibrium(with_friction, 0.0), 0.0);
+    const LinearModel b = linearize(with_dampers, staticEquilibrium(with_dampers, 0.0), 0.0);
+    const ModalAnalysis fa = modalAnalysis(a), fb = modalAnalysis(b);
+    for (int i = 0; i < 2; ++i)
+      EXPECT_NEAR(fa.modes[i].damping_ratio, fb.modes[i].damping_ratio,
+                  1e-6 * fb.modes[i].damping_ratio)
+          << "v_s " << v_s << " mode " << i;
+    ASSERT_EQ(a.notes.size(), 1u);
+    EXPECT_NE(a.notes[0].find("friction.velocity_scale"), std::string::npos) << a.notes[0];
+    EXPECT_TRUE(b.notes.empty());
+  }
+}
+
 // Gravity 0: nothing restores the crank. The equilibrium is neutral along the crank's mode
 // (frequency 0, no damping ratio), not a mode of 3.9e-6 Hz from the differences' noise; the
 // slider's mode is still sqrt(k / M2).

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <iostream>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "kane_sim/model/generated_mechanism.h"
 #include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/simulator.h"
 #include "test_helpers.h"
@@ -126,6 +128,130 @@ TEST(Damping, LedgerHoldsUnderTorque) {
             << " J\n";
   EXPECT_GT(run.work, 10.0);
   EXPECT_LT(run.max_drift, 5e-6 * run.work);  // the bound test_energy uses for E - W
+}
+
+// ---- Coulomb friction ----------------------------------------------------------------------
+
+JointFriction allFriction(double velocity_scale) {
+  JointFriction f;
+  f.crank = 0.4;    // N m
+  f.coupler = 0.1;  // N m
+  f.slider3 = 2.0;  // N
+  f.slider4 = 1.5;  // N
+  f.velocity_scale = velocity_scale;
+  return f;
+}
+
+// Smoothed Coulomb friction has a dissipation potential, as the dampers have Rayleigh's R:
+// Φ = Σ F_c v_s ln cosh(v / v_s) over the joint rates (w1, w2 - w1, v_B, v_C), ∂Φ/∂v = F_c
+// tanh(v / v_s); the generalized forces are -∂Φ/∂u_r (central differences with h = 1e-6: error
+// ~ h² F_c / v_s², < 1e-9). Written from the joint rates alone.
+double frictionPotential(const JointFriction& f, double L, double q1, double u1, double u2) {
+  const double w1 = u1, w2 = -u1, v_b = -4 * L * std::sin(q1) * u1, v_c = u2;
+  const double vs = f.velocity_scale;
+  const auto phi = [vs](double force, double v) {
+    return force * vs * std::log(std::cosh(v / vs));
+  };
+  return phi(f.crank, w1) + phi(f.coupler, w2 - w1) + phi(f.slider3, v_b) + phi(f.slider4, v_c);
+}
+
+TEST(Friction, GeneralizedForcesMatchTheDissipationPotential) {
+  Config rubbing = test::defaultConfig();
+  rubbing.mechanism.friction = allFriction(0.2);
+  const MechanismModel with = mechanismModel(rubbing);
+  const MechanismModel without = mechanismModel(test::defaultConfig());
+  const double L = rubbing.mechanism.rod_half_length;
+  std::mt19937 rng(11);
+  // Speeds within a few v_s (where tanh bends) and far beyond it (where it is ±1).
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI), speed(-1.0, 1.0), q2(0.5, 2.0);
+  for (int i = 0; i < 500; ++i) {
+    const double reach = i % 2 == 0 ? 1.0 : 20.0;
+    const State x{angle(rng), q2(rng), reach * speed(rng), reach * speed(rng)};
+    const SpeedVector f_friction =
+        with.equations(x, 3.0).active_forces - without.equations(x, 3.0).active_forces;
+    const double h = 1e-6;
+    const auto Phi = [&](double u1, double u2) {
+      return frictionPotential(rubbing.mechanism.friction, L, x.q1, u1, u2);
+    };
+    const double f1 = -(Phi(x.u1 + h, x.u2) - Phi(x.u1 - h, x.u2)) / (2 * h);
+    const double f2 = -(Phi(x.u1, x.u2 + h) - Phi(x.u1, x.u2 - h)) / (2 * h);
+    const double scale = 1.0 + std::abs(f1) + std::abs(f2);
+    ASSERT_NEAR(f_friction[0], f1, 1e-7 * scale) << "state " << i;
+    ASSERT_NEAR(f_friction[1], f2, 1e-7 * scale) << "state " << i;
+    // Its power, -Σ F_c v tanh(v / v_s) <= 0, is what the ledger books as dissipated.
+    const MechanismKinematics k = with.kinematics(x);
+    const PowerTerms p = MechanismModel::power(with.loads(k, x, 3.0), x);
+    const double w = x.u1, v_b = -4 * L * std::sin(x.q1) * x.u1, v_c = x.u2;
+    const JointFriction& f = rubbing.mechanism.friction;
+    const double vs = f.velocity_scale;
+    const double taken =
+        f.crank * w * std::tanh(w / vs) + f.coupler * 2 * w * std::tanh(2 * w / vs) +
+        f.slider3 * v_b * std::tanh(v_b / vs) + f.slider4 * v_c * std::tanh(v_c / vs);
+    ASSERT_NEAR(p.dissipated, taken, 1e-12 * (1 + taken));
+  }
+}
+
+// With every coefficient zero the loads are there, and exactly zero, whatever v_s (even one the
+// loader refuses): friction off is the model without it, to the bit, on both paths.
+TEST(Friction, OffIsExactlyTheModelWithoutIt) {
+  Config off = test::defaultConfig();
+  off.mechanism.friction = JointFriction{0.0, 0.0, 0.0, 0.0, 0.0};
+  for (const State& x : {State{0.3, 1.1, 0.0, 0.0}, State{2.0, 1.4, -3.0, 0.7}}) {
+    EXPECT_EQ(mechanismModel(off).stateDerivative(x, 2.0),
+              mechanismModel(test::defaultConfig()).stateDerivative(x, 2.0));
+    EXPECT_EQ(GeneratedMechanism(mechanismModel(off)).stateDerivative(x, 2.0),
+              GeneratedMechanism(mechanismModel(test::defaultConfig())).stateDerivative(x, 2.0));
+  }
+}
+
+// The free response with friction everywhere: E + D stays constant while friction takes the
+// energy. v_s 0.05 (F_c / v_s up to 30 N s/m at the sliders): the tanh's knee at every reversal
+// is the stiffest part of the motion. dopri5 (1e-9 tolerances) closes the ledger to 1e-8 J;
+// rk4 at 1 kHz to its truncation error at the knees (bound 1e-6 J, as for the dampers).
+TEST(Friction, FreeResponseLosesEnergyAndTheLedgerHolds) {
+  for (const IntegratorType integrator : {IntegratorType::kRk4, IntegratorType::kDopri5}) {
+    Config c = configWith(integrator, 1000);
+    c.mechanism.friction = allFriction(0.05);
+    const LedgerRun run = runLedger(c, 0.0, 10.0);
+    std::cout << integratorName(integrator) << ": drift " << run.max_drift << " J, D "
+              << run.dissipated << " J, E " << run.energy_start << " -> " << run.energy_end
+              << " J\n";
+    const double bound = integrator == IntegratorType::kDopri5 ? 1e-8 : 1e-6;
+    EXPECT_GT(run.dissipated, 1.0) << "friction took nearly nothing";
+    EXPECT_NEAR(run.energy_start - run.energy_end, run.dissipated, bound);
+    EXPECT_LT(run.max_drift, bound);
+  }
+}
+
+// Coulomb's signature: a mass on a spring with dry friction loses the same amplitude every half
+// cycle, 2 F_c / k (a damper's decay is geometric). Slider 4 alone: no gravity, the crank at
+// q1 = pi/2 (slider 3 at O) held by a huge rod inertia, released 0.2 m off the spring's rest.
+// Successive turning points 2 F_c / k apart, to 2 % (the smoothing: v_s = 1e-3 m/s against
+// swing speeds of ~1 m/s).
+TEST(Friction, SliderAmplitudeFallsLinearlyAsCoulombSays) {
+  Config c = configWith(IntegratorType::kDopri5, 1000);
+  MechanismParameters& p = c.mechanism;
+  p.gravity = 0.0;
+  p.rod_inertia = 1e9;
+  p.friction = JointFriction{0.0, 0.0, 0.0, 1.0, 1e-3};
+  const double rest = 1.0;
+  c.initial_state = {M_PI / 2, rest, 0.0, 0.0};
+  Simulator sim(c);
+  State start = sim.state();
+  start.q2 += 0.2;
+  ASSERT_TRUE(sim.setState(start).ok);
+  const double drop = 2 * p.friction.slider4 / p.spring_stiffness;
+  std::vector<double> turns;  // |q2 - rest| where u2 changes sign
+  double last_u = start.u2;
+  for (int i = 0; i < 20000 && turns.size() < 6; ++i) {
+    ASSERT_TRUE(sim.step().ok);
+    const State& x = sim.state();
+    if (last_u != 0.0 && (x.u2 > 0) != (last_u > 0)) turns.push_back(std::abs(x.q2 - rest));
+    last_u = x.u2;
+  }
+  ASSERT_GE(turns.size(), 3u) << "no oscillation";
+  for (std::size_t j = 1; j < turns.size() && turns[j] > 2 * drop; ++j)
+    EXPECT_NEAR(turns[j - 1] - turns[j], drop, 0.02 * drop) << "half cycle " << j;
 }
 
 // ---- The motor line ------------------------------------------------------------------------

@@ -143,18 +143,19 @@ std::vector<double> rowValues(const SweepResult& r) {
   return values;
 }
 
-// A grid that reaches every lane path: every variant of the equations (no resistance, dampers),
-// slider crossings, a step
+// A grid that reaches every lane path: every variant of the equations (no resistance, dampers,
+// dampers and friction, friction alone: libm's tanh per lane), slider crossings, a step
 // the Simulator refuses mid-run (3000 N m from 0.6 s spin the crank past 1 rad a step), a motor
 // line (not a lane case: it runs alone), a refused config, and more cases than a chunk.
 SweepPlan laneGrid() {
   SweepPlan plan;
   plan.keys = {"damping.slider4_joint",      "command.torque_limit", "command.motor_no_load_speed",
-               "mechanism.spring_stiffness", "initial_state.u2",     "initial_state.u1"};
+               "mechanism.spring_stiffness", "initial_state.u2",     "initial_state.u1",
+               "friction.slider3_joint"};
   for (int i = 0; i < 150; ++i)
     plan.cases.push_back({i % 3 == 0 ? 0.0 : 0.5 * (i % 5), i == 7 ? 4000.0 : 10.0,
                           i % 11 == 5 ? 40.0 : 0.0, i == 13 ? 1e9 : 50.0 + 3.0 * i,
-                          i % 4 == 1 ? -8.0 : 0.0, 0.0});
+                          i % 4 == 1 ? -8.0 : 0.0, 0.0, i % 7 < 3 ? 0.0 : 0.3 * (i % 7)});
   return plan;
 }
 

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <utility>
 #include <fstream>
 #include <string>
-#include <utility>
 
 #include <gtest/gtest.h>
 #include <rosgraph_msgs/Log.h>
@@ -122,21 +122,22 @@ TEST_F(Reconfigure, ValuesReachTheLoaderUnclamped) {
         << "no log line with: " << text;
 }
 
-// The damper beside the spring switched on at run time: it takes power out of the motion (its
-// own entry of load_powers, <= 0), booked in D.
-TEST_F(Reconfigure, TheSpringDamperTakesPowerOnceSwitchedOn) {
-  for (const auto& [name, load] :
-       {std::pair<std::string, std::string>{"spring_damping", "spring_damper"}}) {
+// The damper beside the spring, then slider 4's friction, switched on at run time: each takes
+// power out of the motion (its own entry of load_powers, <= 0), booked in D.
+TEST_F(Reconfigure, TheSpringDamperAndFrictionTakePowerOnceSwitchedOn) {
+  for (const auto& [name, load] : {std::pair<std::string, std::string>{"spring_damping",
+                                                                       "spring_damper"},
+                                   {"slider4_friction", "slider4_friction"}}) {
     SCOPED_TRACE(name);
-    ASSERT_TRUE(
-        waitForState([&](const MechanismState& m) { return test::loadPower(m, load) == 0.0; }, 5));
+    ASSERT_TRUE(waitForState(
+        [&](const MechanismState& m) { return test::loadPower(m, load) == 0.0; }, 5));
     const double before = state_.last().dissipated_energy;
     EXPECT_EQ(set(name, 3.0), 3.0);
-    ASSERT_TRUE(
-        waitForState([&](const MechanismState& m) { return test::loadPower(m, load) < 0.0; }, 5))
+    ASSERT_TRUE(waitForState(
+        [&](const MechanismState& m) { return test::loadPower(m, load) < 0.0; }, 5))
         << "the sliders move in the free swing";
-    EXPECT_TRUE(
-        waitForState([&](const MechanismState& m) { return m.dissipated_energy > before; }, 5));
+    EXPECT_TRUE(waitForState(
+        [&](const MechanismState& m) { return m.dissipated_energy > before; }, 5));
     EXPECT_EQ(set(name, 0.0), 0.0);
   }
 }

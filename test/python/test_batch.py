@@ -17,13 +17,15 @@ ACTIONS = 50
 
 
 def lane_params(n=N):
-    """Masses, a damper on every other mechanism (both equations variants), starts, and two
+    """Masses, a damper on every other mechanism and friction on every third (every variant of
+    the equations), starts, and two
     mechanisms driven hard enough to end: crossed sliders, a refused step (1e6 N m allowed)."""
     rng = np.random.default_rng(7)
     limits = np.full(n, 50.0)
     limits[1] = 1e6
     return {"mechanism.rod_mass": rng.uniform(0.5, 2.0, n),
             "damping.slider4_joint": np.where(np.arange(n) % 2 == 0, 0.0, 0.4),
+            "friction.crank_joint": np.where(np.arange(n) % 3 == 0, 0.3, 0.0),
             "initial_state.q1": np.concatenate([[0.5], rng.uniform(-1.0, 1.0, n - 1)]),
             "command.torque_limit": limits}
 

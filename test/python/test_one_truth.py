@@ -3,7 +3,8 @@
 Python's sweep row and each mechanism of a BatchSimulator (lanes and drivers) driven step by
 step, over every
 command mode (effort, velocity, position), with and without a profile, sensors on and off,
-the physics options off and on (contact, and the five dampers: the joints' and the spring's). All four run the one driver, so they agree bit for bit; a door that
+the physics options off and on (contact, the five dampers: the joints' and the spring's, and
+the four joints' Coulomb friction). All run the one driver, so they agree bit for bit; a door that
 applies a different command stream (a servo driven to setpoint 0 because no profile was given,
 say) shows up as a different final state. A new option or door joins this matrix."""
 import itertools
@@ -29,6 +30,8 @@ def case_config(tmp_path, mode, sensors, contact):
     if contact:  # the options together: every damper, the one beside the spring too
         cfg["damping"] = {"crank_joint": 0.2, "coupler_joint": 0.1, "slider3_joint": 0.5,
                           "slider4_joint": 0.5, "spring": 0.8}
+        cfg["friction"] = {"crank_joint": 0.1, "coupler_joint": 0.05, "slider3_joint": 0.4,
+                           "slider4_joint": 0.3, "velocity_scale": 0.05}
     if sensors:
         with open(config_path("sensors.yaml")) as f:
             cfg["sensors"] = yaml.safe_load(f)["sensors"]

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Independent derivation #2 (after the Lagrange test): SymPy's KanesMethod, built from the
 geometry alone, gives the same u' as kane_sim along simulated trajectories, for both
-inertias, a driven crank and all five dampers (as loads), on both of kane_sim's paths
+inertias, a driven crank, all five dampers and the four joints' Coulomb friction (as loads), on
+both of kane_sim's paths
 (simulation.equations generated and generic). Measured agreement ~1e-13; the bound 1e-9 (relative to
 1 + |u'|) is far below any modelling error, which would be O(1).
 Usage: sympy_crosscheck_test.py BUILD_DIR
@@ -23,24 +24,32 @@ def main(build_dir):
     failures = 0
     dampers = {"crank_joint": 0.3, "coupler_joint": 0.2, "slider3_joint": 1.5, "slider4_joint": 2.0,
                "spring": 0.8}
-    cases = [(config_name, torque, damping, equations)
-             for config_name, torque, damping in (
-                 ("mechanism.yaml", 0.0, None), ("mechanism.yaml", 12.0, None),
-                 ("textbook.yaml", 4.0, None), ("mechanism.yaml", 6.0, dampers))
+    friction = {"crank_joint": 0.4, "coupler_joint": 0.1, "slider3_joint": 2.0,
+                "slider4_joint": 1.5, "velocity_scale": 0.2}
+    cases = [(config_name, torque, damping, rubbing, equations)
+             for config_name, torque, damping, rubbing in (
+                 ("mechanism.yaml", 0.0, None, None), ("mechanism.yaml", 12.0, None, None),
+                 ("textbook.yaml", 4.0, None, None), ("mechanism.yaml", 6.0, dampers, None),
+                 ("mechanism.yaml", 6.0, None, friction),
+                 ("mechanism.yaml", 6.0, dampers, friction))
              for equations in ("generated", "generic")]
-    for config_name, torque, damping, equations in cases:
+    for config_name, torque, damping, rubbing, equations in cases:
         with open(os.path.join(HERE, "..", "..", "config", config_name)) as f:
             config = yaml.safe_load(f)
         # The published u' comes from the equations the integrators step: both paths are checked.
         config["simulation"]["equations"] = equations
         if damping:
             config["damping"] = damping
+        if rubbing:
+            config["friction"] = rubbing
         with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
             yaml.safe_dump(config, f)
         path = f.name
-        label = "%s%s, %s equations" % (config_name, " with dampers" if damping else "", equations)
+        label = "%s%s%s, %s equations" % (config_name, " with dampers" if damping else "",
+                                          " with friction" if rubbing else "", equations)
         s0 = config["initial_state"]
-        rhs = sympy_model(config["mechanism"], [s0["q1"], s0["q2"]], torque, config.get("damping"))
+        rhs = sympy_model(config["mechanism"], [s0["q1"], s0["q2"]], torque, config.get("damping"),
+                          config.get("friction") if rubbing else None)
         out = subprocess.run([simulate, "--config", path, "--duration", "5", "--output-rate", "20",
                               "--torque", str(torque)], capture_output=True, text=True, check=True).stdout
         os.unlink(path)

@@ -15,9 +15,11 @@ import sympy as sp
 import sympy.physics.mechanics as me
 
 
-def sympy_model(params, x0, torque=0.0, damping=None):
+def sympy_model(params, x0, torque=0.0, damping=None, friction=None):
     """params: the config's mechanism map; x0: (q10, q20, ...), where the spring is unstretched;
-    damping: the config's damping map (joint name -> coefficient), absent = none.
+    damping: the config's damping map (joint name -> coefficient), absent = none;
+    friction: the config's friction map (joint name -> Coulomb force or torque, velocity_scale),
+    absent = none.
     Returns f(t, x) with x' = f for x = (q1, q2, u1, u2) and a constant driver moment."""
     q1, q2, u1, u2 = me.dynamicsymbols("q1 q2 u1 u2")
     frame = me.ReferenceFrame("N")  # N.x = i points down, gravity along +x
@@ -69,6 +71,21 @@ def sympy_model(params, x0, torque=0.0, damping=None):
         # beside the spring, on the sliders' relative velocity
         (points["C"], -c["spring"] * (points["C"].vel(frame) - points["B"].vel(frame))),
         (points["B"], c["spring"] * (points["C"].vel(frame) - points["B"].vel(frame))),
+    ]
+    # Coulomb friction, smoothed, against each joint's rate: the crank's pin turns at w1, the
+    # coupler's at w2 - w1 (rod 2 relative to rod 1), the sliders move at v_B and v_C.
+    f = {"crank_joint": 0.0, "coupler_joint": 0.0, "slider3_joint": 0.0, "slider4_joint": 0.0,
+         "velocity_scale": 0.01}
+    f.update(friction or {})
+    vs = f["velocity_scale"]
+    v_b = points["B"].vel(frame).dot(frame.x)
+    v_c = points["C"].vel(frame).dot(frame.x)
+    pin_a = f["coupler_joint"] * sp.tanh((w2 - w1) / vs)
+    loads += [
+        (rod1, (-f["crank_joint"] * sp.tanh(w1 / vs) + pin_a) * frame.z),
+        (rod2, -pin_a * frame.z),
+        (points["B"], -f["slider3_joint"] * sp.tanh(v_b / vs) * frame.x),
+        (points["C"], -f["slider4_joint"] * sp.tanh(v_c / vs) * frame.x),
     ]
     kane = me.KanesMethod(frame, q_ind=[q1, q2], u_ind=[u1, u2],
                           kd_eqs=[q1.diff() - u1, q2.diff() - u2])

@@ -17,19 +17,24 @@ namespace generated {
 // The parameters, runtime inputs (one header serves every config).
 template <class Real>
 struct ConstantsOf {
-  Real rod_mass;            // m [kg], each rod
-  Real rod_half_length;     // L [m], the rods are 2L long
-  Real rod_inertia;         // I1z = I2z [kg m^2], each rod about its center
-  Real slider3_mass;        // M1 [kg], slider 3 at B
-  Real slider4_mass;        // M2 [kg], slider 4 at C
-  Real spring_stiffness;    // k [N/m]
-  Real gravity;             // g [m/s^2], along +i (down)
-  Real spring_rest_length;  // x_C0 - x_B0 [m]: the spring is unstretched at this separation
-  Real crank_damping;       // c_O [N m s/rad], pin O
-  Real coupler_damping;     // c_A [N m s/rad], pin A
-  Real slider3_damping;     // c_B [N s/m], slider 3 on the rail
-  Real slider4_damping;     // c_C [N s/m], slider 4 on the rail
-  Real spring_damping;      // c_S [N s/m], beside the spring between the sliders
+  Real rod_mass;                 // m [kg], each rod
+  Real rod_half_length;          // L [m], the rods are 2L long
+  Real rod_inertia;              // I1z = I2z [kg m^2], each rod about its center
+  Real slider3_mass;             // M1 [kg], slider 3 at B
+  Real slider4_mass;             // M2 [kg], slider 4 at C
+  Real spring_stiffness;         // k [N/m]
+  Real gravity;                  // g [m/s^2], along +i (down)
+  Real spring_rest_length;       // x_C0 - x_B0 [m]: the spring is unstretched at this separation
+  Real crank_damping;            // c_O [N m s/rad], pin O
+  Real coupler_damping;          // c_A [N m s/rad], pin A
+  Real slider3_damping;          // c_B [N s/m], slider 3 on the rail
+  Real slider4_damping;          // c_C [N s/m], slider 4 on the rail
+  Real spring_damping;           // c_S [N s/m], beside the spring between the sliders
+  Real crank_friction;           // F_O [N m], Coulomb friction at pin O
+  Real coupler_friction;         // F_A [N m], Coulomb friction at pin A
+  Real slider3_friction;         // F_B [N], Coulomb friction of slider 3 on the rail
+  Real slider4_friction;         // F_C [N], Coulomb friction of slider 4 on the rail
+  Real friction_velocity_scale;  // v_s [rad/s or m/s], Coulomb friction's smoothing: F = -F_c tanh(v / v_s)
 };
 using Constants = ConstantsOf<double>;
 
@@ -51,6 +56,11 @@ Constants constantsFrom(const Parameters& p, double spring_rest_length) {
   c.slider3_damping = p.damping.slider3;  // c_B
   c.slider4_damping = p.damping.slider4;  // c_C
   c.spring_damping = p.damping.spring;  // c_S
+  c.crank_friction = p.friction.crank;  // F_O
+  c.coupler_friction = p.friction.coupler;  // F_A
+  c.slider3_friction = p.friction.slider3;  // F_B
+  c.slider4_friction = p.friction.slider4;  // F_C
+  c.friction_velocity_scale = p.friction.velocity_scale;  // v_s
   return c;
 }
 
@@ -67,6 +77,10 @@ enum class LoadName {
   kSlider4Damper,
   kSpringDamper,
   kContact,
+  kCrankFriction,
+  kCouplerFriction,
+  kSlider3Friction,
+  kSlider4Friction,
   kCount
 };
 constexpr int kNumLoadNames = static_cast<int>(LoadName::kCount);
@@ -76,7 +90,7 @@ enum class LoadKind { kGravity, kSpring, kMotor, kResistance, kContact };
 // (v_B, v_C), the pair beside the spring (v_C - v_B, on slider 4 and the opposite on 3).
 enum class LoadSite { kNone, kCrank, kCoupler, kSlider3, kSlider4, kSpring };
 // The laws of codegen/generate_equations.py's LAWS (viscous: c v).
-enum class LoadLaw { kNone, kViscous };
+enum class LoadLaw { kNone, kViscous, kCoulomb };
 struct LoadInfo {
   const char* name;   // snake_case: power column power_<name>, ...
   LoadKind kind;
@@ -97,9 +111,13 @@ constexpr LoadInfo kLoadInfo[kNumLoadNames] = {
     {"slider4_damper", LoadKind::kResistance, LoadSite::kSlider4, LoadLaw::kViscous, 11, "c_C", true},
     {"spring_damper", LoadKind::kResistance, LoadSite::kSpring, LoadLaw::kViscous, 12, "c_S", true},
     {"contact", LoadKind::kContact, LoadSite::kNone, LoadLaw::kNone, -1, "", false},
+    {"crank_friction", LoadKind::kResistance, LoadSite::kCrank, LoadLaw::kCoulomb, 13, "F_O", true},
+    {"coupler_friction", LoadKind::kResistance, LoadSite::kCoupler, LoadLaw::kCoulomb, 14, "F_A", true},
+    {"slider3_friction", LoadKind::kResistance, LoadSite::kSlider3, LoadLaw::kCoulomb, 15, "F_B", true},
+    {"slider4_friction", LoadKind::kResistance, LoadSite::kSlider4, LoadLaw::kCoulomb, 16, "F_C", true},
 };
 // The constants' symbols, in ConstantsOf's order (a schema row's equation symbol is one).
-constexpr const char* kConstantSymbols[] = {"m", "L", "I", "M1", "M2", "k", "g", "s0", "c_O", "c_A", "c_B", "c_C", "c_S"};
+constexpr const char* kConstantSymbols[] = {"m", "L", "I", "M1", "M2", "k", "g", "s0", "c_O", "c_A", "c_B", "c_C", "c_S", "F_O", "F_A", "F_B", "F_C", "v_s"};
 
 // u1', u2' of F*_r + F_r = 0 (eq 18) and the resistances' dissipated power [W] at (q, u)
 // under the applied driver moment M_m [N m].
@@ -126,9 +144,9 @@ struct Math<double> {
 
 // Which variant a set of constants needs: each leaves out the terms of the laws after it in
 // LAWS (their coefficients all zero): fewer terms, and the bits those terms' absence gives.
-enum class RatesVariant { kUndamped, kViscous };
-constexpr RatesVariant kRatesVariants[] = {RatesVariant::kUndamped, RatesVariant::kViscous};
-constexpr RatesVariant kEveryTerm = RatesVariant::kViscous;  // rates()
+enum class RatesVariant { kUndamped, kViscous, kCoulomb };
+constexpr RatesVariant kRatesVariants[] = {RatesVariant::kUndamped, RatesVariant::kViscous, RatesVariant::kCoulomb};
+constexpr RatesVariant kEveryTerm = RatesVariant::kCoulomb;  // rates()
 
 // No resistance (every coefficient 0): the textbook's model; dissipated power 0.
 template <class Real, class MathOf = Math<Real>>
@@ -163,10 +181,10 @@ inline RatesOf<Real> ratesUndamped(const ConstantsOf<Real>& p, Real q1, Real q2,
 }
 
 // The terms of every resistance whose law is viscous; only for Constants whose other
-// (that is, every term).
+// resistances' coefficients are 0.
 template <class Real, class MathOf = Math<Real>>
-inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
-                           Real M_m) {
+inline RatesOf<Real> ratesViscous(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
+                                  Real M_m) {
   const Real m = p.rod_mass;
   const Real L = p.rod_half_length;
   const Real I = p.rod_inertia;
@@ -207,10 +225,68 @@ inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1
           8*L*t17*t8 + c_A*t14 + c_B*t19 + c_C*t18 + c_O*t13 + c_S*t18 + c_S*t19};
 }
 
+// The terms of every resistance whose law is viscous or coulomb; only for Constants whose other
+// (that is, every term).
+template <class Real, class MathOf = Math<Real>>
+inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
+                           Real M_m) {
+  const Real m = p.rod_mass;
+  const Real L = p.rod_half_length;
+  const Real I = p.rod_inertia;
+  const Real M1 = p.slider3_mass;
+  const Real M2 = p.slider4_mass;
+  const Real k = p.spring_stiffness;
+  const Real g = p.gravity;
+  const Real s0 = p.spring_rest_length;
+  const Real c_O = p.crank_damping;
+  const Real c_A = p.coupler_damping;
+  const Real c_B = p.slider3_damping;
+  const Real c_C = p.slider4_damping;
+  const Real c_S = p.spring_damping;
+  const Real F_O = p.crank_friction;
+  const Real F_A = p.coupler_friction;
+  const Real F_B = p.slider3_friction;
+  const Real F_C = p.slider4_friction;
+  const Real v_s = p.friction_velocity_scale;
+  Real sin_q1, cos_q1;
+  MathOf::sinCos(q1, &sin_q1, &cos_q1);
+  const Real t0 = L*L;
+  const Real t1 = m*t0;
+  const Real t2 = sin_q1*sin_q1;
+  const Real t3 = 8*t0;
+  const Real t4 = t2*t3;
+  const Real t5 = 2*u1;
+  const Real t6 = 2*L;
+  const Real t7 = sin_q1*t6;
+  const Real t8 = g*t7;
+  const Real t9 = c_S*u2;
+  const Real t10 = k*sin_q1;
+  const Real t11 = t10*t6;
+  const Real t12 = cos_q1*t3;
+  const Real t13 = 1.0/v_s;
+  const Real t14 = t13*u1;
+  const Real t15 = F_A*MathOf::tanh(2*t14);
+  const Real t16 = F_O*MathOf::tanh(t14);
+  const Real t17 = t4*u1;
+  const Real t18 = u1*u1;
+  const Real t19 = 4*t18;
+  const Real t20 = 4*L*sin_q1;
+  const Real t21 = F_B*MathOf::tanh(t14*t20);
+  const Real t22 = 1.0/M2;
+  const Real t23 = t22*u2;
+  const Real t24 = t20*u1;
+  const Real t25 = F_C*MathOf::tanh(t13*u2);
+  const Real t26 = u2*u2;
+  const Real t27 = 16*t0*t18*t2;
+  return {-(M1*sin_q1*t12*t18 + M1*t8 - 1.0/2.0*M_m + c_A*t5 + c_B*t17 + (1.0/2.0)*c_O*u1 + c_S*t17 + cos_q1*sin_q1*t1*t19 + m*t8 + q2*t11 - s0*t11 - t10*t12 + t15 + (1.0/2.0)*t16 + t21*t7 + t7*t9)/(I + M1*t4 + 4*t1*t2 + t1),
+          4*L*cos_q1*k*t22 - c_C*t23 - c_S*t22*t24 - c_S*t23 + g - k*q2*t22 + k*s0*t22 - t22*t25,
+          8*L*sin_q1*t9*u1 + c_A*t19 + c_B*t27 + c_C*t26 + c_O*t18 + c_S*t26 + c_S*t27 + t15*t5 + t16*u1 + t21*t24 + t25*u2};
+}
+
 // The variant `constants` need: the shortest that keeps every non-zero resistance's law.
 inline RatesVariant variantFor(const Constants& constants) {
   const double* value = &constants.rod_mass;
-  static_assert(sizeof(Constants) == 13 * sizeof(double), "Constants holds doubles");
+  static_assert(sizeof(Constants) == 18 * sizeof(double), "Constants holds doubles");
   int need = 0;  // LoadLaw's order is the variants' (kNone: kUndamped)
   for (const LoadInfo& load : kLoadInfo)
     if (load.kind == LoadKind::kResistance && value[load.coefficient] != 0.0 &&
@@ -226,6 +302,8 @@ inline RatesOf<Real> ratesFor(RatesVariant variant, const ConstantsOf<Real>& p, 
   switch (variant) {
     case RatesVariant::kUndamped:
       return ratesUndamped<Real, MathOf>(p, q1, q2, u1, u2, M_m);
+    case RatesVariant::kViscous:
+      return ratesViscous<Real, MathOf>(p, q1, q2, u1, u2, M_m);
     default:
       break;
   }

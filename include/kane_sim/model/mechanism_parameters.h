@@ -28,6 +28,24 @@ struct JointDamping {
   }
 };
 
+// Coulomb friction at the four joints, smoothed: F = -F_c tanh(v / v_s) against the joint's
+// rate v (the same sites and rates as the dampers above). No stiction: a load below F_c does
+// not hold a joint still, it lets it creep at v ~ v_s F / F_c. All zero by default.
+struct JointFriction {
+  double crank = 0.0;    // F_O [N m] pin O, on w1
+  double coupler = 0.0;  // F_A [N m] pin A, on w2 - w1
+  double slider3 = 0.0;  // F_B [N] slider 3 on the rail, on v_B
+  double slider4 = 0.0;  // F_C [N] slider 4 on the rail, on v_C
+  // v_s [rad/s or m/s]: below it the force grows linearly, as a damper of F_c / v_s; rk4 needs
+  // that damper's rate within its stability bound (the loader's check names this key).
+  double velocity_scale = 0.01;
+
+  // Every field, once: equality derives from it (test_generated_equations' every-parameter test
+  // walks the schema's physical rows and fails for a field left out here).
+  auto fields() const { return std::tie(crank, coupler, slider3, slider4, velocity_scale); }
+  bool any() const { return crank != 0.0 || coupler != 0.0 || slider3 != 0.0 || slider4 != 0.0; }
+};
+
 // The drive's torque-speed line (a DC motor): in the direction the crank already turns it
 // delivers at most torque_limit (1 - |u1| / no_load_speed), 0 beyond the no-load speed; braking
 // is limited by torque_limit only. no_load_speed 0 turns the line off (the textbook's ideal
@@ -75,6 +93,7 @@ struct MechanismParameters {
 
   // Options beyond the textbook example, all off by default.
   JointDamping damping;
+  JointFriction friction;
   MotorLine motor;
   SliderContact contact;
 
@@ -86,11 +105,14 @@ struct MechanismParameters {
   // reconfiguration of it go unnoticed, as a damper once ran the undamped kernel).
   auto fields() const {
     return std::tie(rod_mass, rod_half_length, slider3_mass, slider4_mass, spring_stiffness,
-                    gravity, rod_inertia, damping, motor, contact);
+                    gravity, rod_inertia, damping, friction, motor, contact);
   }
 };
 
 inline bool operator==(const JointDamping& a, const JointDamping& b) {
+  return a.fields() == b.fields();
+}
+inline bool operator==(const JointFriction& a, const JointFriction& b) {
   return a.fields() == b.fields();
 }
 // With the line off the stall torque plays no part in the physics (the command's clamp does
