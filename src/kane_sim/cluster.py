@@ -9,7 +9,6 @@ import sys
 import uuid
 
 import numpy as np
-import yaml
 
 from kane_sim import _core
 
@@ -49,9 +48,8 @@ def _why(error):
 def run_chunk(config_yaml, keys, rows, first_case, duration, torque, simd, vector_trig):
     """One chunk on a worker: its cases' columns (as kane_sim.sweep) and their CSV rows, numbered
     from first_case, as `simulate --sweep` writes them ("csv_rows")."""
-    from kane_sim.core import Config  # on the worker
-    cfg = Config(yaml.safe_load(config_yaml))
-    out = _core.sweep(cfg._core, list(keys), [list(r) for r in rows], float(duration), torque,
+    config = _core.Config.from_yaml(config_yaml)  # the worker's own loader, as the client's
+    out = _core.sweep(config, list(keys), [list(r) for r in rows], float(duration), torque,
                       1, simd, bool(vector_trig), int(first_case))
     return {k: (v if k == "csv_rows" else np.asarray(v)) for k, v in out.items()}
 
@@ -170,3 +168,26 @@ def join(keys, rows, chunks, chunk):
         filler["error"] = np.array([""] * n)
         parts.append(filler)
     return {k: np.concatenate([np.asarray(p[k]) for p in parts]) for k in columns}
+
+
+def sweep(config, keys, rows, duration, profile, simd, vector_trig, client, chunk):
+    """kane_sim.sweep's cases on a cluster: config a loaded _core.Config, client a Client or a
+    scheduler's address. A cluster that fails mid-sweep raises Failed (a RuntimeError), Ctrl-C
+    Interrupted, each with the finished cases in `.result`. Needs nothing of kane_sim but _core
+    (kane_sim.core imports this module, never the other way round)."""
+    if not rows:  # nothing to send: the local sweep's empty columns
+        return {k: np.asarray(v) for k, v in _core.sweep(
+            config, list(keys), [], float(duration), profile, 1, simd,
+            bool(vector_trig)).items()}
+    own = isinstance(client, str)
+    client = connect(client) if own else client_of(client)
+    try:
+        chunks = run(client, config.yaml(), list(keys), rows, float(duration), profile, simd,
+                     bool(vector_trig), int(chunk))
+    except (Interrupted, Failed) as stopped:
+        stopped.result = join(list(keys), rows, stopped.chunks, int(chunk))
+        raise
+    finally:
+        if own:
+            client.close()
+    return join(list(keys), rows, chunks, int(chunk))

@@ -387,8 +387,9 @@ def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0
     _core.sweep(cfg._core, list(keys), [], float(duration), profile, int(jobs), simd,
                 bool(vector_trig))
     if client is not None:
-        return _sweep_on_cluster(cfg, keys, rows, duration, profile, simd, vector_trig, client,
-                                 chunk)
+        from kane_sim import cluster  # distributed is imported only for a cluster sweep
+        return cluster.sweep(cfg._core, keys, rows, duration, profile, simd, vector_trig, client,
+                             chunk)
     try:
         out = _core.sweep(cfg._core, list(keys), rows, float(duration), profile, int(jobs), simd,
                           bool(vector_trig))
@@ -398,25 +399,3 @@ def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0
             interrupted.result = {k: np.asarray(v) for k, v in partial.items()}
         raise
     return {k: np.asarray(v) for k, v in out.items()}  # status and error as arrays of str too
-
-
-def _sweep_on_cluster(cfg, keys, rows, duration, profile, simd, vector_trig, client, chunk):
-    """kane_sim.sweep's cases on a cluster (kane_sim.cluster). A cluster that fails mid-sweep
-    raises kane_sim.cluster.Failed (a RuntimeError) with the finished cases in `.result`."""
-    from kane_sim import cluster
-    if not rows:  # nothing to send: the local sweep's empty columns
-        return {k: np.asarray(v) for k, v in _core.sweep(
-            cfg._core, list(keys), [], float(duration), profile, 1, simd,
-            bool(vector_trig)).items()}
-    own = isinstance(client, str)
-    client = cluster.connect(client) if own else cluster.client_of(client)
-    try:
-        chunks = cluster.run(client, cfg.yaml(), list(keys), rows, float(duration), profile,
-                             simd, bool(vector_trig), int(chunk))
-    except (cluster.Interrupted, cluster.Failed) as stopped:
-        stopped.result = cluster.join(list(keys), rows, stopped.chunks, int(chunk))
-        raise
-    finally:
-        if own:
-            client.close()
-    return cluster.join(list(keys), rows, chunks, int(chunk))
