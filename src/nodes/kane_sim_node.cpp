@@ -111,6 +111,7 @@ void KaneSimNode::reconnect() {
   connect();
   if (runtime_parameters_) runtime_parameters_->advertise();
   publisher_.publishRobotDescription(nh_);  // a new master has no parameters either
+  publisher_.publishStaticTf();             // nor the latched static tf
   publisher_.publishCheckpoint("start");    // the latched one went with the old master
   ROS_WARN(
       "kane_sim: the ROS master restarted; topics and services registered again "
@@ -134,6 +135,7 @@ void KaneSimNode::run() {
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   publisher_.checkSimTimeSetting();
   publisher_.publishRobotDescription(nh_);
+  publisher_.publishStaticTf();
   publisher_.publishStateAndReadings();  // the reading at start, when it has no latency
   publisher_.publishCheckpoint("start");
   loop_.anchor();

@@ -125,6 +125,9 @@ void StatePublisher::logInput(const DriverInput& input) {
 void StatePublisher::publishRobotDescription(ros::NodeHandle& nh) {
   // Relative: under ns:=robot_a it is /robot_a/robot_description, beside that robot's topics.
   nh.setParam("robot_description", toUrdf(robot_));
+}
+
+void StatePublisher::publishStaticTf() {
   if (io_->static_tf) io_->static_tf->sendTransform(staticTransforms(robot_, stamp()));
 }
 

@@ -55,8 +55,12 @@ class StatePublisher {
   void setConfigTree(const YAML::Node& tree) { config_text_ = YAML::Dump(tree); }
   // A driver input on ~input_log, numbered.
   void logInput(const DriverInput& input);
-  // robot_description (relative to `nh`) and the static tf.
+  // robot_description (relative to `nh`): at start-up, on a new master, and after every
+  // reconfiguration (the masses and inertia are in the URDF).
   void publishRobotDescription(ros::NodeHandle& nh);
+  // The static tf (world -> mechanism), latched: at start-up and on a new master only (nothing
+  // a reconfiguration can change moves it).
+  void publishStaticTf();
   // Warns when /use_sim_time contradicts the stamps.
   void checkSimTimeSetting();
 

@@ -8,13 +8,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <utility>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <rosgraph_msgs/Log.h>
 #include <std_srvs/Empty.h>
+#include <tf2_msgs/TFMessage.h>
 
 #include "kane_sim/MechanismState.h"
 #include "node_test_utils.h"
@@ -48,6 +49,18 @@ class Reconfigure : public test::SimNodeTest {
  protected:
   double set(const std::string& name, double value) { return test::reconfigure(name, value); }
 };
+
+// /tf_static is sent once (latched): a reconfiguration rewrites robot_description, not the
+// static tf (it was re-sent at every reconfiguration).
+TEST_F(Reconfigure, TheStaticTfIsNotSentAgain) {
+  test::Recorder<tf2_msgs::TFMessage> statics(nh_, "/tf_static");
+  ASSERT_TRUE(test::waitFor([&] { return statics.messages().size() == 1; }, 5.0))
+      << "the latched /tf_static did not arrive";
+  EXPECT_EQ(set("slider4_mass", 0.9), 0.9);
+  EXPECT_EQ(set("slider4_mass", 0.8), 0.8);
+  test::sleepWall(0.5);
+  EXPECT_EQ(statics.messages().size(), 1u);
+}
 
 TEST_F(Reconfigure, TorqueLimitClampsTheCommandInForce) {
   test::send(torque_, 10.0);
@@ -125,19 +138,19 @@ TEST_F(Reconfigure, ValuesReachTheLoaderUnclamped) {
 // The damper beside the spring, then slider 4's friction, switched on at run time: each takes
 // power out of the motion (its own entry of load_powers, <= 0), booked in D.
 TEST_F(Reconfigure, TheSpringDamperAndFrictionTakePowerOnceSwitchedOn) {
-  for (const auto& [name, load] : {std::pair<std::string, std::string>{"spring_damping",
-                                                                       "spring_damper"},
-                                   {"slider4_friction", "slider4_friction"}}) {
+  for (const auto& [name, load] :
+       {std::pair<std::string, std::string>{"spring_damping", "spring_damper"},
+        {"slider4_friction", "slider4_friction"}}) {
     SCOPED_TRACE(name);
-    ASSERT_TRUE(waitForState(
-        [&](const MechanismState& m) { return test::loadPower(m, load) == 0.0; }, 5));
+    ASSERT_TRUE(
+        waitForState([&](const MechanismState& m) { return test::loadPower(m, load) == 0.0; }, 5));
     const double before = state_.last().dissipated_energy;
     EXPECT_EQ(set(name, 3.0), 3.0);
-    ASSERT_TRUE(waitForState(
-        [&](const MechanismState& m) { return test::loadPower(m, load) < 0.0; }, 5))
+    ASSERT_TRUE(
+        waitForState([&](const MechanismState& m) { return test::loadPower(m, load) < 0.0; }, 5))
         << "the sliders move in the free swing";
-    EXPECT_TRUE(waitForState(
-        [&](const MechanismState& m) { return m.dissipated_energy > before; }, 5));
+    EXPECT_TRUE(
+        waitForState([&](const MechanismState& m) { return m.dissipated_energy > before; }, 5));
     EXPECT_EQ(set(name, 0.0), 0.0);
   }
 }
