@@ -160,7 +160,10 @@ int runReplay(const Options& options, const kane_sim::Config& config) {
   }
   std::cout << "replayed " << r.inputs << " inputs of " << r.input_topic << "; compared "
             << r.compared << " states of " << r.state_topic << " (" << r.skipped
-            << " skipped at a reset or set_state); largest difference " << num(r.largest);
+            << " skipped at a reset or set_state"
+            << (r.uncompared > 0 ? ", " + std::to_string(r.uncompared) + " not compared: gaps"
+                                 : std::string())
+            << "); largest difference " << num(r.largest);
   if (r.largest > 0) std::cout << " (" << r.largest_of << " at t = " << num(r.largest_at) << " s)";
   std::cout << "\n";
   if (r.inputs_after_last_state > 0)
@@ -169,8 +172,16 @@ int runReplay(const Options& options, const kane_sim::Config& config) {
   if (r.parameter_changes > 0 && r.checkpoint_topic.empty())
     std::cerr << "warning: the bag's run was reconfigured " << r.parameter_changes
               << " times at run time; the replay runs the config as given\n";
+  for (const std::string& gap : r.gaps)
+    std::cerr << (options.replay_accept_gaps ? "warning" : "error") << ": --replay: " << gap
+              << "\n";
   if (r.compared == 0) {
     std::cerr << "error: --replay: no state to compare\n";
+    return kExitReplayDiffers;
+  }
+  if (!r.gaps.empty() && !options.replay_accept_gaps) {
+    std::cerr << "error: --replay: " << r.uncompared << " of the bag's states were not compared "
+              << "(inputs missing); --accept-gaps takes the comparison as it is\n";
     return kExitReplayDiffers;
   }
   return r.largest <= options.replay_tolerance ? 0 : kExitReplayDiffers;

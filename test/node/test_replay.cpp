@@ -1,6 +1,7 @@
 // `simulate --replay` of a bag recorded from the node (test/node/replay.test): the node logs every
 // input with its physics tick on ~input_log; the replay feeds them to the same driver and must
 // find every recorded mechanism_state again, bit for bit. Without one of the inputs it must not.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -170,6 +171,58 @@ TEST_F(Replay, ARecordedRunReplaysBitForBit) {
   EXPECT_NE(gap.err.find("input 3 of /kane_sim/input_log were not recorded (a gap in the bag)"),
             std::string::npos)
       << gap.err;
+  // A gap with checkpoints around it: compared up to the gap, named with the states it left
+  // uncompared, re-synchronised at the next checkpoint that holds the missing inputs; exit 6
+  // unless --accept-gaps (it once started after the gap and said "largest difference 0").
+  const auto without = [&](std::uint64_t first, std::uint64_t last) {
+    std::vector<InputLog> kept;
+    for (const InputLog& log : logged)
+      if (log.seq < first || log.seq > last) kept.push_back(log);
+    return kept;
+  };
+  const Checkpoint& reconfigured =
+      *std::find_if(recorded.begin(), recorded.end(),
+                    [](const Checkpoint& c) { return c.cause == "reconfigure"; });
+  ASSERT_GE(reconfigured.next_input, 3u);
+  const std::uint64_t lost = reconfigured.next_input - 2;  // two inputs before that checkpoint
+  writeBag(cut, state_.messages(), without(lost, lost + 1), SIZE_MAX, recorded);
+  const std::string lost_text = "inputs " + std::to_string(lost) + "-" + std::to_string(lost + 1) +
+                                " of /kane_sim/input_log were not recorded (a gap in the bag)";
+  const test::CommandResult middle = test::runCommand(simulate + " --replay " + cut);
+  EXPECT_EQ(middle.exit_code, 6) << middle.out << middle.err;
+  EXPECT_NE(middle.err.find(lost_text), std::string::npos) << middle.err;
+  EXPECT_NE(middle.err.find("states from t = "), std::string::npos) << middle.err;
+  EXPECT_NE(middle.err.find("re-synchronised at the checkpoint of tick " +
+                            std::to_string(reconfigured.tick)),
+            std::string::npos)
+      << middle.err;
+  EXPECT_NE(middle.out.find("started at the checkpoint of tick 0"), std::string::npos)
+      << middle.out;
+  const test::CommandResult accepted =
+      test::runCommand(simulate + " --replay " + cut + " --accept-gaps");
+  EXPECT_EQ(accepted.exit_code, 0) << accepted.out << accepted.err;
+  EXPECT_NE(accepted.out.find("largest difference 0\n"), std::string::npos) << accepted.out;
+  EXPECT_NE(accepted.out.find(" not compared: gaps"), std::string::npos) << accepted.out;
+  // Recorded mid-run, with inputs lost after the last checkpoint: the gap is named, not the
+  // inputs from before the recording (every mid-run bag lacks those).
+  const Checkpoint& last_checkpoint = recorded.back();
+  std::vector<InputLog> tail;
+  for (const InputLog& log : later)
+    if (log.seq <= last_checkpoint.next_input || log.seq > last_checkpoint.next_input + 1)
+      tail.push_back(log);
+  ASSERT_GT(tail.back().seq, last_checkpoint.next_input + 1) << "no input after the gap";
+  writeBag(mid_run, state_.messages(), tail, SIZE_MAX, recorded);
+  const test::CommandResult late_gap = test::runCommand(simulate + " --replay " + mid_run);
+  EXPECT_EQ(late_gap.exit_code, 6) << late_gap.out << late_gap.err;
+  EXPECT_NE(late_gap.err.find("input " + std::to_string(last_checkpoint.next_input + 1) +
+                              " of /kane_sim/input_log were not recorded (a gap in the bag)"),
+            std::string::npos)
+      << late_gap.err;
+  EXPECT_NE(late_gap.err.find("no later ~checkpoint holds the missing inputs"), std::string::npos)
+      << late_gap.err;
+  EXPECT_EQ(late_gap.err.find("after the bag's first ~checkpoint"), std::string::npos)
+      << late_gap.err;
+  EXPECT_NE(late_gap.out.find("largest difference 0\n"), std::string::npos) << late_gap.out;
   // States no run can have: named, never compared (t = inf once passed as tick 0).
   for (const auto& [time, q1, message] : std::vector<std::tuple<double, double, std::string>>{
            {INFINITY, 0.5, "has sim_time inf s, not in [0, 1e+07] s"},

@@ -137,6 +137,7 @@ TEST(SimulateCli, AbsurdValuesAndBadTorqueProfilesAreUsageErrors) {
       {" --replay x.bag --tolerance nan", "--tolerance must be finite"},
       {" --replay x.bag --tolerance -1", "--tolerance must be >= 0"},
       {" --duration 1 --tolerance 1", "--tolerance is for --replay"},
+      {" --duration 1 --accept-gaps", "--accept-gaps is for --replay"},
       {"", "the option '--duration' is required"},
   };
   for (const auto& c : cases) {

@@ -50,7 +50,8 @@ po::options_description describeOptions() {
       "  --replay BAG [--tolerance X]  feed the bag's inputs to the driver at their physics\n"
       "                              ticks; print the largest difference from the bag's states;\n"
       "                              exit 6 when it exceeds X (default 0: bit for bit). --config\n"
-      "                              must be the node's config.\n\n"
+      "                              must be the node's config. Inputs missing from the bag are\n"
+      "                              named, compared up to, and exit 6 unless --accept-gaps.\n\n"
       "Files are written under FILE.partial and renamed when complete; SIGINT or SIGTERM stops\n"
       "the run and keeps what was simulated (every finished sweep case), exit 128 + signal.\n\n"
       "Options");
@@ -62,7 +63,10 @@ po::options_description describeOptions() {
       "re-run the inputs a bag's ~input_log holds, compare with its mechanism_state")(
       "tolerance", po::value<double>(),
       "--replay: largest |difference| in q, u counted as equal (default 0: bit for bit)")(
-      "torque", po::value<double>(), "constant driver moment M_m [N m]")(
+      "accept-gaps",
+      "--replay: exit 0 when inputs are missing from the bag (each gap is still named, and the "
+      "states it left uncompared counted)")("torque", po::value<double>(),
+                                            "constant driver moment M_m [N m]")(
       "torque-step", po::value<std::string>(), "T,BEFORE,AFTER")(
       "torque-sine", po::value<std::string>(), "AMP,FREQ[,OFFSET]")(
       "torque-csv", po::value<std::string>(), "FILE of t,torque lines")(
@@ -140,8 +144,10 @@ bool parseOptions(int argc, char** argv, Options* options) {
       if (options->replay_tolerance < 0)
         throw UsageError("--tolerance must be >= 0, got " + num(options->replay_tolerance));
     }
-  } else if (vm.count("tolerance")) {
-    throw UsageError("--tolerance is for --replay");
+    options->replay_accept_gaps = vm.count("accept-gaps") > 0;
+  } else if (vm.count("tolerance") || vm.count("accept-gaps")) {
+    throw UsageError(std::string(vm.count("tolerance") ? "--tolerance" : "--accept-gaps") +
+                     " is for --replay");
   } else if (!vm.count("duration")) {
     throw UsageError("the option '--duration' is required but missing");
   }

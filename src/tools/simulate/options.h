@@ -36,6 +36,7 @@ struct Options {
   bool default_config = false;          // no --config: the package's config/mechanism.yaml
   std::string replay_bag;               // --replay BAG: re-run the inputs logged in a bag
   double replay_tolerance = 0.0;        // --tolerance: largest difference that counts as equal
+  bool replay_accept_gaps = false;      // --accept-gaps: inputs missing from the bag exit 0
   bool sweep() const { return !sweep_axes.empty() || !sweep_file.empty(); }
 };
 

@@ -71,33 +71,41 @@ std::string seqRange(std::uint64_t first, std::uint64_t last) {
                        : "inputs " + std::to_string(first) + "-" + std::to_string(last);
 }
 
+// A run of inputs the bag lacks: seqs first .. last.
+struct InputGap {
+  std::uint64_t first, last;
+};
+
 // The inputs in the order the node received them, from `first` on (those before are inside the
-// starting checkpoint), refused with their numbers when some were not recorded: a gap would
+// starting checkpoint). The first one missing is refused with its number (nothing can be
+// replayed without it); later gaps are returned, to be compared up to and named: a gap would
 // otherwise show up as a difference far from its cause.
-void checkSequence(std::vector<kane_sim::InputLog>* logs, const std::string& topic,
-                   std::uint64_t first, bool from_checkpoint) {
+std::vector<InputGap> checkSequence(std::vector<kane_sim::InputLog>* logs, const std::string& topic,
+                                    std::uint64_t first, bool from_checkpoint) {
   std::stable_sort(logs->begin(), logs->end(),
                    [](const auto& a, const auto& b) { return a.seq < b.seq; });
   logs->erase(std::remove_if(logs->begin(), logs->end(),
                              [first](const auto& log) { return log.seq < first; }),
               logs->end());
   std::uint64_t expected = first;
+  std::vector<InputGap> gaps;
   for (const kane_sim::InputLog& log : *logs) {
     if (log.seq < expected) continue;  // recorded twice (two recorders merged): the same input
-    if (log.seq > expected)
+    if (log.seq > expected && expected == first)
       throw ReplayError(seqRange(expected, log.seq - 1) + " of " + topic +
-                        (expected != first ? " were not recorded (a gap in the bag)"
-                         : from_checkpoint
+                        (from_checkpoint
                              ? " were not recorded after the bag's first ~checkpoint"
                              : " were not recorded: the recording began after the node had "
                                "received them and the bag has no ~checkpoint to start from "
                                "(record the node's ~checkpoint too, e.g. rosbag record -a)") +
                         "; replaying without them would differ from the node");
+    if (log.seq > expected) gaps.push_back({expected, log.seq - 1});
     expected = log.seq + 1;
   }
   logs->erase(std::unique(logs->begin(), logs->end(),
                           [](const auto& a, const auto& b) { return a.seq == b.seq; }),
               logs->end());
+  return gaps;
 }
 
 // The config a checkpoint carries, through the one loader (a damaged one is named).
@@ -149,17 +157,15 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
     });
   }
   std::vector<kane_sim::InputLog> logs = readAll<kane_sim::InputLog>(bag, result.input_topic);
-  // The run starts at the first checkpoint after which every input was recorded: a recorder
-  // started mid-run gets the latched checkpoint from before it began, and the inputs between
-  // that one and the recording's start are missing; the next checkpoint (<= 10 s on) is whole.
+  // The run starts at the first checkpoint whose next input was recorded: a recorder started
+  // mid-run gets the latched checkpoint from before it began, and the inputs between that one
+  // and the recording's start are missing; the next checkpoint (<= 10 s on) has its next input.
+  // Inputs missing later (a gap) are compared up to and named, and the run re-synchronises at
+  // the first checkpoint after them.
   std::set<std::uint64_t> recorded;
   for (const kane_sim::InputLog& log : logs) recorded.insert(log.seq);
-  const auto wholeFrom = [&recorded](std::uint64_t first) {
-    const auto from = recorded.lower_bound(first);
-    if (from == recorded.end()) return true;
-    const std::uint64_t last = *recorded.rbegin();
-    return *from == first &&
-           static_cast<std::uint64_t>(std::distance(from, recorded.end())) == last - first + 1;
+  const auto startsRecorded = [&recorded](std::uint64_t first) {
+    return recorded.empty() || first > *recorded.rbegin() || recorded.count(first) > 0;
   };
   // A checkpoint's next_input says which inputs it already holds: an input that arrived after it
   // (a later tick) with a smaller seq, or one before it with a larger, means a damaged one.
@@ -181,7 +187,7 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
                         ": the checkpoint is damaged");
   }
   std::size_t start = 0;
-  while (start < checkpoints.size() && !wholeFrom(checkpoints[start].next_input)) ++start;
+  while (start < checkpoints.size() && !startsRecorded(checkpoints[start].next_input)) ++start;
   if (start == checkpoints.size() && !checkpoints.empty()) start = 0;  // checkSequence names it
   checkpoints.erase(checkpoints.begin(), checkpoints.begin() + static_cast<long>(start));
   result.checkpoints_passed_over = start;
@@ -191,8 +197,9 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
           : driverAt(checkpoints.front(), result.checkpoint_topic);
   const std::uint64_t start_tick = driver->ticks();
   result.start_tick = start_tick;
-  checkSequence(&logs, result.input_topic, checkpoints.empty() ? 0 : checkpoints.front().next_input,
-                !checkpoints.empty());
+  const std::vector<InputGap> gaps =
+      checkSequence(&logs, result.input_topic,
+                    checkpoints.empty() ? 0 : checkpoints.front().next_input, !checkpoints.empty());
   std::vector<kane_sim::DriverInput> inputs;
   for (const kane_sim::InputLog& msg : logs) {
     const auto input = kane_sim::driverInput(msg);
@@ -261,6 +268,38 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
                         " where the bag's state there has " + kane_sim::formatNumber(first->q[0]) +
                         ": the checkpoint is damaged");
   }
+  // Each gap blinds the replay from the last input before it (its tick: what the node did after
+  // that depended on inputs the bag lacks) to the first checkpoint after it that holds them all
+  // (its next input beyond the gap), or to the end when there is none.
+  struct Blind {
+    std::uint64_t after_tick;  // states beyond this tick are not compared ...
+    std::size_t resync;        // ... until checkpoints[resync] (npos: none)
+    InputGap gap;
+    std::uint64_t states = 0;
+    double from = 0.0, to = 0.0;  // [s] sim times of the first and last state not compared
+  };
+  constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+  std::vector<Blind> blinds;
+  for (const InputGap& gap : gaps) {
+    const auto before = std::lower_bound(
+        logs.begin(), logs.end(), gap.first,
+        [](const kane_sim::InputLog& log, std::uint64_t seq) { return log.seq < seq; });
+    const std::uint64_t after_tick = std::prev(before)->tick;  // gap.first > the first recorded
+    if (!blinds.empty() && (blinds.back().resync == kNone ||
+                            checkpoints[blinds.back().resync].next_input <= gap.last)) {
+      // Within the previous stretch: it lasts until a checkpoint beyond this gap too.
+      Blind& b = blinds.back();
+      b.gap.last = gap.last;
+      while (b.resync != kNone && checkpoints[b.resync].next_input <= gap.last)
+        b.resync = b.resync + 1 < checkpoints.size() ? b.resync + 1 : kNone;
+      continue;
+    }
+    std::size_t resync = kNone;
+    for (std::size_t k = 1; k < checkpoints.size() && resync == kNone; ++k)
+      if (checkpoints[k].next_input > gap.last && checkpoints[k].tick > after_tick) resync = k;
+    blinds.push_back({after_tick, resync, gap});
+  }
+  std::size_t blind = 0;       // the next (or current) stretch without inputs
   std::size_t next = 0;        // the next input to apply
   std::size_t checkpoint = 1;  // the next checkpoint to re-synchronise at
   // A checkpoint is due once the driver is at its tick with every input before it applied.
@@ -272,6 +311,28 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
     result.parameter_changes =
         std::max<std::uint64_t>(result.parameter_changes, m.parameter_changes);
     const auto target = static_cast<std::uint64_t>(std::llround(m.sim_time * rate));
+    // Past a gap: not compared until its re-synchronising checkpoint, then from there.
+    bool blinded = false;
+    while (blind < blinds.size() && target > blinds[blind].after_tick) {
+      Blind& b = blinds[blind];
+      if (b.resync == kNone || target < checkpoints[b.resync].tick) {
+        if (b.states++ == 0) b.from = m.sim_time;
+        b.to = m.sim_time;
+        ++result.uncompared;
+        blinded = true;
+        break;
+      }
+      driver = driverAt(checkpoints[b.resync], result.checkpoint_topic);
+      ++result.resynchronised;
+      checkpoint = b.resync + 1;
+      next = static_cast<std::size_t>(
+          std::lower_bound(
+              logs.begin(), logs.end(), checkpoints[b.resync].next_input,
+              [](const kane_sim::InputLog& log, std::uint64_t seq) { return log.seq < seq; }) -
+          logs.begin());
+      ++blind;
+    }
+    if (blinded) continue;
     if (target < driver->ticks()) continue;  // before the first checkpoint, or a repeat
     while (true) {
       // What arrived at this tick is applied before the step from it, as in the node; a
@@ -323,6 +384,20 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
     ++result.compared;
   }
   result.inputs_after_last_state = inputs.size() - next;
+  for (const Blind& b : blinds) {
+    std::string text = seqRange(b.gap.first, b.gap.last) + " of " + result.input_topic +
+                       " were not recorded (a gap in the bag): compared up to t = " +
+                       kane_sim::formatNumber(static_cast<double>(b.after_tick) / rate) +
+                       " s, the last input before them";
+    if (b.states > 0)
+      text += "; " + std::to_string(b.states) +
+              " states from t = " + kane_sim::formatNumber(b.from) + " to " +
+              kane_sim::formatNumber(b.to) + " s not compared";
+    text += b.resync == kNone ? " (no later ~checkpoint holds the missing inputs)"
+                              : "; re-synchronised at the checkpoint of tick " +
+                                    std::to_string(checkpoints[b.resync].tick);
+    result.gaps.push_back(text);
+  }
   return result;
 }
 

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "kane_sim/config/config.h"
 
@@ -35,7 +36,12 @@ struct ReplayResult {
   double interrupted_at = 0.0;                // [s] the replay's sim time then
   std::uint64_t start_tick = 0;               // where it began: 0, or the first checkpoint's
   std::uint64_t resynchronised = 0;           // later checkpoints the replay restarted from
-  std::uint64_t checkpoints_passed_over = 0;  // earlier ones with inputs after them missing
+  std::uint64_t checkpoints_passed_over = 0;  // earlier ones whose next input is missing
+  // Inputs the bag lacks after the start (rosbag filter, a dropped connection): each gap named
+  // ("inputs 120-129 of /kane_sim/input_log were not recorded (a gap in the bag) ..."); the
+  // states from the last input before a gap to the next checkpoint after it were not compared.
+  std::vector<std::string> gaps;
+  std::uint64_t uncompared = 0;                            // states in those stretches
   std::string input_topic, state_topic, checkpoint_topic;  // the last "" without checkpoints
 };
 
