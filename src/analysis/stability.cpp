@@ -1,5 +1,6 @@
 #include "kane_sim/analysis/stability.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -28,8 +29,14 @@ MechanismModel withMotorLineAsDamper(const MechanismModel& model) {
 double rateOf(const GeneratedMechanism& equations, const State& x, double torque) {
   const double values[] = {x.q1, x.q2, x.u1, x.u2};
   Eigen::Matrix4d A;
+  // Friction's tanh bends within v_s of a zero rate: a speed's step must stay inside that bend,
+  // or the difference sees a step of 2 F_c over 2 h and misses the slope F_c / v_s (1 N over v_s
+  // 1e-9 once passed as a rate 1000 times too small).
+  const bool friction = equations.variant() == generated::RatesVariant::kCoulomb;
+  const double speed_cap = 1e-2 * equations.constants().friction_velocity_scale;
   for (int j = 0; j < 4; ++j) {
-    const double h = 1e-6 * (1.0 + std::abs(values[j]));
+    double h = 1e-6 * (1.0 + std::abs(values[j]));
+    if (friction && j >= 2) h = std::min(h, speed_cap);
     double plus[] = {x.q1, x.q2, x.u1, x.u2}, minus[] = {x.q1, x.q2, x.u1, x.u2};
     plus[j] += h;
     minus[j] -= h;

@@ -44,8 +44,16 @@ std::string rk4Remedy(double fastest_rate, const Config& c) {
          (dampers.empty() ? "" : " (" + dampers.substr(2) + ")");
 }
 
+// dopri5 adapts its sub-steps, up to kMaxSubstepsPerTick per physics step; with its stability
+// bound of ~3.3 along the negative real axis (2.5 with a margin, as rk4's), a rate beyond this
+// times h cannot be followed within one physics step.
+constexpr double kDopri5RateSteps = kRk4StabilityLimit * Simulator::kMaxSubstepsPerTick;
+
 void checkIntegrable(const Config& c) {
-  if (c.simulation.integrator != IntegratorType::kRk4) return;  // dopri5 adapts its step
+  const bool rk4 = c.simulation.integrator == IntegratorType::kRk4;
+  // dopri5 adapts its step: only what no step can follow is refused (non-finite equations, or a
+  // rate beyond its sub-step limit: a friction of 1 N over v_s 1e-9 m/s once ran 1.8 s and
+  // failed then, naming neither key).
   const double h = 1.0 / c.simulation.physics_rate;
   const MechanismModel model = mechanismModel(c);
   StiffestConfiguration stiffest = stiffestConfiguration(model, c.initial_state);
@@ -65,6 +73,19 @@ void checkIntegrable(const Config& c) {
             formatNumber(c.mechanism.slider3_mass) + ", slider4_mass " +
             formatNumber(c.mechanism.slider4_mass) + ", spring_stiffness " +
             formatNumber(c.mechanism.spring_stiffness) + dampersOn(c) + ")");
+  if (!rk4) {
+    if (!(stiffest.rate * h <= kDopri5RateSteps))
+      throw ConfigError(
+          "simulation.physics_rate",
+          "is too low even for dopri5 on this mechanism: its fastest rate (" +
+              formatNumber(stiffest.rate) + " 1/s) would take more than " +
+              formatNumber(Simulator::kMaxSubstepsPerTick) + " sub-steps in each physics step of " +
+              formatNumber(h) + " s" +
+              (dampersOn(c).empty() ? "" : " (with " + dampersOn(c).substr(2) + ")") +
+              ": a softer spring_stiffness, less damping or friction" +
+              (c.mechanism.friction.any() ? ", or a larger friction.velocity_scale" : ""));
+    return;
+  }
   if (!(stiffest.rate * h <= kRk4StabilityLimit))
     throw ConfigError(
         "simulation.physics_rate",

@@ -61,9 +61,7 @@ bool withinScale(const OdeState& x) {
   return std::all_of(x.begin(), x.end(), [](double v) { return std::abs(v) <= kMaxMagnitude; });
 }
 
-// dopri5 gives up on a physics step after this many rejected or accepted sub-steps; reaching
-// it means the tolerances ask for more than double precision can give at this state.
-constexpr int kMaxSubstepsPerTick = 100000;
+constexpr int kMaxSubstepsPerTick = Simulator::kMaxSubstepsPerTick;
 
 }  // namespace
 

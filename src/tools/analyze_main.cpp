@@ -57,6 +57,8 @@ void printText(const Analysis& a) {
                 m.natural_frequency_hz, 2 * M_PI * m.natural_frequency_hz, zeta, m.shape[0],
                 m.shape[1]);
   }
+  // What the linear model leaves out (the JSON's "notes" too).
+  for (const std::string& note : l.notes) std::printf("\nNote: %s.\n", note.c_str());
 }
 
 }  // namespace

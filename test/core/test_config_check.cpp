@@ -77,6 +77,31 @@ TEST(ConfigCheck, FrictionHostileValuesAreRefusedNamingTheKey) {
       EXPECT_NE(what.find("friction.velocity_scale"), std::string::npos) << what;
     }
   }
+  // dopri5 adapts its step, but not beyond 1e5 sub-steps a physics step: 1 N over v_s 1e-9 m/s
+  // (a rate of 1.25e9 1/s) and a 1e308 N coefficient are refused at start-up, naming friction
+  // (they once ran, and failed mid-run with a message that named neither).
+  for (const auto& [coefficient, v_s] : {std::pair<double, double>{1.0, 1e-9}, {1e308, 0.01}}) {
+    YAML::Node root = defaultYaml();
+    root["simulation"]["integrator"] = "dopri5";
+    root["friction"]["slider4_joint"] = coefficient;
+    root["friction"]["velocity_scale"] = v_s;
+    SCOPED_TRACE(coefficient);
+    try {
+      loadSimulationConfig(root);
+      ADD_FAILURE() << "accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("friction.slider4_joint"), std::string::npos)
+          << e.what();
+    }
+  }
+  // What dopri5 can follow, slowly: 100 N over 1e-6 m/s.
+  {
+    YAML::Node root = defaultYaml();
+    root["simulation"]["integrator"] = "dopri5";
+    root["friction"]["slider4_joint"] = 100.0;
+    root["friction"]["velocity_scale"] = 1e-6;
+    EXPECT_NO_THROW(loadSimulationConfig(root));
+  }
   // A v_s rk4 can follow: the same 1 N over 2e-3 m/s.
   YAML::Node root = defaultYaml();
   root["friction"]["slider4_joint"] = 1.0;

@@ -81,6 +81,9 @@ class Simulator {
   // resting contact) are resolved within one physics step; a step that needs more is refused
   // with the reason (never accepted with the sliders inside the gap).
   static constexpr int kMaxContactEventsPerStep = 16;
+  // dopri5 gives up on a physics step after this many rejected or accepted sub-steps; reaching
+  // it means the tolerances ask for more than double precision can give at this state.
+  static constexpr int kMaxSubstepsPerTick = 100000;
   // True while the sliders rest on each other (contact on): held at the gap by the constraint
   // force of Kane's equations until that force would pull.
   bool restingContact() const { return resting_contact_; }
