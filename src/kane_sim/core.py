@@ -16,13 +16,14 @@ __all__ = ["Config", "ConfigError", "Result", "Simulator", "StepRefused", "Torqu
            "analyze", "load_config", "sweep"]
 
 
-def _yaml_scalar(value):
-    """A Python value as the YAML a config file would hold (NaN as .nan: the loader names it)."""
-    if isinstance(value, np.generic):
+def _yaml_scalar(value, name):
+    """A Python value as the YAML a config file would hold (NaN as .nan: the loader names it);
+    anything else a TypeError naming the key."""
+    if isinstance(value, (np.generic, np.ndarray)) and np.ndim(value) == 0:
         value = value.item()
     if not isinstance(value, (bool, int, float, str)):
-        raise TypeError("a config value must be a number, a bool or a string, got %s"
-                        % type(value).__name__)
+        raise TypeError("config key '%s': a value must be a number, a bool or a string, got %s %r"
+                        % (name, type(value).__name__, value))
     return yaml.safe_dump(value)
 
 
@@ -53,7 +54,7 @@ class Config:
 
     def __setitem__(self, name, value):
         """Sets a value through the loader again (ConfigError: nothing changes)."""
-        self._core = self._core.with_value(name, _yaml_scalar(value))
+        self._core = self._core.with_value(name, _yaml_scalar(value, name))
 
     def with_values(self, values):
         """A copy with {'section.key': value} set (validated as a whole)."""
@@ -325,7 +326,7 @@ class Simulator:
 
     def __setitem__(self, name, value):
         """A runtime change (the parameters dynamic_reconfigure offers), at the current state."""
-        self._sim.set(name, _yaml_scalar(value))
+        self._sim.set(name, _yaml_scalar(value, name))
 
     def events(self):
         """What the driver reported since the last call: [(t, message)]; each report once, at

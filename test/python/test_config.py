@@ -59,8 +59,15 @@ def test_names_typos_and_types():
         cfg["mechanism.rod_mas"]
     with pytest.raises(kane_sim.ConfigError, match="rod_mass"):
         cfg["rod_mass"] = 1.0  # no section
-    with pytest.raises(TypeError):
-        cfg["mechanism.rod_mass"] = [1.0]
+    for bad in ([1.0], {"a": 1}, None, np.array([0.5, 0.6])):
+        with pytest.raises(TypeError, match="config key 'friction.slider4_joint'"):
+            cfg["friction.slider4_joint"] = bad
+    cfg["friction.slider4_joint"] = np.array(0.5)  # a 0-d array is its number
+    assert cfg["friction.slider4_joint"] == 0.5
+    assert kane_sim.Config.role("friction.slider4_joint") == "dissipative"
+    assert kane_sim.Config.role("friction.velocity_scale") == "load shape"
+    assert "friction.crank_joint" in kane_sim.Config.names("dissipative")
+    assert "mechanism.gravity" not in kane_sim.Config.names("dissipative")
     with pytest.raises(kane_sim.ConfigError, match="integrator"):
         cfg["simulation.integrator"] = "euler"
     with pytest.raises(TypeError):
