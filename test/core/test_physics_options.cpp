@@ -3,6 +3,7 @@
 // derivation or an analytic case, and by the ledger.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <random>
 #include <vector>
@@ -40,6 +41,21 @@ double rayleigh(const JointDamping& c, double L, double q1, double u1, double u2
                 c.slider4 * v_c * v_c + c.spring * (v_c - v_b) * (v_c - v_b));
 }
 
+// Checks, at a state x, that a load's generalized forces (those of `with` less those of `without`)
+// are -∂P/∂u_r of a potential P(u1, u2) of the speeds (central differences with step h), to
+// `tolerance` of 1 + their size.
+void expectForcesFromPotential(const MechanismModel& with, const MechanismModel& without,
+                               const State& x, const std::function<double(double, double)>& P,
+                               double h, double tolerance, int i) {
+  const SpeedVector f =
+      with.equations(x, 3.0).active_forces - without.equations(x, 3.0).active_forces;
+  const double f1 = -(P(x.u1 + h, x.u2) - P(x.u1 - h, x.u2)) / (2 * h);
+  const double f2 = -(P(x.u1, x.u2 + h) - P(x.u1, x.u2 - h)) / (2 * h);
+  const double scale = 1.0 + std::abs(f1) + std::abs(f2);
+  ASSERT_NEAR(f[0], f1, tolerance * scale) << "state " << i;
+  ASSERT_NEAR(f[1], f2, tolerance * scale) << "state " << i;
+}
+
 TEST(Damping, GeneralizedForcesMatchRayleighDissipation) {
   Config damped = test::defaultConfig();
   damped.mechanism.damping = allDampers();
@@ -50,17 +66,11 @@ TEST(Damping, GeneralizedForcesMatchRayleighDissipation) {
   std::uniform_real_distribution<double> angle(-M_PI, M_PI), speed(-20, 20), q2(0.5, 2.0);
   for (int i = 0; i < 500; ++i) {
     const State x{angle(rng), q2(rng), speed(rng), speed(rng)};
-    const SpeedVector f_damping =
-        with.equations(x, 3.0).active_forces - without.equations(x, 3.0).active_forces;
-    const double h = 1e-4;
     const auto R = [&](double u1, double u2) {
       return rayleigh(damped.mechanism.damping, L, x.q1, u1, u2);
     };
-    const double f1 = -(R(x.u1 + h, x.u2) - R(x.u1 - h, x.u2)) / (2 * h);
-    const double f2 = -(R(x.u1, x.u2 + h) - R(x.u1, x.u2 - h)) / (2 * h);
-    const double scale = 1.0 + std::abs(f1) + std::abs(f2);
-    ASSERT_NEAR(f_damping[0], f1, 1e-9 * scale) << "state " << i;
-    ASSERT_NEAR(f_damping[1], f2, 1e-9 * scale) << "state " << i;
+    expectForcesFromPotential(with, without, x, R, 1e-4, 1e-9, i);
+    if (HasFatalFailure()) return;
     // And their power is -2R (R is quadratic in u): what the ledger books as dissipated.
     const MechanismKinematics k = with.kinematics(x);
     const PowerTerms p = MechanismModel::power(with.loads(k, x, 3.0), x);
@@ -167,17 +177,11 @@ TEST(Friction, GeneralizedForcesMatchTheDissipationPotential) {
   for (int i = 0; i < 500; ++i) {
     const double reach = i % 2 == 0 ? 1.0 : 20.0;
     const State x{angle(rng), q2(rng), reach * speed(rng), reach * speed(rng)};
-    const SpeedVector f_friction =
-        with.equations(x, 3.0).active_forces - without.equations(x, 3.0).active_forces;
-    const double h = 1e-6;
     const auto Phi = [&](double u1, double u2) {
       return frictionPotential(rubbing.mechanism.friction, L, x.q1, u1, u2);
     };
-    const double f1 = -(Phi(x.u1 + h, x.u2) - Phi(x.u1 - h, x.u2)) / (2 * h);
-    const double f2 = -(Phi(x.u1, x.u2 + h) - Phi(x.u1, x.u2 - h)) / (2 * h);
-    const double scale = 1.0 + std::abs(f1) + std::abs(f2);
-    ASSERT_NEAR(f_friction[0], f1, 1e-7 * scale) << "state " << i;
-    ASSERT_NEAR(f_friction[1], f2, 1e-7 * scale) << "state " << i;
+    expectForcesFromPotential(with, without, x, Phi, 1e-6, 1e-7, i);
+    if (HasFatalFailure()) return;
     // Its power, -Σ F_c v tanh(v / v_s) <= 0, is what the ledger books as dissipated.
     const MechanismKinematics k = with.kinematics(x);
     const PowerTerms p = MechanismModel::power(with.loads(k, x, 3.0), x);
