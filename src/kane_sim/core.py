@@ -57,11 +57,19 @@ class Config:
         self._core = self._core.with_value(name, _yaml_scalar(value, name))
 
     def with_values(self, values):
-        """A copy with {'section.key': value} set (validated as a whole)."""
-        out = Config(self)
+        """A copy with {'section.key': value} set, validated as a whole: the loader sees every
+        value at once, so the order of the keys does not matter (friction rk4 cannot follow is
+        accepted together with simulation.integrator dopri5, whichever comes first)."""
+        tree = yaml.safe_load(self.yaml())
+        names = set(Config.names())
         for name, value in values.items():
-            out[name] = value
-        return out
+            if name not in names:
+                self._core.get(name)  # the loader's error: an unknown key, with a suggestion
+            section, key = name.split(".", 1)
+            if not isinstance(tree.get(section), dict):
+                tree[section] = {}
+            tree[section][key] = yaml.safe_load(_yaml_scalar(value, name))
+        return Config(tree)
 
     @staticmethod
     def names(role=None):

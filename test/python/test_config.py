@@ -92,3 +92,21 @@ def test_set_values_go_through_cross_rules():
     again = kane_sim.Config(yaml.safe_load(other.yaml()))
     for name in kane_sim.Config.names():
         assert again[name] == other[name], name
+
+
+def test_with_values_is_validated_as_a_whole():
+    # rk4 cannot follow 1000 N of friction over v_s 0.01; dopri5 can: either key order works.
+    values = {"friction.slider4_joint": 1000.0, "simulation.integrator": "dopri5"}
+    for ordered in (values, dict(reversed(list(values.items())))):
+        cfg = kane_sim.Config().with_values(ordered)
+        assert cfg["friction.slider4_joint"] == 1000.0
+        assert cfg["simulation.integrator"] == "dopri5"
+    with pytest.raises(kane_sim.ConfigError, match="physics_rate"):
+        kane_sim.Config().with_values({"friction.slider4_joint": 1000.0})
+    with pytest.raises(kane_sim.ConfigError, match="rod_mas"):
+        kane_sim.Config().with_values({"mechanism.rod_mas": 1.0})
+    with pytest.raises(TypeError, match="friction.crank_joint"):
+        kane_sim.Config().with_values({"friction.crank_joint": [1.0]})
+    base = kane_sim.Config()
+    assert base.with_values({})["mechanism.rod_mass"] == base["mechanism.rod_mass"]
+
