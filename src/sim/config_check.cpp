@@ -28,7 +28,11 @@ std::string dampersOn(const Config& c) {
 // What to do when rk4 at the configured rate cannot follow the fastest rate: a physics_rate
 // that can, or, when none within the rate's own limit can, dopri5 or a softer mechanism.
 std::string rk4Remedy(double fastest_rate, const Config& c) {
-  const double needed = std::ceil(fastest_rate / kRk4StabilityLimit);
+  // A rate the config can take as it is: a whole number of publish periods (publish_rate must
+  // divide it; 18362 Hz was once suggested, and then refused for that).
+  const double publish = c.simulation.publish_rate;
+  double needed = std::ceil(fastest_rate / kRk4StabilityLimit);
+  if (publish > 0.0) needed = std::ceil(needed / publish) * publish;
   const double limit = findParameter("simulation", "physics_rate")->rule.hi;
   if (needed <= limit)
     return "use simulation.integrator dopri5 or a physics_rate of at least " +

@@ -123,7 +123,7 @@ TEST(ConfigCheck, StiffMechanismIsRefusedForRk4AtTooLowARate) {
   YAML::Node root = defaultYaml();
   root["mechanism"]["spring_stiffness"] = 1e9;
   expectError(root, "simulation.physics_rate",
-              "use simulation.integrator dopri5 or a physics_rate of at least 18362 Hz");
+              "use simulation.integrator dopri5 or a physics_rate of at least 18400 Hz");
 }
 
 TEST(ConfigCheck, StiffMechanismIsFineWithDopri5OrAFastEnoughRate) {

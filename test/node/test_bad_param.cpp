@@ -94,7 +94,7 @@ TEST(BadParam, AbsurdRatesAndStiffnessStopTheNodeNamingTheLimit) {
       {"huge_ratio", "simulation.publish_rate' must be in [10, 1e+06] Hz, got 0.001"},
       {"slow_clock", "simulation.physics_rate' must be in [1, 1e+06] Hz"},
       {"tiny_factor", "simulation.real_time_factor' must be in [0.001, 1e+06]"},
-      {"stiff_spring", "use simulation.integrator dopri5 or a physics_rate of at least 18362 Hz"},
+      {"stiff_spring", "use simulation.integrator dopri5 or a physics_rate of at least 18400 Hz"},
       {"tiny_rod_mass", "gives equations of motion that are not finite"},
   });
 }
