@@ -77,6 +77,8 @@ set(tools_dir ${PROJECT_SOURCE_DIR}/test/tools)
 add_test(NAME sympy_crosscheck
   COMMAND /usr/bin/python3 ${tools_dir}/sympy_crosscheck_test.py ${CMAKE_BINARY_DIR})
 add_test(NAME codegen COMMAND bash ${tools_dir}/codegen_test.sh)
+# A throw-away load declared in codegen's tables reaches every part of the generated header.
+add_test(NAME throwaway_load COMMAND /usr/bin/python3 ${tools_dir}/throwaway_load_test.py)
 # The Python module (kane_sim._core and the kane_sim package): pytest, against simulate and
 # analyze, and SymPy's KanesMethod with auxiliary speeds for the reaction forces.
 add_test(NAME python_module COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
