@@ -103,7 +103,7 @@ add_test(NAME analyze_cli COMMAND /usr/bin/python3 ${tools_dir}/analyze_cli_test
 add_test(NAME config_fuzz COMMAND /usr/bin/python3 ${tools_dir}/config_fuzz_test.py ${CMAKE_BINARY_DIR} 300)
 add_test(NAME plot_bag COMMAND bash ${tools_dir}/plot_bag_test.sh ${CMAKE_BINARY_DIR})
 add_test(NAME rviz_smoke COMMAND bash ${tools_dir}/rviz_smoke_test.sh ${CMAKE_BINARY_DIR})
-set_tests_properties(rviz_smoke PROPERTIES TIMEOUT 240)
+set_tests_properties(rviz_smoke PROPERTIES TIMEOUT 360)
 add_test(NAME launches COMMAND bash ${tools_dir}/launch_test.sh ${CMAKE_BINARY_DIR})
 set_tests_properties(launches PROPERTIES TIMEOUT 180)
 add_test(NAME faults COMMAND bash ${tools_dir}/faults_test.sh ${CMAKE_BINARY_DIR})

@@ -41,7 +41,7 @@ void energyAndPower(const MechanismModel& model, const State& x, double torque, 
   const MechanismKinematics k = model.kinematics(x);
   *energy = model.energy(k, x).total();
   const LoadPowers p = loadPowers(model.loads(k, x, torque), x);
-  *power = p[LoadName::kMotor] + p.dampers();
+  *power = p[LoadName::kMotor] + p.dissipative();
 }
 
 MechanismModel modelOf(const Config& config, double rest_length) {

@@ -174,7 +174,7 @@ Eigen::Vector3d loadVector(const MechanismLoads& loads, LoadName name, Body body
 
 PowerTerms MechanismModel::power(const MechanismLoads& l, const State& x) {
   const LoadPowers each = loadPowers(l, x);
-  return {each[LoadName::kMotor], -each.dampers()};
+  return {each[LoadName::kMotor], -each.dissipative()};
 }
 
 std::optional<SliderImpact> MechanismModel::sliderImpact(const State& x, double restitution) const {

@@ -62,9 +62,13 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
   // Lanes of one equations variant run together (the single Simulator picks it per config);
   // each variant's lanes are cut into one chunk per thread, whole blocks of the width each.
   const std::size_t width = laneWidth(arch_);
+  // Each mechanism's constants once: its variant and its lane's numbers.
+  std::vector<generated::Constants> constants(size());
   std::vector<generated::RatesVariant> variants(size());
-  for (std::size_t i = 0; i < size(); ++i)
-    variants[i] = GeneratedMechanism(mechanismModel(configs_[i])).variant();
+  for (std::size_t i = 0; i < size(); ++i) {
+    constants[i] = GeneratedMechanism(mechanismModel(configs_[i])).constants();
+    variants[i] = generated::variantFor(constants[i]);
+  }
   for (generated::RatesVariant variant : generated::kRatesVariants) {
     std::vector<std::size_t> members;
     for (std::size_t i = 0; i < size(); ++i)
@@ -87,7 +91,7 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
       run.steps_per_sample = 1L << 40;  // no samples: the state is read after the call
       for (std::size_t i : chunk.members) {
         const Config& c = configs_[i];
-        run.constants.push_back(GeneratedMechanism(mechanismModel(c)).constants());
+        run.constants.push_back(constants[i]);
         run.torque_limit.push_back(c.command.torque_limit);
       }
       run.start.resize(chunk.members.size());

@@ -48,7 +48,7 @@ Snapshot Simulator::snapshot() const {
   snap.parameter_changes = parameter_changes_;
   snap.load_powers = loadPowers(loads, state_);
   snap.motor_power = snap.load_powers[LoadName::kMotor];
-  snap.dissipated_power = -snap.load_powers.dampers();
+  snap.dissipated_power = -snap.load_powers.dissipative();
   snap.contact_impacts = contact_impacts_;
   snap.spring_elongation = model_.springElongation(k.geometry);
   snap.slider_separation = k.geometry.sliderSeparation();

@@ -49,8 +49,9 @@ void bookSample(void* context, std::size_t lane, const LaneState& x) {
       std::max(ledgers.error[lane], std::abs(balance - ledgers.start_balance[lane]));
 }
 
-void runGroup(const std::vector<size_t>& members, const std::vector<const Config*>& configs,
-              const SweepSettings& settings, LaneArch arch, std::vector<SweepResult*>& results) {
+void runGroup(generated::RatesVariant variant, const std::vector<size_t>& members,
+              const std::vector<const Config*>& configs, const SweepSettings& settings,
+              LaneArch arch, std::vector<SweepResult*>& results) {
   const auto wall_start = std::chrono::steady_clock::now();
   const Config& first = *configs[members.front()];
   const double rate = first.simulation.physics_rate;
@@ -58,7 +59,7 @@ void runGroup(const std::vector<size_t>& members, const std::vector<const Config
   const long steps = std::lround(settings.duration * rate);
   LaneRun run;
   run.step = step;
-  run.variant = GeneratedMechanism(mechanismModel(first)).variant();
+  run.variant = variant;  // the group's, chosen once per case when grouping
   run.steps_per_sample = std::max(1L, std::lround(rate / settings.ledger_rate));
   run.stop = settings.stop;
   run.vector_trig = settings.vector_trig;
@@ -116,7 +117,8 @@ void runSweepLanes(const std::vector<const Config*>& configs, const SweepSetting
     const auto variant = GeneratedMechanism(mechanismModel(*configs[i])).variant();
     groups[{configs[i]->simulation.physics_rate, variant}].push_back(i);
   }
-  for (const auto& group : groups) runGroup(group.second, configs, settings, arch, results);
+  for (const auto& group : groups)
+    runGroup(group.first.second, group.second, configs, settings, arch, results);
 }
 
 }  // namespace kane_sim

@@ -21,7 +21,7 @@ struct LoadPowers {
 
   double operator[](LoadName name) const { return by_name[static_cast<int>(name)]; }
   double& operator[](LoadName name) { return by_name[static_cast<int>(name)]; }
-  double dampers() const {  // <= 0: every dissipative load (dampers, friction)
+  double dissipative() const {  // <= 0: every dissipative load (dampers, friction)
     double sum = 0.0;
     for (int n = 0; n < kNumLoadNames; ++n)
       if (kLoadInfo[n].dissipative) sum += by_name[n];
