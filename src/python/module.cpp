@@ -12,4 +12,5 @@ PYBIND11_MODULE(_core, m) {
   kane_sim::python::bindAnalysis(m);
   kane_sim::python::bindIdentify(m);
   kane_sim::python::bindBatch(m);
+  kane_sim::python::bindCli(m);
 }

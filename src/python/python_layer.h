@@ -88,6 +88,7 @@ void bindSimulator(py::module_& m);
 void bindAnalysis(py::module_& m);
 void bindIdentify(py::module_& m);
 void bindBatch(py::module_& m);
+void bindCli(py::module_& m);
 
 }  // namespace python
 }  // namespace kane_sim

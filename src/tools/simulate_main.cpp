@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "kane_sim/cli/simulate_options.h"
 #include "kane_sim/config/input_file.h"
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/ros/bag_writer.h"
@@ -31,19 +32,18 @@
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/sweep.h"
 #include "kane_sim/sim/torque_profile.h"
-#include "simulate/options.h"
 #include "simulate/outputs.h"
 #include "simulate/replay.h"
 
 using kane_sim::ConfigError;
-using simulate::CsvOutput;
-using simulate::describeOptions;
-using simulate::num;
-using simulate::Options;
-using simulate::OutputError;
+using kane_sim::cli::CsvOutput;
+using kane_sim::cli::describeOptions;
+using kane_sim::cli::num;
+using kane_sim::cli::Options;
+using kane_sim::cli::OutputError;
+using kane_sim::cli::parseOptions;
+using kane_sim::cli::UsageError;
 using simulate::Outputs;
-using simulate::parseOptions;
-using simulate::UsageError;
 
 namespace {
 
@@ -67,28 +67,7 @@ extern "C" void onStopSignal(int signal) {
 
 // Sweep mode: every case through the library's runSweep, one row each, in case order.
 int runSweepMode(const Options& options, const YAML::Node& base) {
-  kane_sim::SweepPlan plan;
-  try {
-    if (!options.sweep_file.empty()) {
-      std::ifstream in =
-          kane_sim::openInputFile(options.sweep_file, "sweep file", kane_sim::kMaxTableBytes);
-      plan = kane_sim::sweepFromCsv(in);
-    } else {
-      std::vector<kane_sim::SweepAxis> axes;
-      for (const std::string& spec : options.sweep_axes)
-        axes.push_back(kane_sim::parseSweepAxis(spec));
-      plan = kane_sim::sweepGrid(axes);
-    }
-  } catch (const std::invalid_argument& e) {
-    throw UsageError((options.sweep_file.empty() ? "" : "--sweep-file: ") + std::string(e.what()));
-  }
-  // Every key is checked before anything runs: a typo (or an unknown section) would otherwise
-  // sweep the base config. A value the loader refuses is that case's row (config_refused).
-  try {
-    kane_sim::checkSweepKeys(plan);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
-  }
+  const kane_sim::SweepPlan plan = kane_sim::cli::sweepPlan(options);
   kane_sim::SweepSettings settings;
   settings.duration = options.duration;
   if (options.profile_given) settings.torque = options.profile;

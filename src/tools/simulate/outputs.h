@@ -1,5 +1,5 @@
-// Where simulate's rows go: a CSV (a file, staged as FILE.partial and renamed when complete, or
-// stdout) and/or a bag, both fed from the same snapshots. A write that fails is an OutputError.
+// Where simulate's rows go: a CSV (kane_sim/cli/staged_output.h) and/or a bag, both fed from the
+// same snapshots. A write that fails is an OutputError.
 #ifndef KANE_SIM_TOOLS_SIMULATE_OUTPUTS_H
 #define KANE_SIM_TOOLS_SIMULATE_OUTPUTS_H
 
@@ -8,80 +8,20 @@
 #include <stdexcept>
 #include <string>
 
+#include "kane_sim/cli/simulate_options.h"
+#include "kane_sim/cli/staged_output.h"
 #include "kane_sim/config/config.h"
 #include "kane_sim/description/robot_description.h"
 #include "kane_sim/ros/bag_writer.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/snapshot.h"
-#include "simulate/options.h"
 
 namespace simulate {
 
-struct OutputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-// An output written under FILE.partial and renamed to FILE when complete (also when the run is
-// interrupted or refused a step: what was simulated is kept): an existing FILE is replaced only
-// by a finished one, and an interrupted run never leaves a truncated FILE behind. A FILE that
-// exists and is not a regular file (/dev/stdout, a pipe) is written directly.
-class StagedPath {
- public:
-  explicit StagedPath(std::string path) : path_(std::move(path)), staging_(path_ + ".partial") {
-    std::error_code error;
-    if (std::filesystem::exists(path_, error) && !std::filesystem::is_regular_file(path_, error)) {
-      staging_ = path_;
-      published_ = true;
-    }
-  }
-  StagedPath(const StagedPath&) = delete;
-  StagedPath& operator=(const StagedPath&) = delete;
-  ~StagedPath() {
-    std::error_code error;
-    if (!published_) std::filesystem::remove(staging_, error);  // an output error: no debris
-  }
-  const std::string& staging() const { return staging_; }
-  void publish() {
-    if (staging_ == path_) return;
-    std::error_code error;
-    std::filesystem::rename(staging_, path_, error);
-    if (error)
-      throw OutputError("cannot rename '" + staging_ + "' to '" + path_ + "': " + error.message());
-    published_ = true;
-  }
-
- private:
-  std::string path_, staging_;
-  bool published_ = false;
-};
-
-// The CSV: --csv FILE (staged, see StagedPath) or stdout.
-class CsvOutput {
- public:
-  explicit CsvOutput(const std::string& path) {
-    if (path.empty()) return;
-    staged_ = std::make_unique<StagedPath>(path);
-    file_.open(staged_->staging());
-    if (!file_) throw OutputError("cannot write --csv '" + path + "'");
-  }
-  std::ostream& stream() { return staged_ ? static_cast<std::ostream&>(file_) : std::cout; }
-  // Flushed: what was written survives a crash (in FILE.partial).
-  void flush() {
-    stream().flush();
-    if (!stream()) throw OutputError("writing the CSV failed (disk full?)");
-  }
-  // The last bytes out and the file in place.
-  void finish() {
-    flush();
-    if (!staged_) return;
-    file_.close();
-    staged_->publish();
-  }
-
- private:
-  std::unique_ptr<StagedPath> staged_;
-  std::ofstream file_;
-};
+using kane_sim::cli::CsvOutput;
+using kane_sim::cli::Options;
+using kane_sim::cli::OutputError;
+using kane_sim::cli::StagedPath;
 
 // Where the rows go: a CSV stream and/or a bag, both fed from the same snapshots.
 class Outputs {

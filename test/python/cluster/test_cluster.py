@@ -197,13 +197,20 @@ def test_an_unreachable_scheduler_is_named(tmp_path, monkeypatch):
     (["--duration", "1", "--simd", "avx9", *GRID], "avx9"),
     (["--duration", "1", "--csv", "", *GRID], "--csv needs a file name"),
     (["--duration", "1", "--csv", "/tmp", *GRID], "is a folder"),
-    (["--duration", "1"], "one of the arguments --sweep --sweep-file is required"),
-    (["--duration", "1", "--swee", "a=1:2:3", *GRID], "unrecognized arguments: --swee"),
-    (["--duration", "1", "--torque", "1", "--torque-sine", "1,1", *GRID], "not allowed with"),
-    (["--duration", "1_0", *GRID], "--duration takes a number, got '1_0'"),
-    (["--duration", "2 ", *GRID], "--duration takes a number"),
-    (["--duration", "1", "--duration", "2", *GRID], "--duration given more than once"),
-    (["--duration", "1", "--jobs", "100000", *GRID], "jobs must be in [0,"),
+    (["--duration", "1"], "give --sweep KEY=START:STOP:COUNT"),
+    (["--duration", "1", "--swee", "a=1:2:3", *GRID], "unrecognised option '--swee'"),
+    (["--duration", "1", "--torque", "1", "--torque-sine", "1,1", *GRID], "at most one of"),
+    (["--duration", "1_0", *GRID], "('1_0') for option '--duration' is invalid"),
+    (["--duration", "2 ", *GRID], "for option '--duration' is invalid"),
+    (["--duration", "1", "--duration", "2", *GRID], "'--duration' cannot be specified more than once"),
+    (["--duration", "1", "--chunk", "2", "--chunk", "3", *GRID], "--chunk given more than once"),
+    (["--duration", "1", "--scheduler", "--sweep", "a=1:2:3"], "--scheduler needs a value"),
+    (["--dur", "1", *GRID], "unrecognised option '--dur'"),
+    (["--duration", "1", "--replay", "x.bag", *GRID], "--replay takes the bag's inputs"),
+    (["--duration", "1", "--bag", "x.bag", *GRID], "--bag writes one run's topics"),
+    (["--duration", "1", "--jobs", "2", "--scheduler", "tcp://127.0.0.1:1", *GRID],
+     "with --scheduler the cluster's workers decide"),
+    (["--duration", "1", "--jobs", "100000", *GRID], "--jobs must be in [1,"),
     (["--duration", "1", "--scheduler", "", *GRID], "--scheduler needs"),
     (["--duration", "1", "--scheduler", "nofile.json", *GRID], "nofile.json does not exist"),
     (["--duration", "1", "--scheduler", "garbage", *GRID], "scheduler garbage cannot be reached"),
@@ -285,3 +292,16 @@ def test_a_lost_scheduler_and_a_worker_without_kane_sim_are_named(tmp_path):
     assert sweep.returncode == 5 and "tasks were lost on the cluster" in err and "kept the" in err, err
     assert "Traceback" not in err
     assert 8 <= len(rows_without_wall_time(out)) - 1 < 600
+
+
+@pytest.mark.parametrize("bad", [["--duration", "-1"], ["--torque-sine", "2,x"], ["--dur", "1"],
+                                 ["--simd", "avx9"], ["--integrator", "euler"],
+                                 ["--output-rate", "0"]])
+def test_cli_gives_simulates_message_for_simulates_flags(bad):
+    # One grammar: sweep reads simulate's flags with simulate's parser, so the words agree.
+    args = [*(["--duration", "1"] if "--duration" not in bad else []), *bad, *GRID]
+    mine = run_tool("sweep", *args, check=False)
+    theirs = run_tool("simulate", *args, check=False)
+    assert mine.returncode == theirs.returncode == 2, (mine.stderr, theirs.stderr)
+    message = theirs.stderr.splitlines()[0].replace("error: ", "", 1)
+    assert "sweep: error: " + message in mine.stderr, (mine.stderr, theirs.stderr)

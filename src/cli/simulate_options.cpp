@@ -1,20 +1,22 @@
-#include "simulate/options.h"
+#include "kane_sim/cli/simulate_options.h"
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include "kane_sim/batch/lanes.h"
+#include "kane_sim/config/input_file.h"
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/sim/output_grid.h"
 #include "kane_sim/sim/sweep.h"
 
 namespace po = boost::program_options;
 
-namespace simulate {
-namespace {}  // namespace
+namespace kane_sim {
+namespace cli {
 
 po::options_description describeOptions() {
   po::options_description desc(
@@ -118,7 +120,10 @@ bool parseOptions(int argc, char** argv, Options* options) {
   const po::options_description desc = describeOptions();
   po::variables_map vm;
   try {
-    po::store(po::parse_command_line(argc, argv, desc), vm);
+    // No abbreviations: --dur would be --duration, and a typo of one flag another's.
+    const int style =
+        po::command_line_style::default_style & ~po::command_line_style::allow_guessing;
+    po::store(po::command_line_parser(argc, argv).options(desc).style(style).run(), vm);
     if (vm.count("help")) {
       std::cout << desc << "\n";
       return false;
@@ -195,9 +200,14 @@ bool parseOptions(int argc, char** argv, Options* options) {
   }
   if (vm.count("csv")) options->csv_path = vm["csv"].as<std::string>();
   if (vm.count("bag")) options->bag_path = vm["bag"].as<std::string>();
-  for (const char* flag : {"csv", "bag"})
-    if (vm.count(flag) && vm[flag].as<std::string>().empty())
-      throw UsageError(std::string("--") + flag + " needs a file name, got ''");
+  for (const char* flag : {"csv", "bag"}) {
+    if (!vm.count(flag)) continue;
+    const std::string& path = vm[flag].as<std::string>();
+    if (path.empty()) throw UsageError(std::string("--") + flag + " needs a file name, got ''");
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error))
+      throw UsageError(std::string("--") + flag + " " + path + " is a folder: give a file name");
+  }
   // Two outputs, or an output and the config, in one file would destroy each other.
   const auto same = [](const std::string& a, const std::string& b) {
     std::error_code error;
@@ -222,4 +232,44 @@ bool parseOptions(int argc, char** argv, Options* options) {
   return true;
 }
 
-}  // namespace simulate
+Options parseArguments(const std::vector<std::string>& arguments) {
+  for (const std::string& argument : arguments)
+    if (argument == "--help" || argument == "-h")
+      throw UsageError(argument + " is the caller's: simulate's options take no --help here");
+  std::vector<std::string> storage{"simulate"};
+  storage.insert(storage.end(), arguments.begin(), arguments.end());
+  std::vector<char*> argv;
+  for (std::string& text : storage) argv.push_back(text.data());
+  Options options;
+  parseOptions(static_cast<int>(argv.size()), argv.data(), &options);
+  return options;
+}
+
+kane_sim::SweepPlan sweepPlan(const Options& options) {
+  kane_sim::SweepPlan plan;
+  try {
+    if (!options.sweep_file.empty()) {
+      std::ifstream in =
+          kane_sim::openInputFile(options.sweep_file, "sweep file", kane_sim::kMaxTableBytes);
+      plan = kane_sim::sweepFromCsv(in);
+    } else {
+      std::vector<kane_sim::SweepAxis> axes;
+      for (const std::string& spec : options.sweep_axes)
+        axes.push_back(kane_sim::parseSweepAxis(spec));
+      plan = kane_sim::sweepGrid(axes);
+    }
+  } catch (const std::invalid_argument& e) {
+    throw UsageError((options.sweep_file.empty() ? "" : "--sweep-file: ") + std::string(e.what()));
+  }
+  // Every key is checked before anything runs: a typo (or an unknown section) would otherwise
+  // sweep the base config. A value the loader refuses is that case's row (config_refused).
+  try {
+    kane_sim::checkSweepKeys(plan);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  return plan;
+}
+
+}  // namespace cli
+}  // namespace kane_sim

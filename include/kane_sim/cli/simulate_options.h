@@ -1,7 +1,8 @@
 // simulate's command line: the options, their parsing and checks (a bad flag is a UsageError
-// naming it and the value).
-#ifndef KANE_SIM_TOOLS_SIMULATE_OPTIONS_H
-#define KANE_SIM_TOOLS_SIMULATE_OPTIONS_H
+// naming it and the value). One grammar for every tool that takes simulate's flags: simulate
+// itself and scripts/sweep (through kane_sim._core.simulate_options).
+#ifndef KANE_SIM_CLI_SIMULATE_OPTIONS_H
+#define KANE_SIM_CLI_SIMULATE_OPTIONS_H
 
 #include <optional>
 #include <stdexcept>
@@ -10,9 +11,11 @@
 
 #include <boost/program_options.hpp>
 
+#include "kane_sim/sim/sweep.h"
 #include "kane_sim/sim/torque_profile.h"
 
-namespace simulate {
+namespace kane_sim {
+namespace cli {
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -44,9 +47,16 @@ struct Options {
 boost::program_options::options_description describeOptions();
 // Fills `options` from the command line; false after --help (printed). Throws UsageError.
 bool parseOptions(int argc, char** argv, Options* options);
+// The same for arguments without the program's name (argv[1:]); --help is a UsageError naming
+// it (a caller with its own help text prints that).
+Options parseArguments(const std::vector<std::string>& arguments);
+// A sweep's cases from --sweep axes or --sweep-file, every key checked against the schema
+// (a typo would sweep the base config). Throws UsageError naming the flag.
+kane_sim::SweepPlan sweepPlan(const Options& options);
 // Numbers in simulate's messages: shortest exact-enough form (1e+12, 0.5, 300).
 std::string num(double value);
 
-}  // namespace simulate
+}  // namespace cli
+}  // namespace kane_sim
 
-#endif  // KANE_SIM_TOOLS_SIMULATE_OPTIONS_H
+#endif  // KANE_SIM_CLI_SIMULATE_OPTIONS_H
