@@ -117,7 +117,7 @@ def main(build_dir):
     for integrator, rate, tol, label in cases:
         rows, _ = simulate(build_dir, duration, rate, integrator, tol)
         long_rows, wall = simulate(build_dir, 60.0, rate, integrator, tol)
-        drift = np.max(np.abs(long_rows["energy"] - long_rows["energy"][0]))
+        drift = np.max(np.abs(long_rows["total_energy"] - long_rows["total_energy"][0]))
         print("| %s | %s | %.2e | %.2e | %.2e | %.1f |"
               % (integrator, label, abs(rows["q1"][-1] - reference[0]), abs(rows["q2"][-1] - reference[1]),
                  drift, wall * 1e3))

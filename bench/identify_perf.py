@@ -28,7 +28,7 @@ def main():
     truth = kane_sim.Config().with_values({"mechanism.rod_mass": 1.3, "damping.slider4_joint": 1.1,
                                            "command.torque_limit": 60.0})
     r = kane_sim.Simulator(truth).run(60.0, torque=torque)
-    data = {k: np.array(r[k]) for k in ("t", "q1", "q2", "u1", "u2", "torque")}
+    data = {k: np.array(r[k]) for k in ("t", "q1", "q2", "u1", "u2", "applied_torque")}
     motion = identify.load_motion(data)
     fast = median_time(lambda: identify.identify(motion, None, validate=False, holdout=0))
     print("60 s at 1 kHz (%d samples), energy form as recorded: %.3f s" % (len(motion), fast))

@@ -24,7 +24,7 @@ os.makedirs(out_dir, exist_ok=True)
 sim = kane_sim.Simulator()  # the package's config/mechanism.yaml
 r = sim.run(2.0, torque=lambda t, x: 400 * (1.0 - x[0]) - 30 * x[2], output_rate=100)
 print("PD swing-up: q1 %.3f -> %.3f rad, peak torque %.1f N m"
-      % (r.q[0, 0], r.q[-1, 0], np.abs(r.torque).max()))
+      % (r.q[0, 0], r.q[-1, 0], np.abs(r.applied_torque).max()))
 gif = os.path.join(out_dir, "crank.gif")
 kane_sim.animate(r, save=gif, fps=20)
 print("animation ->", gif)

@@ -23,7 +23,7 @@ po::options_description describeOptions() {
       "Usage: simulate [--config FILE] --duration SECONDS [options]\n\n"
       "Simulates the textbook example's mechanism (Kane equations - Example 1) offline (no ROS "
       "master). Writes a CSV with the\n"
-      "header t,q1,q2,u1,u2,energy,... (rows every 1/output-rate s from t = 0 to the duration)\n"
+      "header t,q1,q2,u1,u2,total_energy,... (rows every 1/output-rate s from t = 0 to the duration)\n"
       "to stdout or --csv FILE, and/or a bag (--bag FILE) with the topics the node publishes,\n"
       "stamped in sim time from 1000000000 s. With --bag and no --csv, no CSV is written.\n\n"
       "Torque (at most one; default 0; clamped to command.torque_limit like the node):\n"

@@ -58,7 +58,8 @@ def animate(result, rod_half_length=None, fps=25, speed=1.0, save=None, html=Fal
     rows = np.clip(np.searchsorted(t, frame_times, side="right") - 1, 0, len(t) - 1)
     q1 = np.asarray(result["q1"], dtype=float)[rows]
     q2 = np.asarray(result["q2"], dtype=float)[rows]
-    torque = np.asarray(result["torque"], dtype=float)[rows] if "torque" in result else None
+    torque = (np.asarray(result["applied_torque"], dtype=float)[rows]
+              if "applied_torque" in result else None)
     points = _core.mechanism_points(float(rod_half_length), q1, q2)
     O, A, B, C = (np.column_stack(_screen(points[k])) for k in ("O", "A", "B", "C"))
 

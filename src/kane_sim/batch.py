@@ -16,7 +16,7 @@ import threading
 
 import numpy as np
 
-from kane_sim import _core
+from kane_sim import _core, columns
 from kane_sim.core import Config
 
 MAX_MECHANISMS = 1_000_000  # state ~1 KB a mechanism on lanes, ~7 KB on drivers: 1 / 7 GB
@@ -256,7 +256,13 @@ class VectorEnv:
         self.max_episode_steps = int(max_episode_steps)
         self.reward = reward or self._default_reward
         self._sensors = self.sim._batch.sensors
-        self.single_observation_shape = (8,) if self._sensors else (4,)
+        # What each observation column is: the state's columns of the output table, or each
+        # joint's reading (position_<joint> then velocity_<joint>, the joint_states order).
+        joints = _core.joint_names()
+        self.observation_names = tuple(
+            ["position_" + j for j in joints] + ["velocity_" + j for j in joints]
+            if self._sensors else columns.STATE)
+        self.single_observation_shape = (len(self.observation_names),)
         self.single_action_shape = ()
         self._mode = [self.sim.config(i)["command.mode"] for i in range(self.num_envs)]
         self.action_high = np.array([self._action_range(i) for i in range(self.num_envs)])
@@ -274,7 +280,7 @@ class VectorEnv:
         return 2e6 * np.pi  # position: a million turns
 
     def _default_reward(self, obs, actions):
-        u1 = obs[:, 4] if self._sensors else obs[:, 2]
+        u1 = obs[:, self.observation_names.index("velocity_crank_joint" if self._sensors else "u1")]
         effort = np.array([m == "effort" for m in self._mode])
         delivered = np.clip(actions, self.action_low, self.action_high)
         return u1 - 1e-3 * np.where(effort, np.square(delivered), 0.0)

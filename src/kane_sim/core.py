@@ -4,6 +4,7 @@ one driver: SimDriver, stepped by simulate's loop), analyze (analyze --json), sw
 ValueError a refused input, StepRefused (a RuntimeError) a refused step."""
 import json
 import os
+import warnings
 from collections.abc import Mapping
 
 import numpy as np
@@ -133,7 +134,7 @@ def load_config(source=None):
 
 class Result(Mapping):
     """A run's outputs: one NumPy array per column of simulate's CSV (result["pin_o_x"], ...,
-    `list(result)` names them), and the usual groups: t, q (N x 2), u, u_dot, torque,
+    `list(result)` names them), and the usual groups: t, q (N x 2), u, u_dot, applied_torque,
     energies, ledger, reactions, powers, kinetic_per_body."""
 
     def __init__(self, columns, config=None, sensors=None):
@@ -146,7 +147,7 @@ class Result(Mapping):
 
     def __getitem__(self, name):
         try:
-            return self.columns[name]
+            return self.columns[columns.current_name(name)]
         except KeyError:
             raise KeyError("%r is not a column of this result; the columns are: %s"
                            % (name, ", ".join(self.columns))) from None
@@ -168,22 +169,29 @@ class Result(Mapping):
     @property
     def q(self):
         """(q1 [rad], q2 [m]) per row: N x 2."""
-        return self._stack("q1", "q2")
+        return self._stack(*columns.Q)
 
     @property
     def u(self):
         """(u1 [rad/s], u2 [m/s]) per row: N x 2."""
-        return self._stack("u1", "u2")
+        return self._stack(*columns.U)
 
     @property
     def u_dot(self):
         """(u1', u2') per row: N x 2, from the equations the integrator stepped."""
-        return self._stack("u1dot", "u2dot")
+        return self._stack(*columns.U_DOT)
+
+    @property
+    def applied_torque(self):
+        """The torque delivered [N m] per row (clamped, the motor line)."""
+        return self.columns["applied_torque"]
 
     @property
     def torque(self):
-        """The torque delivered [N m] per row (clamped, the motor line)."""
-        return self.columns["torque"]
+        """Deprecated: applied_torque (Simulator's held command is commanded_torque)."""
+        warnings.warn("Result.torque is now Result.applied_torque (the former name goes in the "
+                      "next release)", DeprecationWarning, stacklevel=2)
+        return self.applied_torque
 
     def _group(self, names):
         return {name: self.columns[name] for name in names}
@@ -269,9 +277,17 @@ class Simulator:
         return self._sim.step_size
 
     @property
+    def commanded_torque(self):
+        """The torque [N m] (servo modes: the setpoint) that step() holds: the command, before
+        the clamp and the motor line (a run's Result.applied_torque is what was delivered)."""
+        return self._sim.commanded_torque
+
+    @property
     def torque(self):
-        """The torque [N m] (servo modes: the setpoint) that step() holds."""
-        return self._sim.torque
+        """Deprecated: commanded_torque."""
+        warnings.warn("Simulator.torque is now Simulator.commanded_torque (the former name goes "
+                      "in the next release)", DeprecationWarning, stacklevel=2)
+        return self.commanded_torque
 
     def set_state(self, state):
         """(q1, q2, u1, u2); refused (ValueError, the driver's reason) like ~set_state."""

@@ -21,7 +21,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from kane_sim import _core
+from kane_sim import _core, columns
 from kane_sim.core import Config, Simulator
 
 __all__ = ["Motion", "Identification", "identify", "load_motion", "excitation", "simulate_motion"]
@@ -72,10 +72,12 @@ def _check_file(path):
 
 
 def _columns_from_mapping(data, source):
+    data = columns.renamed_columns(dict(data))  # "torque" of an older CSV or script
+
     def column(name, required=True):
         if name not in data:
             if required:
-                raise ValueError("data (%s) has no column '%s' (it needs t, q1, q2, torque; u1 and "
+                raise ValueError("data (%s) has no column '%s' (it needs t, q1, q2, applied_torque; u1 and "
                                  "u2 are used when present)" % (source, name))
             return None
         try:
@@ -86,7 +88,7 @@ def _columns_from_mapping(data, source):
             raise ValueError("data (%s): column '%s' must be one-dimensional, got shape %s"
                              % (source, name, values.shape))
         return values
-    cols = {n: column(n) for n in ("t", "q1", "q2", "torque")}
+    cols = {n: column(n) for n in ("t", "q1", "q2", "applied_torque")}
     u1, u2 = column("u1", False), column("u2", False)
     lengths = {n: len(v) for n, v in cols.items()}
     if u1 is not None and u2 is not None:
@@ -170,7 +172,7 @@ def _read_bag(path, topic=None):
     if not rows:
         raise ValueError("data: %s has no messages on %s" % (path, topic))
     a = np.array(rows, dtype=float)
-    out = {"t": a[:, 0], "q1": a[:, 1], "q2": a[:, 2], "torque": a[:, 5]}
+    out = {"t": a[:, 0], "q1": a[:, 1], "q2": a[:, 2], "applied_torque": a[:, 5]}
     if has_velocity:
         out.update(u1=a[:, 3], u2=a[:, 4])
     return out, "%s %s" % (path, topic)
@@ -245,7 +247,7 @@ def _uniform(cols, source):
                     for key, v in cols.items()}
     q = np.column_stack([cols["q1"], cols["q2"]])
     u = np.column_stack([cols["u1"], cols["u2"]]) if "u1" in cols else None
-    return Motion(cols["t"], q, u, cols["torque"], source, notes)
+    return Motion(cols["t"], q, u, cols["applied_torque"], source, notes)
 
 
 def _window(rate, bandwidth, polyorder=3):

@@ -19,8 +19,9 @@ FIGURE_SIZE = (12, 10.5)  # inches
 DPI = 100                 # -> 1200 x 1050 pixels
 
 # What every run has (older CSVs and bags too), and what newer ones add.
-REQUIRED = ("t", "q1", "q2", "u1", "u2", "torque", "kinetic", "gravitational", "spring", "energy",
-            "motor_work", "dissipated_energy", "energy_balance")
+REQUIRED = ("t", "q1", "q2", "u1", "u2", "applied_torque", "kinetic_energy",
+            "gravitational_energy", "spring_energy", "total_energy", "motor_work",
+            "dissipated_energy", "energy_balance")
 POWERS = tuple((name, "motor M_m u1" if short == "motor" else short.replace("_", " "))
                for short, name in columns.POWERS)  # (column, legend label)
 REACTIONS = columns.REACTIONS
@@ -103,10 +104,11 @@ def read_csv(path):
         reader = csv.DictReader(f)
         rows = list(reader)
         header = reader.fieldnames or []
-    missing = [k for k in REQUIRED if k not in header]
+    table = columns.renamed_columns({k: [float(r[k]) for r in rows] for k in header})
+    missing = [k for k in REQUIRED if k not in table]
     if missing:
         raise ValueError("CSV lacks columns %s" % ", ".join(missing))
-    return {k: [float(r[k]) for r in rows] for k in header}
+    return table
 
 
 def _legend_outside(ax, handles=None, labels=None):
@@ -149,11 +151,12 @@ def plot_run(data, out=None, title="", compare=None, compare_label=""):
     h1, l1 = ax.get_legend_handles_labels()
     h2, l2 = speed2.get_legend_handles_labels()
     _legend_outside(ax, h1 + h2, l1 + l2)
-    axes[3].plot(t, data["torque"], color="tab:red", label="applied M_m")
+    axes[3].plot(t, data["applied_torque"], color="tab:red", label="applied M_m")
     axes[3].set_ylabel("torque [N m]")
     ax = axes[4]
-    for key, label in (("kinetic", "kinetic T"), ("gravitational", "gravitational V_g"),
-                       ("spring", "spring V_s"), ("energy", "total E"), ("motor_work", "motor work W"),
+    for key, label in (("kinetic_energy", "kinetic T"),
+                       ("gravitational_energy", "gravitational V_g"),
+                       ("spring_energy", "spring V_s"), ("total_energy", "total E"), ("motor_work", "motor work W"),
                        ("dissipated_energy", "dissipated D")):
         ax.plot(t, data[key], label=label)
     ax.set_ylabel("energy [J]")
@@ -213,8 +216,8 @@ def plot_reactions(data, out=None, title="Reaction forces (Kane's method, auxili
     panels = [("pin O: ground on rod 1", (("pin_o_x", "x (down)"), ("pin_o_y", "y")))]
     panels.append(("pin A: rod 1 on rod 2", (("pin_a_x", "x (down)"), ("pin_a_y", "y"))))
     panels.append(("pin B: rod 2 on slider 3", (("pin_b_x", "x (down)"), ("pin_b_y", "y"))))
-    panels.append(("rails and spring", (("rail_slider3", "rail on slider 3 (y)"),
-                                        ("rail_slider4", "rail on slider 4 (y)"),
+    panels.append(("rails and spring", (("rail_force_slider3", "rail on slider 3 (y)"),
+                                        ("rail_force_slider4", "rail on slider 4 (y)"),
                                         ("spring_force", "spring k e on slider 4 (x)"))))
     for ax, (label, curves) in zip(axes, panels):
         largest = 0.0

@@ -530,10 +530,12 @@ void bindSimulator(py::module_& m) {
       [] {
         py::list out;
         for (const CsvColumn& c : csvColumns())
-          out.append(py::make_tuple(c.name, c.group, c.key, c.message_field, c.message_index));
+          out.append(py::make_tuple(c.name, c.group, c.key, c.message_field, c.message_index,
+                                    c.formerly));
         return out;
       },
-      "The output quantities in CSV order: (column, group, key, message field, index or -1).");
+      "The output quantities in CSV order: (column, group, key, message field, index or -1, "
+      "the column's former name or '').");
   py::class_<PythonSimulator>(m, "Simulator")
       .def(py::init<const PythonConfig&>(), py::arg("config"))
       .def_property_readonly("config", &PythonSimulator::config)
@@ -545,7 +547,7 @@ void bindSimulator(py::module_& m) {
       .def("set_state", &PythonSimulator::setState, py::arg("state"))
       .def("reset", &PythonSimulator::reset)
       .def("set_torque", &PythonSimulator::setTorque, py::arg("torque"))
-      .def_property_readonly("torque", &PythonSimulator::heldTorque)
+      .def_property_readonly("commanded_torque", &PythonSimulator::heldTorque)
       .def("step", &PythonSimulator::step, py::arg("n") = 1)
       .def("run", &PythonSimulator::run, py::arg("duration"), py::arg("torque") = py::none(),
            py::arg("output_rate") = py::none())

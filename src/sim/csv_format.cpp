@@ -12,8 +12,8 @@ using Value = std::function<double(const Snapshot&)>;
 
 // A column of its own group, keyed by its name.
 CsvColumn column(const char* name, const char* group, const char* message_field, int index,
-                 Value value) {
-  return {name, group, name, message_field, index, std::move(value)};
+                 Value value, const char* formerly = "") {
+  return {name, group, name, message_field, index, std::move(value), formerly};
 }
 
 std::vector<CsvColumn> makeColumns() {
@@ -23,19 +23,20 @@ std::vector<CsvColumn> makeColumns() {
       column("q2", "state", "q", 1, [](const Snapshot& s) { return s.state.q2; }),
       column("u1", "state", "u", 0, [](const Snapshot& s) { return s.state.u1; }),
       column("u2", "state", "u", 1, [](const Snapshot& s) { return s.state.u2; }),
-      column("energy", "energy", "total_energy", -1,
-             [](const Snapshot& s) { return s.energy.total(); }),
+      column("total_energy", "energy", "total_energy", -1,
+             [](const Snapshot& s) { return s.energy.total(); }, "energy"),
       column("u1dot", "equations", "u_dot", 0, [](const Snapshot& s) { return s.u_dot[0]; }),
       column("u2dot", "equations", "u_dot", 1, [](const Snapshot& s) { return s.u_dot[1]; }),
-      column("torque", "command", "applied_torque", -1, [](const Snapshot& s) { return s.torque; }),
+      column("applied_torque", "command", "applied_torque", -1,
+             [](const Snapshot& s) { return s.torque; }, "torque"),
       column("motor_work", "ledger", "motor_work", -1,
              [](const Snapshot& s) { return s.motor_work; }),
-      column("kinetic", "energy", "kinetic_energy", -1,
-             [](const Snapshot& s) { return s.energy.kinetic; }),
-      column("gravitational", "energy", "gravitational_energy", -1,
-             [](const Snapshot& s) { return s.energy.gravitational; }),
-      column("spring", "energy", "spring_energy", -1,
-             [](const Snapshot& s) { return s.energy.spring; }),
+      column("kinetic_energy", "energy", "kinetic_energy", -1,
+             [](const Snapshot& s) { return s.energy.kinetic; }, "kinetic"),
+      column("gravitational_energy", "energy", "gravitational_energy", -1,
+             [](const Snapshot& s) { return s.energy.gravitational; }, "gravitational"),
+      column("spring_energy", "energy", "spring_energy", -1,
+             [](const Snapshot& s) { return s.energy.spring; }, "spring"),
       column("energy_minus_work", "derived", "", -1,
              [](const Snapshot& s) { return s.energy.total() - s.motor_work; }),
       column("F1", "equations", "active_forces", 0,
@@ -45,14 +46,15 @@ std::vector<CsvColumn> makeColumns() {
       column("spring_elongation", "geometry", "spring_elongation", -1,
              [](const Snapshot& s) { return s.spring_elongation; }),
   };
-  // The loads' powers [W], one per name of the model's load list (Σ = dT/dt). The motor's
-  // column kept its older name, motor_power, here among the ledger's; the others follow.
+  // The loads' powers [W], power_<load> for each name of the model's load list (Σ = dT/dt). The
+  // motor's comes here, where its older name motor_power stood; the others follow.
   auto loadPower = [](int n) {
     return [n](const Snapshot& s) { return s.load_powers.by_name[n]; };
   };
-  const auto loadPowerColumn = [&](int n, std::string name) {
+  const auto loadPowerColumn = [&](int n, std::string formerly) {
     const std::string load = kLoadInfo[n].name;
-    return CsvColumn{std::move(name), "power", load, "load_powers", n, loadPower(n)};
+    return CsvColumn{"power_" + load, "power", load,       "load_powers",
+                     n,               loadPower(n), std::move(formerly)};
   };
   const int motor = static_cast<int>(LoadName::kMotor);
   c.push_back(loadPowerColumn(motor, "motor_power"));
@@ -79,15 +81,19 @@ std::vector<CsvColumn> makeColumns() {
                       [](const Snapshot& s) { return s.constraint_forces.pin_b.x(); }),
                column("pin_b_y", "reaction", "pin_b_force", 1,
                       [](const Snapshot& s) { return s.constraint_forces.pin_b.y(); }),
-               column("rail_slider3", "reaction", "rail_force_slider3", -1,
-                      [](const Snapshot& s) { return s.constraint_forces.rail_slider3; }),
-               column("rail_slider4", "reaction", "rail_force_slider4", -1,
-                      [](const Snapshot& s) { return s.constraint_forces.rail_slider4; }),
+               column(
+                   "rail_force_slider3", "reaction", "rail_force_slider3", -1,
+                   [](const Snapshot& s) { return s.constraint_forces.rail_slider3; },
+                   "rail_slider3"),
+               column(
+                   "rail_force_slider4", "reaction", "rail_force_slider4", -1,
+                   [](const Snapshot& s) { return s.constraint_forces.rail_slider4; },
+                   "rail_slider4"),
                column("spring_force", "reaction", "spring_force", -1,
                       [](const Snapshot& s) { return s.constraint_forces.spring; }),
            });
   for (int n = 0; n < kNumLoadNames; ++n)
-    if (n != motor) c.push_back(loadPowerColumn(n, std::string("power_") + kLoadInfo[n].name));
+    if (n != motor) c.push_back(loadPowerColumn(n, ""));
   // Each body's kinetic energy [J] (Σ = T): the message's body_kinetic_energy array.
   const char* bodies[kNumBodies] = {"rod1", "rod2", "slider3", "slider4"};
   for (int b = 0; b < kNumBodies; ++b)
@@ -95,6 +101,31 @@ std::vector<CsvColumn> makeColumns() {
                  b, [b](const Snapshot& s) { return s.body_kinetic_energy[b]; }});
   c.push_back(column("impact_energy", "ledger", "impact_energy", -1,
                      [](const Snapshot& s) { return s.impact_energy; }));
+  // The rest of /mechanism_state, so that the message has no field outside this table but
+  // real_time_factor (the node's pacing, not the mechanism's) and load_names (the powers' keys).
+  // Counts and flags as numbers (a bool as 0 or 1).
+  const auto count = [](std::uint64_t n) { return static_cast<double>(n); };
+  c.insert(c.end(),
+           {
+               column("F1_star", "equations", "inertia_forces", 0,
+                      [](const Snapshot& s) { return s.inertia_forces[0]; }),
+               column("F2_star", "equations", "inertia_forces", 1,
+                      [](const Snapshot& s) { return s.inertia_forces[1]; }),
+               column("parameter_energy", "ledger", "parameter_energy", -1,
+                      [](const Snapshot& s) { return s.parameter_energy; }),
+               column("parameter_changes", "events", "parameter_changes", -1,
+                      [count](const Snapshot& s) { return count(s.parameter_changes); }),
+               column("slider_separation", "geometry", "slider_separation", -1,
+                      [](const Snapshot& s) { return s.slider_separation; }),
+               column("slider_crossings", "contact", "slider_crossings", -1,
+                      [count](const Snapshot& s) { return count(s.slider_crossings); }),
+               column("resting_contact", "flags", "resting_contact", -1,
+                      [](const Snapshot& s) { return s.resting_contact ? 1.0 : 0.0; }),
+               column("contact_force", "contact", "contact_force", -1,
+                      [](const Snapshot& s) { return s.contact_force; }),
+               column("reactions_determinate", "flags", "reactions_determinate", -1,
+                      [](const Snapshot& s) { return s.constraint_forces.determinate ? 1.0 : 0.0; }),
+           });
   return c;
 }
 
@@ -113,8 +144,9 @@ std::string outputTable() {
                                                               {"power", "powers"},
                                                               {"kinetic", "kinetic_per_body"}};
   std::ostringstream out;
-  out << "| CSV column / Result column | group | Python group access | mechanism_state field |\n"
-      << "|---|---|---|---|\n";
+  out << "| CSV column / Result column | group | Python group access | mechanism_state field | "
+         "formerly |\n"
+      << "|---|---|---|---|---|\n";
   for (const CsvColumn& c : csvColumns()) {
     const auto property = result_property.find(c.group);
     std::string python;
@@ -123,7 +155,9 @@ std::string outputTable() {
     std::string field = c.message_field.empty() ? "" : "`" + c.message_field;
     if (!field.empty())
       field += (c.message_index >= 0 ? "[" + std::to_string(c.message_index) + "]`" : "`");
-    out << "| `" << c.name << "` | " << c.group << " | " << python << " | " << field << " |\n";
+    const std::string formerly = c.formerly.empty() ? "" : "`" + c.formerly + "`";
+    out << "| `" << c.name << "` | " << c.group << " | " << python << " | " << field << " | "
+        << formerly << " |\n";
   }
   return out.str();
 }

@@ -10,7 +10,7 @@ from conftest import config_path
 from sympy_reactions import reaction_model
 
 COLUMNS = {"O_x": "pin_o_x", "O_y": "pin_o_y", "A_x": "pin_a_x", "A_y": "pin_a_y",
-           "B_x": "pin_b_x", "B_y": "pin_b_y", "N3": "rail_slider3", "N4": "rail_slider4"}
+           "B_x": "pin_b_x", "B_y": "pin_b_y", "N3": "rail_force_slider3", "N4": "rail_force_slider4"}
 DAMPING = {"crank_joint": 0.3, "coupler_joint": 0.2, "slider3_joint": 1.5, "slider4_joint": 2.5}
 
 
@@ -67,15 +67,15 @@ def test_load_powers_sum_to_the_rate_of_kinetic_energy(damped):
     tree = dict(tree, simulation=dict(tree["simulation"], physics_rate=10000.0))
     r = kane_sim.Simulator(tree).run(1.0, torque=4.0)
     powers = sum(r.powers.values())
-    kinetic_rate = np.gradient(r["kinetic"], r.t)[1:-1]
+    kinetic_rate = np.gradient(r["kinetic_energy"], r.t)[1:-1]
     scale = max(np.max(np.abs(p)) for p in r.powers.values())
     np.testing.assert_allclose(powers[1:-1], kinetic_rate, atol=1e-4 * scale)
-    np.testing.assert_allclose(sum(r.kinetic_per_body.values()), r["kinetic"], rtol=1e-12,
+    np.testing.assert_allclose(sum(r.kinetic_per_body.values()), r["kinetic_energy"], rtol=1e-12,
                                atol=1e-12)
     # gravity's and the spring's powers are the rates of their potential energies, with sign -
     np.testing.assert_allclose(r["power_gravity"][1:-1],
-                               -np.gradient(r["gravitational"], r.t)[1:-1], atol=1e-4 * scale)
-    np.testing.assert_allclose(r["power_spring"][1:-1], -np.gradient(r["spring"], r.t)[1:-1],
+                               -np.gradient(r["gravitational_energy"], r.t)[1:-1], atol=1e-4 * scale)
+    np.testing.assert_allclose(r["power_spring"][1:-1], -np.gradient(r["spring_energy"], r.t)[1:-1],
                                atol=1e-4 * scale)
     for name in ("crank_damper", "coupler_damper", "slider3_damper", "slider4_damper"):
         assert np.all(r.powers[name] <= 0), name

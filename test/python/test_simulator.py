@@ -247,7 +247,7 @@ def test_ctrl_c_stops_long_steps_where_they_are():
 def test_steps_hold_the_torque_past_the_command_timeout(sim):
     sim.set_torque(2.0)
     sim.step(2000)  # 2 s, four command timeouts
-    assert sim.snapshot()["torque"] == 2.0
+    assert sim.snapshot()["applied_torque"] == 2.0
     assert sim.time == pytest.approx(2.0)
 
 
@@ -349,3 +349,46 @@ def test_one_call_at_a_time():
         return 0.0
     sim.run(0.01, torque=slow_law)
     assert errors and "one call at a time" in errors[0]
+
+
+def test_one_name_per_quantity_and_the_former_names_for_one_release(tmp_path):
+    from kane_sim import columns, identify, plotting
+    # Every column is named once; a scalar of /mechanism_state has its field's name.
+    names = [row[0] for row in columns.TABLE]
+    assert len(names) == len(set(names))
+    for name, _, _, field, index in columns.TABLE:
+        if field and index < 0 and name != "t":  # t: sim_time, the one short exception
+            assert name == field, (name, field)
+    assert all(name.startswith("power_") for _, name in columns.POWERS)
+    # A sweep's row: each case's final value of an output column, or one of its own summaries.
+    summaries = {"case", "status", "max_abs_q1", "max_abs_q2", "ledger_error", "steps",
+                 "wall_time"}
+    for name in kane_sim._core.sweep_csv_header([]).strip().split(","):
+        assert name in names or name in summaries, name
+    assert set(columns.RENAMED) == {"energy", "kinetic", "gravitational", "spring", "torque",
+                                    "motor_power", "rail_slider3", "rail_slider4"}
+    sim = kane_sim.Simulator(config_path())
+    sim.set_torque(1.5)
+    r = sim.run(0.6, output_rate=100)
+    with pytest.warns(DeprecationWarning, match="'energy' is now 'total_energy'"):
+        np.testing.assert_array_equal(r["energy"], r["total_energy"])
+    with pytest.warns(DeprecationWarning, match="Result.applied_torque"):
+        np.testing.assert_array_equal(r.torque, r.applied_torque)
+    with pytest.warns(DeprecationWarning, match="Simulator.commanded_torque"):
+        assert sim.torque == sim.commanded_torque == 1.5
+    np.testing.assert_array_equal(r.q, np.column_stack([r["q1"], r["q2"]]))
+    np.testing.assert_array_equal(r.u_dot, np.column_stack([r["u1dot"], r["u2dot"]]))
+    # A CSV written before the renames reads under today's names (one warning naming them).
+    old = tmp_path / "old.csv"
+    header = [{v: k for k, v in columns.RENAMED.items()}.get(n, n) for n in r]
+    old.write_text(",".join(header) + "\n" + "\n".join(
+        ",".join(repr(float(r[n][i])) for n in r) for i in range(len(r.t))) + "\n")
+    with pytest.warns(DeprecationWarning, match="an older CSV"):
+        table = plotting.read_csv(str(old))
+    np.testing.assert_array_equal(table["applied_torque"], r.applied_torque)
+    assert "torque" not in table and "power_motor" in table
+    with pytest.warns(DeprecationWarning):
+        motion = identify.load_motion(str(old))
+    np.testing.assert_array_equal(motion.torque, r.applied_torque)
+    env = kane_sim.VectorEnv(2, config_path())
+    assert env.observation_names == ("q1", "q2", "u1", "u2")

@@ -1,6 +1,8 @@
 // The message-filling path, without a master: rosparam -> config, joint_states, tf, state.
 #include <cmath>
 #include <map>
+#include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -205,6 +207,21 @@ TEST_F(MessagesTest, MechanismStateCarriesTheSnapshot) {
       EXPECT_TRUE(declares(c.message_field)) << c.message_field;
     }
   }
+  // And the other way: one table names every output. Each field of the message (its top-level
+  // declarations, "<type> <name>") is a column's field, but the header, the node's
+  // real_time_factor and load_names (the powers' keys).
+  std::set<std::string> carried = {"header", "real_time_factor", "load_names"};
+  for (const CsvColumn& c : csvColumns()) carried.insert(c.message_field);
+  std::istringstream lines(definition.substr(0, definition.find("\n===")));
+  int fields = 0;
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream words(line);
+    std::string type, name;
+    if (line.empty() || line[0] == '#' || !(words >> type >> name) || name.find('=') == 0) continue;
+    ++fields;
+    EXPECT_TRUE(carried.count(name)) << "MechanismState." << name << " has no output column";
+  }
+  EXPECT_GT(fields, 30);  // the parse found the fields (36 today)
   double kinetic = 0.0;
   for (double t : msg.body_kinetic_energy) kinetic += t;
   EXPECT_NEAR(kinetic, msg.kinetic_energy, 1e-12);

@@ -32,7 +32,7 @@ TEST(SimulateCli, HeaderRowsAndTimeGrid) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::string header;
   const auto rows = parseRows(r.out, &header);
-  EXPECT_EQ(header.rfind("t,q1,q2,u1,u2,energy", 0), 0u) << header;
+  EXPECT_EQ(header.rfind("t,q1,q2,u1,u2,total_energy", 0), 0u) << header;
   ASSERT_EQ(rows.size(), 101u);  // t = 0, 0.02, ..., 2.0
   for (size_t i = 0; i < rows.size(); ++i) {
     EXPECT_NEAR(rows[i][0], i / 50.0, 1e-12);

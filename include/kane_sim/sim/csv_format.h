@@ -23,13 +23,18 @@ struct CsvColumn {
   std::string message_field;  // MechanismState's field, "" when the message has none
   int message_index = -1;     // the element of an array field, -1 for a scalar
   std::function<double(const Snapshot&)> value;
+  // The column's name before 2026-11-26 ("" if it kept its name): Python's Result and the CSV
+  // readers take it for one release with a DeprecationWarning naming the new one.
+  std::string formerly = "";
 };
-// The columns in order: t,q1,q2,u1,u2,energy, then u1dot,u2dot,torque,motor_work,kinetic,
-// gravitational,spring,energy_minus_work,F1,F2,spring_elongation,motor_power, then the ledger
-// dissipated_energy and energy_balance (E + D - W - parameter_energy), commanded_torque (torque
-// is the applied one), contact_impacts, then the reaction forces pin_o_x ... spring_force, the
-// loads' powers power_gravity ... power_contact (with motor_power: Σ = dT/dt), each body's
-// kinetic energy and impact_energy. The Python module's result arrays use the same table.
+// The columns in order: t,q1,q2,u1,u2,total_energy, then u1dot,u2dot,applied_torque,motor_work,
+// kinetic_energy,gravitational_energy,spring_energy,energy_minus_work,F1,F2,spring_elongation,
+// power_motor, then the ledger dissipated_energy and energy_balance (E + D - W -
+// parameter_energy), commanded_torque, contact_impacts, then the reaction forces pin_o_x ...
+// spring_force, the other loads' powers power_gravity ... power_contact (Σ power_* = dT/dt),
+// each body's kinetic energy, impact_energy, and the rest of /mechanism_state (F1_star, F2_star,
+// parameter_energy, ...). A quantity /mechanism_state carries as a scalar has its field's name.
+// The Python module's result arrays use the same table.
 const std::vector<CsvColumn>& csvColumns();
 
 // The table as doc/reference/outputs.md shows it (Markdown, one row per column, in order):

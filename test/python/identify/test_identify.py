@@ -33,7 +33,7 @@ def truth_run(excitation):
     sim = kane_sim.Simulator(kane_sim.Config(config_path()).with_values(
         dict(TRUTH, **{"command.torque_limit": 60.0})))
     r = sim.run(20.0, torque=torque)
-    return {k: np.array(r[k]) for k in ("t", "q1", "q2", "u1", "u2", "torque")}
+    return {k: np.array(r[k]) for k in ("t", "q1", "q2", "u1", "u2", "applied_torque")}
 
 
 def test_excitation_keeps_the_sliders_apart_and_within_the_limit(excitation):
@@ -71,7 +71,7 @@ def test_a_simulate_csv_at_the_publish_rate_counts_as_noise_free(excitation):
     _, torque, _ = excitation
     run = kane_sim.Simulator(kane_sim.Config(config_path()).with_values(
         dict(TRUTH, **{"command.torque_limit": 60.0}))).run(20.0, torque=torque, output_rate=100.0)
-    data = {k: np.array(run[k]) for k in ("t", "q1", "q2", "u1", "u2", "torque")}
+    data = {k: np.array(run[k]) for k in ("t", "q1", "q2", "u1", "u2", "applied_torque")}
     assert ki.noise_free(ki.load_motion(data))
     fit = ki.identify(data, config_path(), validate=False)
     assert fit.bandwidth is None
@@ -118,7 +118,7 @@ def _held_crank(kd):
         dict(TRUTH, **{"command.mode": "position", "command.position_kp": 5e4,
                        "command.position_kd": kd, "initial_state.u2": 0.5}))
     r = kane_sim.Simulator(cfg).run(10.0)
-    data = {k: np.array(r[k]) for k in ("t", "q1", "q2", "u1", "u2", "torque")}
+    data = {k: np.array(r[k]) for k in ("t", "q1", "q2", "u1", "u2", "applied_torque")}
     return ki.identify(data, config_path(), params=NAMES, bandwidth=None, validate=False)
 
 
@@ -159,11 +159,11 @@ def test_a_held_crank_reports_what_it_cannot_tell():
 
 @pytest.mark.parametrize("mutate, words", [
     (lambda d: d["q1"].__setitem__(100, np.nan), "q1[100] = nan is not finite"),
-    (lambda d: d["torque"].__setitem__(7, np.inf), "torque[7] = inf is not finite"),
+    (lambda d: d["applied_torque"].__setitem__(7, np.inf), "applied_torque[7] = inf is not finite"),
     (lambda d: d["q2"].__setitem__(5, 1e308), "q2[5] = 1e+308 is beyond any rig's reading"),
     (lambda d: d["t"].__setitem__(51, d["t"][50]), "time t[51]"),
     (lambda d: d["t"].__setitem__(51, d["t"][40]), "goes backward"),
-    (lambda d: d.pop("torque"), "has no column 'torque'"),
+    (lambda d: d.pop("applied_torque"), "has no column 'applied_torque'"),
 ])
 def test_hostile_arrays_are_refused_by_name(truth_run, mutate, words):
     data = {k: v.copy() for k, v in truth_run.items()}
@@ -182,7 +182,7 @@ def test_short_still_and_bad_arguments(truth_run):
     with pytest.raises(ValueError, match="no motion"):
         ki.identify(still, config_path())
     undriven = {k: v.copy() for k, v in truth_run.items()}
-    undriven["torque"][:] = 0.0  # a driver that publishes no effort
+    undriven["applied_torque"][:] = 0.0  # a driver that publishes no effort
     with pytest.raises(ValueError, match="the torque is 0 throughout"):
         ki.identify(undriven, config_path())
     with pytest.raises(ValueError, match="'mechanism.rod_mas' is not an identifiable"):
@@ -314,7 +314,7 @@ def test_cli_arguments_and_ctrl_c(tmp_path, rig_bag):
     csv = tmp_path / "deg.csv"
     run = kane_sim.Simulator(kane_sim.Config(config_path())).run(
         20.0, torque=3.0 * np.sin(2 * np.pi * 0.7 * np.arange(20000) / 1000.0))
-    rows = np.column_stack([run.t, np.degrees(run.q[:, 0]), run.q[:, 1], run.torque])
+    rows = np.column_stack([run.t, np.degrees(run.q[:, 0]), run.q[:, 1], run.applied_torque])
     np.savetxt(csv, rows, delimiter=",", header="t,q1,q2,torque", comments="")
     r = subprocess.run([tool("identify"), str(csv), "-o", str(tmp_path / "deg.yaml")],
                        capture_output=True, text=True, timeout=120)
@@ -360,7 +360,7 @@ def test_what_the_written_config_cannot_hold_is_said(truth_run, tmp_path):
     cfg["command"]["mode"] = "position"
     base = tmp_path / "base.yaml"
     base.write_text(yaml.safe_dump(cfg))
-    data = dict(truth_run, torque=truth_run["torque"] + 0.2)  # the drive reads 0.2 N m high
+    data = dict(truth_run, applied_torque=truth_run["applied_torque"] + 0.2)  # the drive reads 0.2 N m high
     fit = ki.identify(data, str(base), params=NAMES, validate=False)
     text = fit.report()
     assert "unknown config key 'mechanism.rod_mas' is ignored" in text
