@@ -4,4 +4,4 @@ from setuptools import setup
 
 from catkin_pkg.python_setup import generate_distutils_setup
 
-setup(**generate_distutils_setup(packages=["kane_sim"], package_dir={"": "src"}))
+setup(**generate_distutils_setup(packages=["kane_sim", "kane_sim.identify"], package_dir={"": "src"}))

@@ -13,7 +13,7 @@ if not os.environ.get("DISPLAY") and "MPLBACKEND" not in os.environ:
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from kane_sim import columns  # noqa: E402
+from kane_sim import bags, columns  # noqa: E402
 
 FIGURE_SIZE = (12, 10.5)  # inches
 DPI = 100                 # -> 1200 x 1050 pixels
@@ -60,11 +60,10 @@ def read_run(path):
 
 
 def read_bag(path):
-    import rosbag
     columns = {}
     stamps = []  # header stamp -> sim time, for the sensor readings
     readings = []
-    with rosbag.Bag(path) as bag:
+    with bags.open_bag(path) as bag:
         topics = bag.get_type_and_topic_info().topics
         sensors = "/joint_states_true" in topics
         for topic, m, _ in bag.read_messages(topics=["/mechanism_state", "/joint_states"]):

@@ -1,0 +1,49 @@
+"""Opening a bag and finding its topics, once for the package: plot_bag, bag_summary, loop_bag
+and identify read bags through here, so a device, a garbage file or a missing rosbag gets one
+message wherever it is given. Imports nothing but the standard library until a bag is opened."""
+import os
+
+
+def open_bag(path):
+    """rosbag.Bag(path) for reading, or ValueError naming the path and why: not a regular file
+    (a device such as /dev/zero or a pipe would be read without end), no rosbag module, or not a
+    bag rosbag can read (truncated, garbage)."""
+    if not os.path.isfile(path):
+        raise ValueError("%s is not a regular file (%s)" % (
+            path, "no such file" if not os.path.exists(path) else "a device, a pipe or a folder"))
+    try:
+        import rosbag
+    except ImportError:
+        raise ValueError("reading %s needs rosbag (python3-rosbag)" % path) from None
+    try:
+        return rosbag.Bag(path)
+    except Exception as e:  # rosbag raises its own ROSBagException, and others on garbage
+        raise ValueError("%s is not a readable bag: %s" % (path, e)) from None
+
+
+def topics_of_type(bag, msg_type):
+    """The bag's topics carrying `msg_type` ("sensor_msgs/JointState"), sorted."""
+    return sorted(t for t, info in bag.get_type_and_topic_info().topics.items()
+                  if info.msg_type == msg_type)
+
+
+def choose_topic(bag, path, msg_type, suffix, topic=None, flag="topic="):
+    """The topic to read: `topic` when given (checked to exist and carry msg_type), else the one
+    topic of that type whose name ends in `suffix`. ValueError naming the candidates otherwise."""
+    types = bag.get_type_and_topic_info().topics
+    candidates = topics_of_type(bag, msg_type)
+    listed = ", ".join(candidates) or "none"
+    if topic is None:
+        named = [t for t in candidates if t.rstrip("/").endswith(suffix)]
+        if not named:
+            raise ValueError("%s has no %s topic (%s topics: %s)" % (path, suffix, msg_type, listed))
+        if len(named) > 1:
+            raise ValueError("%s has %d %s topics (%s): name one with %s"
+                             % (path, len(named), suffix, ", ".join(named), flag))
+        return named[0]
+    if topic not in types:
+        raise ValueError("%s has no topic %s (%s topics: %s)" % (path, topic, msg_type, listed))
+    if topic not in candidates:
+        raise ValueError("%s's topic %s is %s, not %s (%s topics: %s)"
+                         % (path, topic, types[topic].msg_type, msg_type, msg_type, listed))
+    return topic

@@ -1,0 +1,118 @@
+"""Fit the twin to the rig: the mechanism's parameters from recorded motion.
+
+Kane's equations F*_r + F_r = 0 are linear in the masses, the rod inertia, the spring's stiffness
+(and preload), the dampers and a torque offset, so a recorded motion (q, u, the delivered torque)
+gives a linear least-squares problem Y theta = -y0. The regressor is the model's own (the C++
+loads list through kane_sim._core.identification_rows: no second derivation); this module reads
+the data, estimates the rates, solves, judges what the motion can tell, writes the fitted config
+and validates it by simulation.
+
+    fit = kane_sim.identify("rig.bag", "base.yaml")
+    print(fit.report())
+    fit.config.yaml()       # base.yaml with the estimates written in
+
+The rates u' are not measured: they come from zero-phase Savitzky-Golay differentiation of the
+recorded positions (scipy.signal.savgol_filter, cubic, its window from `bandwidth`); the torque
+goes through the same filter, so both sides of the equations see the same smoothing.
+
+The package does one job per module: data (reading), rates, least_squares, refinement,
+validation, report, excitation; identify() below runs them in order.
+"""
+import math
+
+import numpy as np
+
+from kane_sim import _core
+from kane_sim.core import Config
+from kane_sim.identify.data import (  # noqa: F401  (the public names, as before the split)
+    MAX_FILE_BYTES, MAX_MAGNITUDE, MIN_SAMPLES, Motion, load_motion)
+from kane_sim.identify.rates import (  # noqa: F401  (the public names, as before the split)
+    DEFAULT_BANDWIDTH, NOISE_FREE_ROUGHNESS, Prepared, estimate_rates, noise_free)
+from kane_sim.identify.least_squares import (  # noqa: F401  (the public names, as before the split)
+    DEFAULT_METHOD, ENERGY_WINDOW, ENERGY_WINDOW_RECORDED, METHODS, QUADRATURE_TOLERANCE,
+    _estimate, _rest_length, _rms, _system, _usable, fitted_config, parameters)
+from kane_sim.identify.refinement import (  # noqa: F401  (the public names, as before the split)
+    BIAS_KNOT_SPACING, _refine, simulate_motion)
+from kane_sim.identify.validation import (  # noqa: F401  (the public names, as before the split)
+    _config_warnings, _holdout, validation)
+from kane_sim.identify.report import (  # noqa: F401  (the public names, as before the split)
+    Identification)
+from kane_sim.identify.excitation import (  # noqa: F401  (the public names, as before the split)
+    EXCITATION_DESIGN_HORIZON, excitation)
+
+__all__ = ["Motion", "Identification", "identify", "load_motion", "excitation", "simulate_motion"]
+
+
+def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="auto",
+             holdout=0.25, topic=None, validate=True, refine="auto"):
+    """Identifies `params` (default: every parameter identifiable by default, parameters()) from
+    `data` (a bag, a CSV, arrays or a Motion) over the base `config` (a Config, path or dict: its
+    L, g, rod shape and initial state are taken as measured, its other values as the starting
+    point and the fallback). method: "energy" (the work-energy form over 1 s windows: no
+    accelerations) or "equations" (Kane's equations at every sample, u' from the filter).
+    bandwidth: the derivative filter's [Hz], None (the data as recorded) or "auto" (None on
+    noise-free data, DEFAULT_BANDWIDTH otherwise). refine: after the least squares, fit the
+    re-simulated positions to the recorded ones (output error, _refine); "auto" does on measured
+    (filtered) data, where the least squares is biased by the noise in its regressor. Returns an
+    Identification."""
+    base = Config(config)
+    names = list(params) if params is not None else \
+        [p["name"] for p in _core.identifiable_parameters() if p["by_default"]]
+    for name in names:
+        if not isinstance(name, str):
+            raise TypeError("params: names must be strings, got %r" % (name,))
+    if not names:
+        raise ValueError("params: name at least one parameter (kane_sim.identify.parameters())")
+    _core.identification_base_value(base._core, names[0])  # an unknown name fails here, named
+    if method not in METHODS:
+        raise ValueError("method must be one of %s, got %r" % (", ".join(METHODS), method))
+    if not (isinstance(holdout, (int, float)) and 0 <= holdout < 0.9):
+        raise ValueError("holdout must be a fraction in [0, 0.9), got %r" % (holdout,))
+    if refine not in ("auto", True, False):
+        raise ValueError("refine must be 'auto', True or False, got %r" % (refine,))
+    motion = load_motion(data, topic)
+    prepared = estimate_rates(motion, bandwidth)
+    prepared = prepared.select(_usable(base, prepared.states))
+    if len(prepared) < MIN_SAMPLES:
+        raise ValueError("data (%s): %d usable samples (the sliders touch in the rest): too few"
+                         % (motion.source, len(prepared)))
+    if np.ptp(prepared.states[:, 0]) < 1e-6 and np.ptp(prepared.states[:, 1]) < 1e-9:
+        raise ValueError("data (%s): no motion (q1 and q2 constant): nothing can be identified"
+                         % motion.source)
+    if not np.any(motion.torque):
+        raise ValueError("data (%s): the torque is 0 throughout (a bag's effort of the crank "
+                         "joint; a driver that publishes no effort gives zeros): without the "
+                         "driving torque the motion fixes the parameters only up to a common "
+                         "scale" % motion.source)
+
+    result = Identification()
+    result.names, result.method, result.bandwidth = names, method, prepared.bandwidth
+    result.notes = list(motion.notes)
+    result.base_values = {n: _core.identification_base_value(base._core, n) for n in names}
+    y, b, groups, check = _system(base, names, prepared, method)
+    theta, cov, kept, messages, cond, rms, entangled = _estimate(
+        base, names, y, b, groups, prepared.states, check, _rms(prepared.torque))
+    theta, cov = _rest_length(names, theta, cov)
+    if refine is True or (refine == "auto" and prepared.bandwidth is not None):
+        # Unphysical least squares (a flipped torque, wrong units) is refused here, by name,
+        # before the re-simulations would fail on it with a message about the integrator.
+        fitted_config(base, dict(zip(names, theta)), dict(zip(names, np.sqrt(np.diag(cov)))))
+        if len(kept) < len(names):
+            ls_theta = dict(zip(names, theta))
+            theta, cov, result.refined = _refine(base, names, theta, kept, motion,
+                                                 estimate_rates(motion, bandwidth))
+            result.refined["least_squares"] = ls_theta
+    result.warnings = base.warnings + _config_warnings(base, motion)
+    result.samples, result.rows = len(prepared), len(b)
+    result.condition_number, result.residual_rms = cond, rms
+    result.kept, result.unidentifiable, result.entangled = kept, messages, entangled
+    for i, n in enumerate(names):
+        result.estimates[n] = float(theta[i])
+        result.std_errors[n] = float(math.sqrt(max(cov[i, i], 0.0)))
+    result.config, result.clipped = fitted_config(base, result.estimates, result.std_errors)
+    if holdout > 0:
+        result.holdout = _holdout(base, names, prepared, method, holdout)
+    if validate:
+        result.validation = validation(motion, base, result.config,
+                                       result.estimates.get("torque_offset", 0.0), bandwidth)
+    return result

@@ -1,0 +1,214 @@
+"""Recorded motion in: a bag's joint_states, a CSV (simulate's or a rig's), arrays or a Result,
+checked and put on a uniform time grid (Motion)."""
+import math
+import os
+from collections.abc import Mapping
+
+import numpy as np
+
+from kane_sim import _core, bags, columns
+
+
+# A file larger than this is refused before it is read (a 60 s, 1 kHz CSV of every column is
+# ~60 MB; a bag of an hour's joint_states at 1 kHz ~400 MB).
+MAX_FILE_BYTES = 2 << 30
+
+
+# |value| beyond this in SI units is no rig's reading (1e308 would overflow the regressor).
+MAX_MAGNITUDE = 1e6
+
+
+MIN_SAMPLES = 50
+
+
+class Motion:
+    """Recorded motion on a uniform time grid: t (N,), q (N, 2) = (q1, q2), u (N, 2) or None when
+    the data has no velocities, torque (N,) the delivered M_m; notes: what was done to the data
+    (resampling)."""
+
+    def __init__(self, t, q, u, torque, source="arrays", notes=()):
+        self.t, self.q, self.u, self.torque = t, q, u, torque
+        self.source = source
+        self.notes = list(notes)
+
+    def __len__(self):
+        return len(self.t)
+
+    @property
+    def rate(self):
+        return (len(self.t) - 1) / (self.t[-1] - self.t[0])
+
+
+def _check_file(path):
+    if not os.path.exists(path):
+        raise ValueError("data: %s does not exist" % path)
+    if not os.path.isfile(path):
+        raise ValueError("data: %s is not a regular file" % path)
+    size = os.path.getsize(path)
+    if size > MAX_FILE_BYTES:
+        raise ValueError("data: %s is %d bytes, more than the %d this tool reads"
+                         % (path, size, MAX_FILE_BYTES))
+    if size == 0:
+        raise ValueError("data: %s is empty" % path)
+
+
+def _columns_from_mapping(data, source):
+    data = columns.renamed_columns(dict(data))  # "torque" of an older CSV or script
+
+    def column(name, required=True):
+        if name not in data:
+            if required:
+                raise ValueError("data (%s) has no column '%s' (it needs t, q1, q2, applied_torque; u1 and "
+                                 "u2 are used when present)" % (source, name))
+            return None
+        try:
+            values = np.asarray(data[name], dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError("data (%s): column '%s' is not numeric" % (source, name)) from None
+        if values.ndim != 1:
+            raise ValueError("data (%s): column '%s' must be one-dimensional, got shape %s"
+                             % (source, name, values.shape))
+        return values
+    cols = {n: column(n) for n in ("t", "q1", "q2", "applied_torque")}
+    u1, u2 = column("u1", False), column("u2", False)
+    lengths = {n: len(v) for n, v in cols.items()}
+    if u1 is not None and u2 is not None:
+        cols["u1"], cols["u2"] = u1, u2
+        lengths.update(u1=len(u1), u2=len(u2))
+    if len(set(lengths.values())) != 1:
+        raise ValueError("data (%s): columns of different lengths %s" % (source, lengths))
+    return cols
+
+
+def _read_csv(path):
+    import csv
+    try:
+        with open(path, newline="") as f:
+            header = next(csv.reader(f), None)
+            has_rows = next(f, None) is not None
+    except UnicodeDecodeError:
+        raise ValueError("data: %s is neither a bag (.bag) nor a text CSV (it is binary)"
+                         % path) from None
+    if not header:
+        raise ValueError("data: %s has no header line (simulate --csv writes one)" % path)
+    if not has_rows:
+        raise ValueError("data: %s has a header and no rows" % path)
+    try:
+        values = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    except ValueError as e:
+        raise ValueError("data: %s: %s" % (path, e)) from None
+    if values.shape[1] != len(header):
+        raise ValueError("data: %s has %d columns in its header and %d in its rows"
+                         % (path, len(header), values.shape[1]))
+    return {name.strip(): values[:, i] for i, name in enumerate(header)}
+
+
+def _read_bag(path, topic=None):
+    try:
+        bag = bags.open_bag(path)
+    except ValueError as e:
+        raise ValueError("data: %s" % e) from None
+    with bag:
+        try:
+            topic = bags.choose_topic(bag, path, "sensor_msgs/JointState", "joint_states", topic,
+                                      flag="topic= (identify --topic)")
+        except ValueError as e:
+            raise ValueError("data: %s" % e) from None
+        names = _core.joint_names()
+        crank, slider4 = names[0], names[3]
+        rows, has_velocity = [], True
+        for _, msg, stamp in bag.read_messages(topics=[topic]):
+            where = {n: i for i, n in enumerate(msg.name)}
+            for joint in (crank, slider4):
+                if joint not in where:
+                    raise ValueError("data: %s on %s has no joint '%s' (names: %s)"
+                                     % (path, topic, joint, ", ".join(msg.name) or "none"))
+            i, j = where[crank], where[slider4]
+            if len(msg.effort) <= i:
+                raise ValueError("data: %s on %s carries no effort for %s: identification needs the "
+                                 "delivered torque" % (path, topic, crank))
+            if len(msg.position) <= max(i, j):
+                raise ValueError("data: %s on %s carries no positions" % (path, topic))
+            has_velocity = has_velocity and len(msg.velocity) > max(i, j)
+            t = msg.header.stamp.to_sec() or stamp.to_sec()
+            u = (msg.velocity[i], msg.velocity[j]) if has_velocity else (0.0, 0.0)
+            rows.append((t, msg.position[i], msg.position[j], u[0], u[1], msg.effort[i]))
+    if not rows:
+        raise ValueError("data: %s has no messages on %s" % (path, topic))
+    a = np.array(rows, dtype=float)
+    out = {"t": a[:, 0], "q1": a[:, 1], "q2": a[:, 2], "applied_torque": a[:, 5]}
+    if has_velocity:
+        out.update(u1=a[:, 3], u2=a[:, 4])
+    return out, "%s %s" % (path, topic)
+
+
+def load_motion(data, topic=None):
+    """A Motion from a bag (joint_states: positions, velocities when present, effort = the
+    delivered torque), a CSV of simulate's columns (t, q1, q2, u1, u2, torque), a mapping of
+    arrays with those names (a kane_sim Result too) or a Motion. ValueError names what is wrong."""
+    if isinstance(data, Motion):
+        return data
+    if isinstance(data, (str, os.PathLike)):
+        path = os.fspath(data)
+        _check_file(path)
+        if path.endswith(".bag"):
+            raw, source = _read_bag(path, topic)
+        elif topic is not None:
+            raise ValueError("data: topic %s is for a bag; %s is read as a CSV (a bag's name ends "
+                             "in .bag)" % (topic, path))
+        else:
+            raw, source = _read_csv(path), path
+    elif isinstance(data, Mapping):
+        raw, source = data, "arrays"
+    else:
+        raise TypeError("data must be a bag or CSV path, a mapping of arrays or a Motion, got %s"
+                        % type(data).__name__)
+    cols = _columns_from_mapping(raw, source)
+    return _uniform(cols, source)
+
+
+def _uniform(cols, source):
+    n = len(cols["t"])
+    if n < MIN_SAMPLES:
+        raise ValueError("data (%s): %d samples, too short to identify anything (at least %d)"
+                         % (source, n, MIN_SAMPLES))
+    for name, values in cols.items():
+        bad = np.flatnonzero(~np.isfinite(values))
+        if bad.size:
+            raise ValueError("data (%s): %s[%d] = %r is not finite (%d such rows)"
+                             % (source, name, bad[0], values[bad[0]], bad.size))
+        big = np.flatnonzero(np.abs(values) > MAX_MAGNITUDE)
+        if big.size and name != "t":
+            raise ValueError("data (%s): %s[%d] = %r is beyond any rig's reading (|x| > %g)"
+                             % (source, name, big[0], values[big[0]], MAX_MAGNITUDE))
+    t = cols["t"]
+    dt = np.diff(t)
+    bad = np.flatnonzero(dt <= 0)
+    if bad.size:
+        i = bad[0]
+        what = "repeats" if dt[i] == 0 else "goes backward from %r" % t[i]
+        raise ValueError("data (%s): time t[%d] = %r %s (%d such steps): stamps must increase"
+                         % (source, i + 1, t[i + 1], what, bad.size))
+    notes = []
+    step = float(np.median(dt))
+    if np.max(np.abs(dt - step)) > 1e-6 * step:
+        # Jittered stamps (a reading stamped when it arrived) of a regular sampling: a line
+        # fitted to the stamps is the sampling, when no stamp strays a third of a period from it.
+        k = np.arange(n)
+        slope, offset = np.polyfit(k, t - t[0], 1)
+        stray = np.max(np.abs(t - t[0] - (offset + slope * k)))
+        if stray < slope / 3:
+            notes.append("stamps jitter up to %.3g ms about a regular %.4g s sampling: taken as "
+                         "regular" % (1e3 * stray, slope))
+            cols = dict(cols, t=t[0] + offset + slope * k)
+        else:
+            # Irregular sampling (a dropped message, a pause): linear interpolation onto the
+            # median step.
+            grid = t[0] + step * np.arange(int(math.floor((t[-1] - t[0]) / step + 1e-9)) + 1)
+            notes.append("resampled %d irregular stamps (steps %.4g..%.4g s) onto a %.4g s grid"
+                         % (n, dt.min(), dt.max(), step))
+            cols = {key: (grid if key == "t" else np.interp(grid, t, v))
+                    for key, v in cols.items()}
+    q = np.column_stack([cols["q1"], cols["q2"]])
+    u = np.column_stack([cols["u1"], cols["u2"]]) if "u1" in cols else None
+    return Motion(cols["t"], q, u, cols["applied_torque"], source, notes)

@@ -1,0 +1,151 @@
+"""Designing a torque that excites every parameter (identify --excite)."""
+import math
+
+import numpy as np
+
+from kane_sim import _core
+from kane_sim.core import Config, Simulator
+from kane_sim.identify.least_squares import _base_theta, _estimate, _rms, _separation
+
+
+# [s] --excite designs on at most this much of the profile (the bias sine's period is 20 s from
+# 60 s on: six of them), then checks the whole once: 3600 s cost as much as 120 s plus one run.
+EXCITATION_DESIGN_HORIZON = 120.0
+
+
+def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=4):
+    """A torque profile (t, torque) that identifies every default parameter well: a slow bias
+    sine (3 periods over the run, at least 0.05 Hz) that swings the crank's mean angle, so that
+    slider 3 moves (v_B = -4 L u1 sin q1), plus a multisine (0.2-4 Hz, random phases). Of
+    `candidates` phase draws and the bias amplitudes 0, 2, 4, 8, 16 % of command.torque_limit,
+    the best by the regressor's condition number on the base config, each with the largest
+    multisine amplitude (a bisection) that keeps the base mechanism's sliders apart (x_C - x_B
+    above contact.gap + 2 cm) over the first EXCITATION_DESIGN_HORIZON seconds; the whole profile
+    is then checked (its amplitude halved until it passes); |torque| within command.torque_limit.
+    Refused when the torque the limit allows cannot swing the crank. Returns (t, torque, the
+    condition number)."""
+    base = Config(config)
+    if not (isinstance(duration, (int, float)) and math.isfinite(duration) and 2 <= duration <= 3600):
+        raise ValueError("excite: duration must be in [2, 3600] s, got %r" % (duration,))
+    limit = min(base["command.torque_limit"], 40.0)
+    if not limit > 0:
+        raise ValueError("excite: command.torque_limit is %g N m: the profile stays within it; "
+                         "set it to what the rig's drive delivers" % base["command.torque_limit"])
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, duration, 1.0 / rate)
+    design = t < EXCITATION_DESIGN_HORIZON
+    freqs = np.linspace(0.2, 4.0, 12)
+    slow = np.sin(2 * np.pi * max(3.0 / duration, 0.05) * t)
+    names = [p["name"] for p in _core.identifiable_parameters() if p["by_default"]]
+    best = None
+    for _ in range(candidates):
+        phases = rng.uniform(0, 2 * np.pi, len(freqs))
+        shape = np.zeros(len(t))  # a frequency at a time: 12 x 3.6e6 samples would be 350 MB
+        for frequency, phase in zip(freqs, phases):
+            shape += np.sin(2 * np.pi * frequency * t + phase)
+        shape /= np.max(np.abs(shape))
+        for bias in (0.0, 0.02, 0.04, 0.08, 0.16):
+            found = _largest_feasible(base, names, t[design], bias * limit * slow[design],
+                                      shape[design], limit * (1 - bias))
+            if found and (best is None or found[0] < best[0]):
+                best = (found[0], found[2], bias * limit * slow, shape)
+    if best is None:
+        raise ValueError("excite: no multisine keeps the sliders apart on this config")
+    score, amplitude, bias, shape = best
+    torque = bias + amplitude * shape
+    for _ in range(8):
+        run = _excitation_run(base, t, torque)
+        if run is not None:
+            break
+        amplitude *= 0.5
+        torque = bias + amplitude * shape
+    else:
+        undamped = all(base[k] == 0 for k in Config.names("dissipative"))
+        raise ValueError("excite: no multisine keeps the sliders apart over %g s on this config%s"
+                         % (duration, " (it has no damping: under any long excitation its energy "
+                            "drifts; give the dampers' rough values, or excite in shorter runs)"
+                            if undamped else ""))
+    span = np.ptp(run.q[:, 0])
+    if span < 0.05:
+        raise ValueError("excite: within command.torque_limit %g N m the profile swings the crank "
+                         "by %.3g rad only (the parameters need a visible motion): raise the "
+                         "limit to what the rig's drive delivers" % (base["command.torque_limit"],
+                                                                    span))
+    states, y = _run_rows(base, names, run)
+    share = _torque_share(base, names, run, y)
+    if share < 0.01:
+        raise ValueError("excite: within command.torque_limit %g N m the torque is %.2g %% of the "
+                         "torques the mechanism's own motion puts on the crank: the parameters' "
+                         "scale would rest on it; raise the limit to what the rig's drive "
+                         "delivers" % (base["command.torque_limit"], 100 * share))
+    if not np.all(design):  # the whole profile's score, from the rows already made
+        score = _condition(base, names, states, y)
+    return t, torque, score
+
+
+def _run_rows(base, names, run):
+    """The states of a run and its regressor rows (Kane's equations, two per sample)."""
+    states = np.ascontiguousarray(np.column_stack([run.q, run.u]))
+    y, _ = _core.identification_rows(base._core, names, states, np.ascontiguousarray(run.u_dot),
+                                     run.torque)
+    return states, y.reshape(-1, len(names))
+
+
+def _condition(base, names, states, y):
+    # The condition number of what the mechanism can tell at all (the crank's and the coupler's
+    # dampers act alike on it, whatever the motion): the fit's own rank rule drops the rest.
+    return _estimate(base, names, y, np.zeros(len(y)), 2, states)[4]
+
+
+def _torque_share(base, names, run, y):
+    """RMS of the driving torque over the largest RMS of one parameter's term of the crank's
+    equation (rows y, the base's values): near 0, the motion is the mechanism's own and fixes
+    the parameters only up to a common scale."""
+    theta = np.array([_base_theta(base, n) for n in names])
+    terms = y[0::2] * theta
+    return _rms(run.torque) / max(np.max(np.sqrt(np.mean(terms ** 2, axis=0))), 1e-300)
+
+
+def _largest_feasible(base, names, t, bias, shape, most):
+    """(score, torque, amplitude) of bias + amplitude shape, the amplitude the largest up to
+    `most` that keeps the sliders apart (to ~10 %: a bisection in log amplitude), or None."""
+    def attempt(amplitude):
+        torque = bias + amplitude * shape
+        score = _excitation_score(base, names, t, torque)
+        return None if score is None else (score, torque, amplitude)
+    found = attempt(most)
+    if found:
+        return found
+    low, high = math.log(1e-3 * most), math.log(most)
+    for _ in range(7):
+        middle = 0.5 * (low + high)
+        trial = attempt(math.exp(middle))
+        if trial:
+            found, low = trial, middle
+        else:
+            high = middle
+    return found
+
+
+def _excitation_run(base, t, torque):
+    """The base mechanism driven by `torque` (100 Hz output), or None when the sliders come
+    within 2 cm of contact or a step is refused."""
+    cfg = base.with_values({"sensors.enabled": False, "command.mode": "effort",
+                            "command.torque_limit": float(np.max(np.abs(torque))) + 1.0})
+    sim = Simulator(cfg)
+    step = sim.step_size
+    index = np.clip(np.searchsorted(t, step * np.arange(len(t)), side="right") - 1, 0, len(t) - 1)
+    try:
+        run = sim.run(len(t) * step, torque=torque[index], output_rate=100.0)
+    except (RuntimeError, ValueError):
+        return None
+    if np.min(_separation(base, run.q[:, 0], run.q[:, 1])) < base["contact.gap"] + 0.02:
+        return None
+    return run
+
+
+def _excitation_score(base, names, t, torque):
+    """The scaled regressor's condition number of the base mechanism driven by `torque`, or None
+    when _excitation_run refuses it."""
+    run = _excitation_run(base, t, torque)
+    return None if run is None else _condition(base, names, *_run_rows(base, names, run))

@@ -1,0 +1,95 @@
+"""What identify() found (Identification) and its text report."""
+from kane_sim import _core
+from kane_sim.identify.least_squares import DEFAULT_METHOD
+from kane_sim.identify.refinement import BIAS_KNOT_SPACING
+
+
+class Identification:
+    """What identify() found: `estimates` and `std_errors` by parameter name, the scaled
+    regressor's `condition_number`, `unidentifiable` (messages naming what the motion could not
+    tell apart; those parameters keep the base's values), `entangled` (estimates that move by more
+    than 1 % when a kept value is off by its own size: named in `unidentifiable`), `config` (the
+    base with the estimates written in; the torque offset is not a config value), `residual_rms`
+    (N m, N), `samples`, `holdout` (cross-validation on the last part of the data: the fit of the
+    rest predicting its torque; or why it was skipped), `notes`, `warnings` (the base config's
+    unknown keys; what of it the recording contradicts)."""
+
+    def __init__(self):
+        self.names = []
+        self.estimates = {}
+        self.std_errors = {}
+        self.base_values = {}
+        self.kept = []
+        self.unidentifiable = []
+        self.entangled = []
+        self.condition_number = float("nan")
+        self.residual_rms = (float("nan"), float("nan"))
+        self.samples = 0
+        self.config = None
+        self.holdout = None
+        self.notes = []
+        self.bandwidth = None
+        self.method = DEFAULT_METHOD
+        self.rows = 0
+        self.clipped = []
+        self.refined = None
+        self.validation = None
+        self.warnings = []
+
+    def report(self):
+        how = ("the work-energy form, %d windows" % self.rows if self.method == "energy"
+               else "Kane's equations, %d rows" % self.rows)
+        rates = ("data as recorded" if self.bandwidth is None
+                 else "Savitzky-Golay %.3g Hz" % self.bandwidth)
+        lines = ["identified by %s from %d samples (%s; %s); condition number %.3g"
+                 % (how, self.samples, rates, ", ".join(self.notes) or "uniform stamps",
+                    self.condition_number)]
+        info = {p["name"]: p for p in _core.identifiable_parameters()}
+        for name in self.names:
+            unit = info[name]["unit"]
+            if name in self.kept:
+                lines.append("  %-28s %12.6g %-9s kept at the base's value (not identifiable)"
+                             % (name, self.estimates[name], unit))
+                continue
+            value, err = self.estimates[name], self.std_errors[name]
+            rel = " (%.2g %%)" % (100 * err / abs(value)) if value != 0 else ""
+            bound = ", written as 0" if name in self.clipped else ""
+            if name == "torque_offset":
+                bound += ", not written (no config key: add it to the torque you command)"
+            if name in self.entangled:
+                bound += ", moves with a kept value (below)"
+            lines.append("  %-28s %12.6g %-9s +- %.3g%s   base %.6g%s"
+                         % (name, value, unit, err, rel, self.base_values[name], bound))
+        for message in self.unidentifiable:
+            lines.append("  not identifiable: " + message)
+        for warning in self.warnings:
+            lines.append("note: " + warning)
+        if self.refined:
+            lines.append("refined by output error (%d evaluations): positions fitted to %.3g rad, "
+                         "%.3g m RMS (their noise %.3g rad, %.3g m)"
+                         % ((self.refined["evaluations"],) + self.refined["position_rms"]
+                            + self.refined["noise"]))
+            knots, bias = self.refined.get("crank_bias", ([], []))
+            if bias:
+                lines.append("crank encoder drift (fitted beside them, a knot every %g s): %s rad"
+                             % (BIAS_KNOT_SPACING, " ".join("%.3g" % b for b in bias)))
+        if self.method == "energy":
+            lines.append("residual RMS: %.4g J per window" % self.residual_rms)
+        else:
+            lines.append("residual RMS: %.4g N m (crank equation), %.4g N (slider equation)"
+                         % self.residual_rms)
+        if self.holdout and "skipped" in self.holdout:
+            lines.append("held-out last %.2g %%: skipped (%s)" % (100 * self.holdout["fraction"],
+                                                                self.holdout["skipped"]))
+        elif self.holdout:
+            lines.append("held-out last %.0f %% (fit on the rest): torque predicted to %.4g N m RMS "
+                         "(recorded torque RMS %.4g N m)" % (100 * self.holdout["fraction"],
+                                                              self.holdout["torque_rms_error"],
+                                                              self.holdout["torque_rms"]))
+        if self.validation:
+            v = self.validation
+            lines.append("re-simulated with the recorded torque over %.3g s: RMS error q1 %.4g rad, "
+                         "q2 %.4g m (fitted); q1 %.4g rad, q2 %.4g m (base)"
+                         % (v["duration"], v["fitted"]["q1_rms"], v["fitted"]["q2_rms"],
+                            v["base"]["q1_rms"], v["base"]["q2_rms"]))
+        return "\n".join(lines)
