@@ -7,7 +7,6 @@
 #include <functional>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <pybind11/numpy.h>
@@ -19,6 +18,7 @@
 #include "kane_sim/sim/output_grid.h"
 #include "kane_sim/sim/profile_commands.h"
 #include "kane_sim/sim/sim_driver.h"
+#include "kane_sim/sim/state_rates.h"
 #include "python_layer.h"
 
 namespace kane_sim {
@@ -40,25 +40,6 @@ struct StepRefused : std::runtime_error {
 };
 
 std::string num(double v) { return formatNumber(v); }
-
-// One value per physics step, from a NumPy array: value i is held over step i.
-class ArrayCommands {
- public:
-  ArrayCommands(const double* values, long count, std::uint64_t first_tick)
-      : values_(values), count_(count), first_tick_(first_tick) {}
-  void update(SimDriver& driver) {
-    const long i = static_cast<long>(driver.ticks() - first_tick_);
-    if (i < count_) last_ = values_[i];
-    sendCommand(driver, last_);
-  }
-  double last() const { return last_; }
-
- private:
-  const double* values_;
-  long count_;
-  std::uint64_t first_tick_;
-  double last_ = 0.0;
-};
 
 // A Python callable f(t, state) -> torque, called before every step with the GIL held.
 class CallableCommands {
@@ -265,7 +246,7 @@ class PythonSimulator {
         if (!values)  // not convertible to numbers (NumPy's error is cleared by ensure)
           throw py::type_error("run: a torque array must hold numbers, got " + typeName(torque));
         checkTorqueArray(values, grid.steps());
-        ArrayCommands commands(values.data(), grid.steps(), driver_.ticks());
+        SampledCommands commands(values.data(), grid.steps(), driver_.ticks());
         commands.update(driver_);
         readings.takeFrom(driver_);
         sample(driver_);
@@ -344,36 +325,18 @@ class PythonSimulator {
                               "command.torque_limit " + num(limit) + " N m");
     Array out = single ? Array(4) : Array({n, 4L});
     double* y = out.mutable_data();
-    const auto range = [&](long begin, long end) {
-      driver_.simulator().withEquations([&](const auto& equations) {
-        for (long i = begin; i < end; ++i) {
-          const State s{x[4 * i], x[4 * i + 1], x[4 * i + 2], x[4 * i + 3]};
-          const OdeState d = equations.stateDerivative(s, per_state ? m[i] : m[0]);
-          std::copy(d.begin(), d.begin() + 4, y + 4 * i);
-        }
-        return 0;
-      });
-    };
-    py::gil_scoped_release release;
-    const long kParallelFrom = 1 << 16;
-    const unsigned threads =
-        n >= kParallelFrom ? std::max(1u, std::thread::hardware_concurrency()) : 1;
-    std::vector<std::thread> workers;
-    const long chunk = (n + threads - 1) / threads;
-    for (unsigned t = 1; t < threads; ++t)
-      workers.emplace_back(range, std::min(n, t * chunk), std::min(n, (t + 1) * chunk));
-    range(0, std::min(n, chunk));
-    for (std::thread& w : workers) w.join();
+    long bad;
+    {
+      py::gil_scoped_release release;
+      bad = stateRates(driver_.simulator(), x, n, m, per_state, y);
+    }
     // A state whose rates are not finite is refused by row, in set_state's words (beyond the
     // mechanism's scale, a non-finite energy or u').
-    for (long i = 0; i < n; ++i) {
-      if (std::all_of(y + 4 * i, y + 4 * i + 4, [](double v) { return std::isfinite(v); }))
-        continue;
-      const State s{x[4 * i], x[4 * i + 1], x[4 * i + 2], x[4 * i + 3]};
+    if (bad >= 0) {
+      const State s{x[4 * bad], x[4 * bad + 1], x[4 * bad + 2], x[4 * bad + 3]};
       const Status usable = driver_.simulator().checkUsable(s);
-      py::gil_scoped_acquire acquire;
       throw py::value_error(
-          "rates: states[" + std::to_string(i) +
+          "rates: states[" + std::to_string(bad) +
           "]: " + (usable.ok ? Simulator::stateText(s) + " gives non-finite rates" : usable.error));
     }
     return out;
@@ -530,8 +493,8 @@ void bindSimulator(py::module_& m) {
       [] {
         py::list out;
         for (const CsvColumn& c : csvColumns())
-          out.append(py::make_tuple(c.name, c.group, c.key, c.message_field, c.message_index,
-                                    c.formerly));
+          out.append(
+              py::make_tuple(c.name, c.group, c.key, c.message_field, c.message_index, c.formerly));
         return out;
       },
       "The output quantities in CSV order: (column, group, key, message field, index or -1, "

@@ -11,6 +11,7 @@
 #include "kane_sim/format_number.h"
 #include "kane_sim/model/generated_mechanism.h"
 #include "kane_sim/sim/profile_commands.h"
+#include "kane_sim/sim/parallel.h"
 #include "lane_sweep.h"
 
 namespace kane_sim {
@@ -122,19 +123,7 @@ void BatchSimulator::buildDriver(std::size_t lane, const Config& config) {
 
 template <class F>
 void BatchSimulator::parallel(std::size_t count, const F& work) {
-  const std::size_t threads =
-      std::min<std::size_t>(static_cast<std::size_t>(settings_.threads), count);
-  if (threads <= 1) {
-    for (std::size_t k = 0; k < count; ++k) work(k);
-    return;
-  }
-  std::vector<std::thread> pool;
-  for (std::size_t t = 1; t < threads; ++t)
-    pool.emplace_back([&, t] {
-      for (std::size_t k = t; k < count; k += threads) work(k);
-    });
-  for (std::size_t k = 0; k < count; k += threads) work(k);
-  for (std::thread& th : pool) th.join();
+  parallelFor(count, static_cast<unsigned>(settings_.threads), work);
 }
 
 bool BatchSimulator::step(const double* actions, long steps, const std::vector<bool>* active,

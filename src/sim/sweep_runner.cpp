@@ -11,6 +11,7 @@
 #include "kane_sim/sim/profile_commands.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/sweep.h"
+#include "kane_sim/sim/parallel.h"
 #include "lane_sweep.h"
 
 namespace kane_sim {
@@ -21,7 +22,7 @@ namespace {
 constexpr size_t kSweepChunk = 64;
 }  // namespace
 
-unsigned maxSweepJobs() { return 4 * std::max(1u, std::thread::hardware_concurrency()); }
+unsigned maxSweepJobs() { return 4 * coreCount(); }
 
 SweepResult runSweepCase(const Config& config, const SweepSettings& settings) {
   const auto wall_start = std::chrono::steady_clock::now();
@@ -117,27 +118,21 @@ std::vector<SweepResult> runSweep(const YAML::Node& base, const SweepPlan& plan,
         if (sink) sink(written, results[written]);
     }
   };
-  unsigned jobs = settings.jobs ? settings.jobs : std::max(1u, std::thread::hardware_concurrency());
+  unsigned jobs = settings.jobs ? settings.jobs : coreCount();
   jobs =
       static_cast<unsigned>(std::max<size_t>(1, std::min<size_t>(jobs, (n + chunk - 1) / chunk)));
   std::vector<YAML::Node> bases;
   for (unsigned j = 0; j < jobs; ++j) bases.push_back(YAML::Clone(base));
-  std::vector<std::thread> threads;
-  for (unsigned j = 1; j < jobs; ++j) {
-    try {
-      threads.emplace_back(worker, bases[j]);
-    } catch (const std::system_error& e) {
-      // The system would not give more threads (a process or memory limit): run on those there
-      // are, and say so.
-      if (settings.on_warning)
-        settings.on_warning("could start only " + std::to_string(j) + " of " +
-                            std::to_string(jobs) + " sweep threads (" + e.what() +
-                            "); running on those");
-      break;
-    }
-  }
-  worker(bases[0]);
-  for (std::thread& t : threads) t.join();
+  // A thread the system would not give (a process or memory limit): the others take its cases
+  // from the shared counter, and the user is told.
+  runWorkers(
+      jobs, [&](unsigned j) { worker(bases[j]); },
+      [&](unsigned started, const std::string& why) {
+        if (settings.on_warning)
+          settings.on_warning("could start only " + std::to_string(started) + " of " +
+                              std::to_string(jobs) + " sweep threads (" + why +
+                              "); running on those");
+      });
   // Interrupted: the finished cases after an unfinished one go out too, still in case order.
   for (size_t i = written; i < n; ++i)
     if (done[i] && sink) sink(i, results[i]);

@@ -1,6 +1,7 @@
 // Sweeps (sim/sweep.h): the grid and CSV plans, each case's config through the one loader,
 // results in case order whatever the threads, and a case equal to the same single run.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <iostream>
 #include <sstream>
@@ -9,7 +10,10 @@
 #include <gtest/gtest.h>
 
 #include "kane_sim/batch/lanes.h"
+#include "kane_sim/config/load_config.h"
+#include "kane_sim/sim/parallel.h"
 #include "kane_sim/sim/simulator.h"
+#include "kane_sim/sim/state_rates.h"
 #include "kane_sim/sim/sweep.h"
 #include "test_helpers.h"
 
@@ -251,3 +255,52 @@ TEST(Sweep, SimdChoicesAreCheckedByName) {
 
 }  // namespace
 }  // namespace kane_sim
+
+// The one thread helper (sweeps, BatchSimulator, batched rates): every item once, whatever the
+// thread count; a worker's exception reaches the caller after the others finish.
+TEST(Parallel, EveryItemOnceAndAWorkersExceptionReachesTheCaller) {
+  for (unsigned threads : {0u, 1u, 2u, 3u, 7u, 64u}) {
+    for (std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{5}, std::size_t{1000}}) {
+      std::vector<std::atomic<int>> seen(count);
+      kane_sim::parallelFor(count, threads, [&](std::size_t k) { ++seen[k]; });
+      for (std::size_t k = 0; k < count; ++k) ASSERT_EQ(seen[k], 1) << threads << " " << k;
+      std::vector<std::atomic<int>> blocks(count);
+      kane_sim::parallelBlocks(static_cast<long>(count), threads, [&](long begin, long end) {
+        for (long k = begin; k < end; ++k) ++blocks[k];
+      });
+      for (std::size_t k = 0; k < count; ++k) ASSERT_EQ(blocks[k], 1) << threads << " " << k;
+    }
+  }
+  std::atomic<int> finished{0};
+  EXPECT_THROW(kane_sim::runWorkers(4,
+                                    [&](unsigned j) {
+                                      if (j == 2) throw std::runtime_error("worker 2");
+                                      ++finished;
+                                    }),
+               std::runtime_error);
+  EXPECT_EQ(finished, 3);
+}
+
+// Batched rates are the single state's rates, bit for bit, on one thread and across the cores.
+TEST(StateRates, EqualTheSimulatorsOwnRatesAndNameTheFirstNonFiniteRow) {
+  const kane_sim::Config config = kane_sim::loadConfigFile(kane_sim::defaultConfigFile()).config;
+  kane_sim::Simulator sim(config);
+  for (long n : {3L, kane_sim::kParallelRatesFrom + 5}) {
+    std::vector<double> states(4 * n), out(4 * n), torque(n);
+    for (long i = 0; i < n; ++i) {
+      states[4 * i] = 0.001 * i, states[4 * i + 1] = 0.1, states[4 * i + 2] = 1e-4 * i;
+      states[4 * i + 3] = -0.2;
+      torque[i] = std::sin(0.01 * i);
+    }
+    ASSERT_EQ(kane_sim::stateRates(sim, states.data(), n, torque.data(), true, out.data()), -1);
+    for (long i : {0L, 1L, n / 2, n - 1}) {
+      const kane_sim::State s{states[4 * i], states[4 * i + 1], states[4 * i + 2],
+                              states[4 * i + 3]};
+      const kane_sim::OdeState d = sim.withEquations(
+          [&](const auto& equations) { return equations.stateDerivative(s, torque[i]); });
+      for (int k = 0; k < 4; ++k) ASSERT_EQ(out[4 * i + k], d[k]) << i << " " << k;
+    }
+    states[4 * (n - 1) + 2] = 1e300;  // a crank speed beyond any scale
+    EXPECT_EQ(kane_sim::stateRates(sim, states.data(), n, torque.data(), true, out.data()), n - 1);
+  }
+}

@@ -7,6 +7,7 @@
 #define KANE_SIM_SIM_PROFILE_COMMANDS_H
 
 #include <atomic>
+#include <cstdint>
 #include <optional>
 
 #include "kane_sim/sim/sim_driver.h"
@@ -56,16 +57,36 @@ class ProfileCommands {
   double last_time_ = 0.0;
 };
 
+// One value per physics step from an array (Python's Simulator.run(torque=array), a recorded
+// command series): value i is commanded over step i from first_tick on, the last held after it.
+class SampledCommands {
+ public:
+  SampledCommands(const double* values, long count, std::uint64_t first_tick)
+      : values_(values), count_(count), first_tick_(first_tick) {}
+  void update(SimDriver& driver) {
+    const long i = static_cast<long>(driver.ticks() - first_tick_);
+    if (i < count_) last_ = values_[i];
+    sendCommand(driver, last_);
+  }
+  double last() const { return last_; }
+
+ private:
+  const double* values_;  // the caller's, alive for the run
+  long count_;
+  std::uint64_t first_tick_;
+  double last_ = 0.0;
+};
+
 enum class RunEnd { kFinished, kStepRefused, kStopped };
 
 // The offline run, one loop for `simulate`, every sweep case and the Python module's
 // Simulator.run: `steps` physics steps of `driver` under `commands` (anything with
-// update(SimDriver&): ProfileCommands, or the Python module's arrays and callables; the caller
-// updates them once at the start, before its first output; then after each step, as the node's
-// tick does), on_step(driver)
-// after every step and on_sample(driver) after every `steps_per_sample`-th and the last. Ends
-// early when a step is refused or `stop` is set (checked before each step). A template, so the
-// callbacks inline into the loop (simulate's speed bar is measured on it).
+// update(SimDriver&): ProfileCommands, SampledCommands, or the Python module's callables; the
+// caller updates them once at the start, before its first output; then after each step, as the
+// node's tick does), on_step(driver) after every step and on_sample(driver) after every
+// `steps_per_sample`-th and the last. Ends early when a step is refused or `stop` is set (checked
+// before each step). A template, so the callbacks inline into the loop (simulate's speed bar is
+// measured on it).
 template <typename Commands, typename OnStep, typename OnSample>
 RunEnd runProfile(SimDriver& driver, Commands& commands, long steps, long steps_per_sample,
                   const std::atomic<bool>* stop, OnStep on_step, OnSample on_sample) {
