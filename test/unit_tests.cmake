@@ -79,6 +79,10 @@ add_test(NAME sympy_crosscheck
 add_test(NAME codegen COMMAND bash ${tools_dir}/codegen_test.sh)
 # A throw-away load declared in codegen's tables reaches every part of the generated header.
 add_test(NAME throwaway_load COMMAND /usr/bin/python3 ${tools_dir}/throwaway_load_test.py)
+# The same load through every consumer: a copy of the package with it built and asked (minutes
+# on two cores). Label "slow": scripts/test.sh leaves it out; `ctest -L slow` runs it.
+add_test(NAME throwaway_load_build COMMAND /usr/bin/python3 ${tools_dir}/throwaway_load_build.py)
+set_tests_properties(throwaway_load_build PROPERTIES LABELS slow TIMEOUT 1800)
 # The Python module (kane_sim._core and the kane_sim package): pytest, against simulate and
 # analyze, and SymPy's KanesMethod with auxiliary speeds for the reaction forces.
 add_test(NAME python_module COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
