@@ -123,7 +123,11 @@ bool parseOptions(int argc, char** argv, Options* options) {
     // No abbreviations: --dur would be --duration, and a typo of one flag another's.
     const int style =
         po::command_line_style::default_style & ~po::command_line_style::allow_guessing;
-    po::store(po::command_line_parser(argc, argv).options(desc).style(style).run(), vm);
+    // No positional arguments either: a forgotten --sweep before a second axis must not vanish.
+    const po::positional_options_description none;
+    po::store(
+        po::command_line_parser(argc, argv).options(desc).style(style).positional(none).run(),
+        vm);
     if (vm.count("help")) {
       std::cout << desc << "\n";
       return false;
@@ -169,7 +173,10 @@ bool parseOptions(int argc, char** argv, Options* options) {
       throw UsageError("--integrator must be rk4 or dopri5, got '" + options->integrator + "'");
   }
   if (vm.count("sweep")) options->sweep_axes = vm["sweep"].as<std::vector<std::string>>();
-  if (vm.count("sweep-file")) options->sweep_file = vm["sweep-file"].as<std::string>();
+  if (vm.count("sweep-file")) {
+    options->sweep_file = vm["sweep-file"].as<std::string>();
+    if (options->sweep_file.empty()) throw UsageError("--sweep-file needs a file name, got ''");
+  }
   if (vm.count("jobs")) {
     const long long jobs = vm["jobs"].as<long long>();
     const long long most = kane_sim::maxSweepJobs();
@@ -194,7 +201,7 @@ bool parseOptions(int argc, char** argv, Options* options) {
       try {
         kane_sim::parseLaneArch(options->simd);
       } catch (const std::invalid_argument& e) {
-        throw UsageError(std::string("--") + e.what() + " (or off)");
+        throw UsageError(std::string("--") + e.what());
       }
     }
   }

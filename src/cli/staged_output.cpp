@@ -12,7 +12,11 @@ StagedPath::StagedPath(std::string path) : path_(std::move(path)), staging_(path
       (std::filesystem::exists(path_, error) && !std::filesystem::is_regular_file(path_, error))) {
     staging_ = path_;
     published_ = true;
+    return;
   }
+  // A leftover FILE.partial that is a link (planted in a shared folder, or left by another tool)
+  // would be written through: the link goes, the output gets a file of its own.
+  if (std::filesystem::is_symlink(staging_, error)) std::filesystem::remove(staging_, error);
 }
 
 StagedPath::~StagedPath() {

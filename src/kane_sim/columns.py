@@ -33,12 +33,15 @@ def current_name(name, stacklevel=3):
 
 def renamed_columns(table):
     """A dict of columns read from an older CSV with its former names replaced by today's (one
-    DeprecationWarning naming them); a current CSV unchanged."""
+    FutureWarning naming them); a current CSV unchanged."""
     old = [name for name in table if name in RENAMED and RENAMED[name] not in table]
     if not old:
         return table
-    warnings.warn("an older CSV: columns %s are now %s (read under their new names)"
-                  % (", ".join(old), ", ".join(RENAMED[n] for n in old)), DeprecationWarning,
+    # A FutureWarning: shown by default (a DeprecationWarning is hidden outside __main__), since
+    # the one who must act is whoever holds the file, a tool's user as much as a programmer.
+    warnings.warn("an older CSV: columns %s are now %s (read under their new names; the former "
+                  "names are read until the next release)"
+                  % (", ".join(old), ", ".join(RENAMED[n] for n in old)), FutureWarning,
                   stacklevel=2)
     return {RENAMED.get(name, name) if name in old else name: values
             for name, values in table.items()}

@@ -3,6 +3,7 @@ one driver: SimDriver, stepped by simulate's loop), analyze (analyze --json), sw
 --sweep). Errors keep the C++ messages: ConfigError (a ValueError) names the key and the value,
 ValueError a refused input, StepRefused (a RuntimeError) a refused step."""
 import json
+import math
 import os
 import warnings
 from collections.abc import Mapping
@@ -25,6 +26,13 @@ def _yaml_scalar(value, name):
     if not isinstance(value, (bool, int, float, str)):
         raise TypeError("config key '%s': a value must be a number, a bool or a string, got %s %r"
                         % (name, type(value).__name__, value))
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):  # repr reads back exactly; YAML spells the non-finite ones
+        return repr(value) if math.isfinite(value) else \
+            (".nan" if value != value else ("-.inf" if value < 0 else ".inf"))
     return yaml.safe_dump(value)
 
 
@@ -42,6 +50,9 @@ class Config:
         elif source is None:
             self._core = _core.Config.from_file("")
         elif isinstance(source, (str, os.PathLike)):
+            if not os.fspath(source):  # as simulate --config '': not the default in disguise
+                raise ConfigError("config '' is not a readable file: give a path, or None for "
+                                  "the package's config/mechanism.yaml")
             self._core = _core.Config.from_file(os.fspath(source))
         elif isinstance(source, Mapping):
             self._core = _core.Config.from_yaml(yaml.safe_dump(_plain(source)))
@@ -61,16 +72,8 @@ class Config:
         """A copy with {'section.key': value} set, validated as a whole: the loader sees every
         value at once, so the order of the keys does not matter (friction rk4 cannot follow is
         accepted together with simulation.integrator dopri5, whichever comes first)."""
-        tree = yaml.safe_load(self.yaml())
-        names = set(Config.names())
-        for name, value in values.items():
-            if name not in names:
-                self._core.get(name)  # the loader's error: an unknown key, with a suggestion
-            section, key = name.split(".", 1)
-            if not isinstance(tree.get(section), dict):
-                tree[section] = {}
-            tree[section][key] = yaml.safe_load(_yaml_scalar(value, name))
-        return Config(tree)
+        return Config(self._core.with_values(
+            [(name, _yaml_scalar(value, name)) for name, value in values.items()]))
 
     @staticmethod
     def names(role=None):
@@ -313,14 +316,19 @@ class Simulator:
             raise ValueError("step: n = %d physics steps is more than 1e7 s of sim time" % n)
         return self._sim.step(int(n))
 
-    def run(self, duration, torque=None, output_rate=None):
+    def run(self, duration, torque=None, output_rate=None, states_only=False):
         """A run of `duration` [s] (on the output grid: a whole number of 1/output_rate) from
         the state now -> Result with every CSV column, rows every 1/output_rate s (default
         simulation.publish_rate). torque: a number, a TorqueProfile, an array of one value
         per physics step, a callable f(t, state) -> float called before every step, or None
-        to hold the torque in force (servo modes: setpoints). Ctrl-C stops it
-        (KeyboardInterrupt; the rows until then are in last_result)."""
-        columns = self._sim.run(_real("run: duration", duration), torque, output_rate)
+        to hold the torque in force (servo modes: setpoints). states_only: the columns t, q1,
+        q2, u1, u2 alone (the same numbers, without the snapshot of every other column at each
+        row: several times faster, for fits that replay a recording many times). Ctrl-C stops
+        it (KeyboardInterrupt; the rows until then are in last_result)."""
+        if not isinstance(states_only, (bool, np.bool_)):
+            raise TypeError("run: states_only must be True or False, got %r" % (states_only,))
+        columns = self._sim.run(_real("run: duration", duration), torque, output_rate,
+                                bool(states_only))
         return Result(columns, self.config, self._sim.last_readings)
 
     @property

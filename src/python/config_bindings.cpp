@@ -61,16 +61,23 @@ py::object PythonConfig::get(const std::string& name) const {
 }
 
 PythonConfig PythonConfig::with(const std::string& name, const std::string& value_yaml) const {
-  const ParameterSpec& spec = specOf(name);
-  YAML::Node value;
-  try {
-    value = YAML::Load(value_yaml);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(name, "got a value that is not a YAML scalar: " + std::string(e.what()));
-  }
+  return with({{name, value_yaml}});
+}
+
+PythonConfig PythonConfig::with(
+    const std::vector<std::pair<std::string, std::string>>& values) const {
   YAML::Node tree = YAML::Clone(tree_);
-  setConfigValue(tree, spec.section, spec.key, value);
-  return PythonConfig(tree, source_);
+  for (const auto& [name, value_yaml] : values) {
+    const ParameterSpec& spec = specOf(name);
+    YAML::Node value;
+    try {
+      value = YAML::Load(value_yaml);
+    } catch (const YAML::Exception& e) {
+      throw ConfigError(name, "got a value that is not a YAML scalar: " + std::string(e.what()));
+    }
+    setConfigValue(tree, spec.section, spec.key, value);
+  }
+  return PythonConfig(tree, source_);  // validated once, with every value in place
 }
 
 std::vector<std::string> PythonConfig::names() {
@@ -90,7 +97,14 @@ void bindConfig(py::module_& m) {
                   "Load a config file ('' = the package's config/mechanism.yaml).")
       .def_static("from_yaml", &PythonConfig::fromYaml, py::arg("text"), "Load YAML text.")
       .def("get", &PythonConfig::get, py::arg("name"))
-      .def("with_value", &PythonConfig::with, py::arg("name"), py::arg("value_yaml"))
+      .def("with_value",
+           py::overload_cast<const std::string&, const std::string&>(&PythonConfig::with,
+                                                                      py::const_),
+           py::arg("name"), py::arg("value_yaml"))
+      .def("with_values",
+           py::overload_cast<const std::vector<std::pair<std::string, std::string>>&>(
+               &PythonConfig::with, py::const_),
+           py::arg("values"), "A copy with every (name, YAML scalar) set, validated together.")
       .def_static("names", &PythonConfig::names, "Every parameter's config name.")
       .def_static("reconfigurable", &PythonConfig::reconfigurable, py::arg("name"))
       .def_static("role", &PythonConfig::role, py::arg("name"),

@@ -41,6 +41,8 @@ class PythonConfig {
   py::object get(const std::string& name) const;
   // A copy with `name` set to the YAML scalar `value_yaml` (Python's yaml.safe_dump of it).
   PythonConfig with(const std::string& name, const std::string& value_yaml) const;
+  // A copy with every (name, YAML scalar) set, validated together (the order does not matter).
+  PythonConfig with(const std::vector<std::pair<std::string, std::string>>& values) const;
   static std::vector<std::string> names();
   static bool reconfigurable(const std::string& name);
   // The parameter's role in the schema ("inertial", "dissipative", ...: ParameterRole).

@@ -194,8 +194,10 @@ class PythonSimulator {
   }
 
   // The run: rows every 1/output_rate s (default: every physics step) from now to now +
-  // duration; every column of simulate's CSV, as arrays.
-  py::dict run(double duration, const py::object& torque, const py::object& output_rate_arg) {
+  // duration; every column of simulate's CSV, as arrays (states_only: t, q1, q2, u1, u2 alone,
+  // without a snapshot per row: what a fit's thousands of replays need).
+  py::dict run(double duration, const py::object& torque, const py::object& output_rate_arg,
+               bool states_only) {
     const Exclusive exclusive(busy_, "run");
     const double physics_rate = config_.config().simulation.physics_rate;
     double output_rate = physics_rate;
@@ -213,7 +215,7 @@ class PythonSimulator {
     } catch (const std::invalid_argument& e) {
       throw py::value_error(std::string("run: ") + e.what());
     }
-    const long columns = static_cast<long>(csvColumns().size());
+    const long columns = states_only ? StateRows::kColumns : static_cast<long>(csvColumns().size());
     const long rows = grid.rows + 1;
     // The sensor readings come back too: arrival and sample time, 4 positions, 4 speeds each.
     const double readings_count = duration * sensorReadingRate(config_.config());
@@ -223,11 +225,17 @@ class PythonSimulator {
                             std::to_string(columns) + " columns and " + num(readings_count) +
                             " sensor readings are more than 16 GiB: use a lower output_rate, "
                             "sensors.rate or a shorter duration");
-    Rows out(columns, rows);
+    Rows out(states_only ? 0 : columns, states_only ? 0 : rows);
+    StateRows states(states_only ? rows : 0);
     Readings readings;
-    const auto sample = [&out](const SimDriver& d) { out.add(d.snapshot()); };
+    const auto sample = [&](const SimDriver& d) {
+      if (states_only)
+        states.add(d);
+      else
+        out.add(d.snapshot());
+    };
     const auto finish = [&]() {
-      last_result_ = out.toDict();
+      last_result_ = states_only ? states.toDict() : out.toDict();
       last_readings_ = readings.toDict();
     };
     RunEnd end = RunEnd::kFinished;
@@ -417,6 +425,34 @@ class PythonSimulator {
     std::vector<double> data_;
   };
 
+  // t, q1, q2, u1, u2 of each row, straight from the driver (no snapshot).
+  class StateRows {
+   public:
+    static constexpr long kColumns = 5;
+    explicit StateRows(long capacity) : capacity_(capacity) {
+      data_.resize(static_cast<size_t>(kColumns * capacity));
+    }
+    void add(const SimDriver& d) {
+      if (filled_ == capacity_) return;
+      const State& x = d.simulator().state();
+      const double values[kColumns] = {d.time(), x.q1, x.q2, x.u1, x.u2};
+      for (long c = 0; c < kColumns; ++c)
+        data_[static_cast<size_t>(c * capacity_ + filled_)] = values[c];
+      ++filled_;
+    }
+    py::dict toDict() const {
+      static const char* const names[kColumns] = {"t", "q1", "q2", "u1", "u2"};
+      py::dict out;
+      for (long c = 0; c < kColumns; ++c)
+        out[names[c]] = Array(filled_, data_.data() + c * capacity_);
+      return out;
+    }
+
+   private:
+    long capacity_, filled_ = 0;
+    std::vector<double> data_;
+  };
+
   static std::string typeName(const py::handle& h) {
     return std::string(py::str(py::type::of(h).attr("__name__")));
   }
@@ -513,7 +549,7 @@ void bindSimulator(py::module_& m) {
       .def_property_readonly("commanded_torque", &PythonSimulator::heldTorque)
       .def("step", &PythonSimulator::step, py::arg("n") = 1)
       .def("run", &PythonSimulator::run, py::arg("duration"), py::arg("torque") = py::none(),
-           py::arg("output_rate") = py::none())
+           py::arg("output_rate") = py::none(), py::arg("states_only") = false)
       .def_property_readonly("last_result", &PythonSimulator::lastResult)
       .def_property_readonly("last_readings", &PythonSimulator::lastReadings)
       .def("take_readings", &PythonSimulator::takeReadings)

@@ -383,11 +383,11 @@ def test_one_name_per_quantity_and_the_former_names_for_one_release(tmp_path):
     header = [{v: k for k, v in columns.RENAMED.items()}.get(n, n) for n in r]
     old.write_text(",".join(header) + "\n" + "\n".join(
         ",".join(repr(float(r[n][i])) for n in r) for i in range(len(r.t))) + "\n")
-    with pytest.warns(DeprecationWarning, match="an older CSV"):
+    with pytest.warns(FutureWarning, match="an older CSV"):
         table = plotting.read_csv(str(old))
     np.testing.assert_array_equal(table["applied_torque"], r.applied_torque)
     assert "torque" not in table and "power_motor" in table
-    with pytest.warns(DeprecationWarning):
+    with pytest.warns(FutureWarning):
         motion = identify.load_motion(str(old))
     np.testing.assert_array_equal(motion.torque, r.applied_torque)
     env = kane_sim.VectorEnv(2, config_path())
