@@ -392,3 +392,16 @@ def test_one_name_per_quantity_and_the_former_names_for_one_release(tmp_path):
     np.testing.assert_array_equal(motion.torque, r.applied_torque)
     env = kane_sim.VectorEnv(2, config_path())
     assert env.observation_names == ("q1", "q2", "u1", "u2")
+
+
+def test_states_only_runs_are_the_full_runs_states():
+    # One truth: a fit's lean replays step exactly as run() does.
+    cfg = kane_sim.Config(config_path())
+    torque = np.sin(np.arange(2000) * 1e-3 * 3.0) * 2.0
+    full = kane_sim.Simulator(cfg).run(2.0, torque=torque, output_rate=100)
+    lean = kane_sim.Simulator(cfg).run(2.0, torque=torque, output_rate=100, states_only=True)
+    assert list(lean) == ["t", "q1", "q2", "u1", "u2"]
+    for name in lean:
+        np.testing.assert_array_equal(lean[name], full[name], err_msg=name)
+    with pytest.raises(TypeError, match="states_only must be True or False"):
+        kane_sim.Simulator(cfg).run(0.1, states_only="yes")
