@@ -30,9 +30,9 @@ from kane_sim.identify.rates import (  # noqa: F401  (the public names, as befor
     DEFAULT_BANDWIDTH, NOISE_FREE_ROUGHNESS, Prepared, estimate_rates, noise_free)
 from kane_sim.identify.least_squares import (  # noqa: F401  (the public names, as before the split)
     DEFAULT_METHOD, ENERGY_WINDOW, ENERGY_WINDOW_RECORDED, METHODS, QUADRATURE_TOLERANCE,
-    _estimate, _rest_length, _rms, _system, _usable, fitted_config, parameters)
+    _dissipative, _estimate, _rest_length, _rms, _system, _usable, fitted_config, parameters)
 from kane_sim.identify.refinement import (  # noqa: F401  (the public names, as before the split)
-    BIAS_KNOT_SPACING, _refine, simulate_motion)
+    BIAS_KNOT_SPACING, CONVERGED_NOISE_FACTOR, SEGMENT_SECONDS, _refine, simulate_motion)
 from kane_sim.identify.validation import (  # noqa: F401  (the public names, as before the split)
     _config_warnings, _holdout, validation)
 from kane_sim.identify.report import (  # noqa: F401  (the public names, as before the split)
@@ -94,8 +94,27 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
         base, names, y, b, groups, prepared.states, check, _rms(prepared.torque))
     theta, cov = _rest_length(names, theta, cov)
     if refine is True or (refine == "auto" and prepared.bandwidth is not None):
-        # Unphysical least squares (a flipped torque, wrong units) is refused here, by name,
-        # before the re-simulations would fail on it with a message about the integrator.
+        # The least squares' dissipative values are noisy: a negative one starts the refinement
+        # at 0. A negative mass or
+        # stiffness (a flipped torque, wrong units) is refused here, by name, before the
+        # re-simulations would fail on it with a message about the integrator.
+        # Friction's least-squares value is the least reliable (a rig's came out 100 times the
+        # truth, a config rk4 could not run): the refinement starts it at the base's value.
+        # A mass or stiffness the least squares put at or a little below 0 (within
+        # UNPHYSICAL_SIGMAS of its error: a poorly excited coordinate, a base slightly off)
+        # starts at the base's value, and the refinement, which keeps it positive, decides;
+        # further below is a flipped torque or wrong units, refused now by name.
+        sigma = np.sqrt(np.maximum(np.diag(cov), 0.0))
+        for i, name in enumerate(names):
+            if name in kept:
+                continue
+            if name.startswith("friction."):
+                theta[i] = _core.identification_base_value(base._core, name)
+            elif _dissipative(name) and theta[i] < 0:
+                theta[i] = 0.0
+            elif name != "torque_offset" and name != "spring_rest_length" and theta[i] <= 0 \
+                    and theta[i] > -UNPHYSICAL_SIGMAS * sigma[i]:
+                theta[i] = _core.identification_base_value(base._core, name)
         fitted_config(base, dict(zip(names, theta)), dict(zip(names, np.sqrt(np.diag(cov)))))
         if len(kept) < len(names):
             ls_theta = dict(zip(names, theta))
@@ -115,4 +134,46 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
     if validate:
         result.validation = validation(motion, base, result.config,
                                        result.estimates.get("torque_offset", 0.0), bandwidth)
+    result.refusal = _refusal(result)
     return result
+
+
+# How far below 0 (in its standard errors) a least-squares mass or stiffness may come out and
+# still be left to the refinement: beyond, the data's torque has the wrong sign or units.
+UNPHYSICAL_SIGMAS = 5.0
+
+
+def _refusal(result):
+    """Why the fit must not be written, or None: the output-error fit left the positions further
+    from the recording than CONVERGED_NOISE_FACTOR times their noise (its numbers, and their
+    standard errors, then describe no model of this data), or the fitted model re-simulates the
+    recording no better than the base did. The reason names what is most likely wrong."""
+    r = result.refined
+    if r and not r["converged"]:
+        stopped = r["evaluations"] >= r["evaluation_limit"]
+        causes = ["the fit stopped at its limit of %d evaluations" % r["evaluation_limit"]] \
+            if stopped else []
+        fitted = set(result.names) - set(result.kept)
+        if "mechanism.rod_inertia" not in fitted:
+            causes.append("a parameter not fitted that matters (the rod's inertia: add "
+                          "mechanism.rod_inertia to the parameters)")
+        causes += ["a mechanism the base does not describe (its measured rod_half_length L "
+                   "and gravity g, which are not fitted)",
+                   "a torque that is not the one delivered (its sign, units, a lag)",
+                   "too little excitation for the parameters asked"]
+        return ("the output-error fit left the positions at %.3g rad and %.3g m RMS from the "
+                "recording, more than %g times their noise (%.3g rad, %.3g m): the estimates "
+                "and their errors describe no model of this data. Most likely: %s"
+                % (r["position_rms"] + (CONVERGED_NOISE_FACTOR,) + r["noise"]
+                   + ("; or ".join(causes),)))
+    v = result.validation
+    if v and "error" not in v.get("fitted", {}) and "error" not in v.get("base", {}):
+        worse = [k for k in ("q1", "q2") if not v["fitted"][k + "_rms"] < v["base"][k + "_rms"]]
+        if len(worse) == 2:
+            return ("re-simulated with the recorded torque, the fitted model follows the "
+                    "recording no better than the base (q1 %.4g rad against %.4g, q2 %.4g m "
+                    "against %.4g): the data cannot tell this model's parameters (too little "
+                    "excitation), or the base does not describe the mechanism"
+                    % (v["fitted"]["q1_rms"], v["base"]["q1_rms"], v["fitted"]["q2_rms"],
+                       v["base"]["q2_rms"]))
+    return None

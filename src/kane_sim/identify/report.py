@@ -1,7 +1,7 @@
 """What identify() found (Identification) and its text report."""
 from kane_sim import _core
 from kane_sim.identify.least_squares import DEFAULT_METHOD
-from kane_sim.identify.refinement import BIAS_KNOT_SPACING
+from kane_sim.identify.refinement import BIAS_KNOT_SPACING, SEGMENT_SECONDS
 
 
 class Identification:
@@ -12,7 +12,9 @@ class Identification:
     base with the estimates written in; the torque offset is not a config value), `residual_rms`
     (N m, N), `samples`, `holdout` (cross-validation on the last part of the data: the fit of the
     rest predicting its torque; or why it was skipped), `notes`, `warnings` (the base config's
-    unknown keys; what of it the recording contradicts)."""
+    unknown keys; what of it the recording contradicts), `refusal` (why it must not be written:
+    the output-error fit did not converge to the noise, or the fit follows the recording no
+    better than the base; None when it may be)."""
 
     def __init__(self):
         self.names = []
@@ -34,6 +36,7 @@ class Identification:
         self.clipped = []
         self.refined = None
         self.validation = None
+        self.refusal = None  # why the fit must not be written (identify._refusal), or None
         self.warnings = []
 
     def report(self):
@@ -65,10 +68,13 @@ class Identification:
         for warning in self.warnings:
             lines.append("note: " + warning)
         if self.refined:
-            lines.append("refined by output error (%d evaluations): positions fitted to %.3g rad, "
-                         "%.3g m RMS (their noise %.3g rad, %.3g m)"
-                         % ((self.refined["evaluations"],) + self.refined["position_rms"]
-                            + self.refined["noise"]))
+            lines.append("refined by output error (%d segments of %g s, %d evaluations): "
+                         "positions fitted to %.3g rad, %.3g m RMS (their noise %.3g rad, "
+                         "%.3g m)%s"
+                         % ((self.refined["segments"], SEGMENT_SECONDS,
+                             self.refined["evaluations"]) + self.refined["position_rms"]
+                            + self.refined["noise"]
+                            + ("" if self.refined["converged"] else ": NOT converged",)))
             knots, bias = self.refined.get("crank_bias", ([], []))
             if bias:
                 lines.append("crank encoder drift (fitted beside them, a knot every %g s): %s rad"
@@ -92,4 +98,6 @@ class Identification:
                          "q2 %.4g m (fitted); q1 %.4g rad, q2 %.4g m (base)"
                          % (v["duration"], v["fitted"]["q1_rms"], v["fitted"]["q2_rms"],
                             v["base"]["q1_rms"], v["base"]["q2_rms"]))
+        if self.refusal:
+            lines.append("REFUSED: " + self.refusal)
         return "\n".join(lines)

@@ -1,0 +1,84 @@
+#!/usr/bin/python3
+"""Identification over a family of rigs it was not tuned on (test/python/identify/rigs.py):
+random masses, k, dampers, friction and rod inertia, six motion regimes, random sensors, recorded
+mid-run. Prints per rig what identify() decided, then the distribution: per parameter class the
+median and worst relative error of what it told (not kept, not marked), the coverage (share of
+told (rig, parameter) pairs within 3 of their reported sigma), refusals with their reasons, the
+wall time and peak memory.
+
+Usage: bench/identify_family.py [--rigs N] [--first SEED] [--duration S]   (after sourcing the
+build's devel/setup.bash; N = 30, SEED = 100, the regimes in turn; S = 0: each rig's own 20 to
+120 s)
+"""
+import argparse
+import os
+import resource
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "test",
+                                "python", "identify"))
+import rigs  # noqa: E402
+from kane_sim import identify as ki  # noqa: E402
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rigs", type=int, default=30)
+    parser.add_argument("--first", type=int, default=100)
+    parser.add_argument("--duration", type=float, default=0.0)
+    args = parser.parse_args()
+    errors = {label: [] for label in rigs.CLASSES}
+    z_all, refused, walls = [], [], []
+    for k in range(args.rigs):
+        seed = args.first + k
+        rig = rigs.draw(seed, regime=rigs.REGIMES[k % len(rigs.REGIMES)],
+                        duration=args.duration or None)
+        data = rigs.record(rig)
+        start = time.monotonic()
+        try:
+            fit = ki.identify(data, None, holdout=0)
+        except ValueError as e:
+            walls.append(time.monotonic() - start)
+            refused.append((rig, "error: " + str(e)[:160]))
+            print("%-44s refused before fitting: %s" % (rig, str(e)[:120]), flush=True)
+            continue
+        walls.append(time.monotonic() - start)
+        if fit.refusal:
+            refused.append((rig, fit.refusal[:160]))
+            print("%-44s REFUSED (%.1f s): %s" % (rig, walls[-1], fit.refusal[:110]), flush=True)
+            continue
+        rows = rigs.score(rig, fit)
+        worst = {}
+        for name, row in rows.items():
+            if not row["told"] or name == "torque_offset":
+                continue
+            label = rigs.parameter_class(name)
+            if row["truth"] != 0:
+                errors.setdefault(label, []).append(abs(row["error"]))
+                worst[label] = max(worst.get(label, 0.0), abs(row["error"]))
+            z_all.append(row["z"])
+        print("%-44s ok (%.1f s): worst %s; z max %.2g" % (
+            rig, walls[-1], ", ".join("%s %.2g %%" % (k2, 100 * v) for k2, v in worst.items()),
+            max([r["z"] for r in rows.values() if r["told"]] or [0])), flush=True)
+    print("\nper class (told parameters whose truth is not 0): median / worst relative error")
+    for label, values in errors.items():
+        if values:
+            print("  %-10s %4d  median %.3g %%  worst %.3g %%"
+                  % (label, len(values), 100 * np.median(values), 100 * np.max(values)))
+    z = np.array(z_all)
+    if len(z):
+        print("coverage: %.1f %% of %d told (rig, parameter) pairs within 3 sigma (median z %.2g)"
+              % (100 * np.mean(z <= 3), len(z), np.median(z)))
+    print("refused: %d of %d rigs" % (len(refused), args.rigs))
+    for rig, why in refused:
+        print("  %s: %s" % (rig, why))
+    print("wall time per fit: median %.1f s, worst %.1f s; peak memory %.0f MB"
+          % (np.median(walls), np.max(walls),
+             resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024))
+
+
+if __name__ == "__main__":
+    main()

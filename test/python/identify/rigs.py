@@ -1,0 +1,157 @@
+"""A family of rigs identification was not tuned on: random parameters, motion regimes and
+sensors, recorded as a bag cut to /joint_states would show them (the sensors' readings stamped
+at arrival, the crank's effort as the drive delivered it then), from the middle of a run.
+
+    rig = rigs.draw(seed)                 # or draw(seed, regime="prbs", duration=60)
+    data = rigs.record(rig)               # {"t", "q1", "q2", "u1", "u2", "applied_torque"}
+    rigs.score(rig, fit)                  # errors, coverage, what was told and what was not
+
+Used by test_family.py (a fixed handful, one per regime) and bench/identify_family.py (>= 30
+rigs, the distribution).
+"""
+import math
+
+import numpy as np
+
+import kane_sim
+import kane_sim.identify  # noqa: F401  (excitation)
+
+REGIMES = ("oscillation", "full_turns", "prbs", "multisine_bias", "servo", "excite")
+MASSES = ("mechanism.rod_mass", "mechanism.slider3_mass", "mechanism.slider4_mass")
+STIFFNESS = ("mechanism.spring_stiffness",)
+DAMPERS = ("damping.crank_joint", "damping.slider3_joint", "damping.slider4_joint",
+           "damping.spring")
+FRICTION = ("friction.crank_joint", "friction.slider3_joint", "friction.slider4_joint")
+CLASSES = {"mass": MASSES, "stiffness": STIFFNESS, "damper": DAMPERS, "friction": FRICTION}
+
+
+class Rig:
+    """One drawn rig: truth (config values), regime, sensors (config values), duration [s] of the
+    recording, start [s] of the recording within the run, seed."""
+
+    def __init__(self, seed, regime, truth, sensors, duration, start):
+        self.seed, self.regime, self.truth, self.sensors = seed, regime, truth, sensors
+        self.duration, self.start = duration, start
+
+    def config(self):
+        return kane_sim.Config().with_values(dict(self.truth, **self.sensors))
+
+    def __repr__(self):
+        return "Rig(seed=%d, %s, %.0f s at %.0f Hz)" % (self.seed, self.regime, self.duration,
+                                                         self.sensors["sensors.rate"])
+
+
+def _log_uniform(rng, low, high):
+    return float(math.exp(rng.uniform(math.log(low), math.log(high))))
+
+
+def draw(seed, regime=None, duration=None):
+    """A rig from `seed`: masses and k x[0.5, 2] of the defaults, each damper and friction on with
+    probability 1/2 and 1/3, the rod's inertia off its default in half of them, sensors of 100 Hz
+    to 1 kHz with noise, encoder counts, latency and (sometimes) a bias walk."""
+    rng = np.random.default_rng(seed)
+    base = kane_sim.Config()
+    regime = regime or REGIMES[rng.integers(len(REGIMES))]
+    truth = {name: base[name] * _log_uniform(rng, 0.5, 2.0) for name in MASSES + STIFFNESS}
+    if rng.random() < 0.5:  # the rod's inertia, not fitted by default: off by up to 50 %
+        truth["mechanism.rod_inertia"] = base["mechanism.rod_inertia"] * rng.uniform(0.8, 1.5)
+    for name in DAMPERS:
+        on = rng.random() < 0.5
+        truth[name] = (_log_uniform(rng, 0.01, 0.2) if name == "damping.crank_joint" else
+                       _log_uniform(rng, 0.1, 2.0)) if on else 0.0
+    for name in FRICTION:
+        on = rng.random() < 1 / 3
+        truth[name] = (_log_uniform(rng, 0.01, 0.1) if name == "friction.crank_joint" else
+                       _log_uniform(rng, 0.05, 0.5)) if on else 0.0
+    truth["friction.velocity_scale"] = 0.01
+    truth["command.torque_limit"] = 60.0
+    rate = float(rng.choice([100.0, 200.0, 500.0, 1000.0]))
+    sensors = {"sensors.enabled": True, "sensors.seed": int(seed) + 1, "sensors.rate": rate,
+               "sensors.latency": float(rng.uniform(0.0, 0.004)),
+               "sensors.crank_position_noise": _log_uniform(rng, 1e-4, 2e-3),
+               "sensors.slider4_position_noise": _log_uniform(rng, 1e-5, 3e-4),
+               "sensors.crank_velocity_noise": _log_uniform(rng, 1e-3, 2e-2),
+               "sensors.slider4_velocity_noise": _log_uniform(rng, 1e-4, 3e-3),
+               "sensors.crank_encoder_counts": float(rng.choice([0, 4096, 16384])),
+               "sensors.crank_bias_walk": 1e-4 if rng.random() < 0.3 else 0.0}
+    if regime == "servo":
+        truth.update({"command.mode": "position", "command.position_kp": 60.0,
+                      "command.position_kd": 4.0})
+    duration = float(duration or rng.choice([20.0, 60.0, 120.0]))
+    start = float(rng.uniform(0.0, 5.0))  # recorded mid-run
+    return Rig(seed, regime, truth, sensors, duration, start)
+
+
+def torque_profile(rig, rng=None):
+    """The rig's drive (one value per physics step) over start + duration: its regime's torque,
+    or a servo's setpoint."""
+    rng = rng or np.random.default_rng(rig.seed + 1000)
+    cfg = rig.config()
+    dt = 1.0 / cfg["simulation.physics_rate"]
+    n = int(round((rig.start + rig.duration) / dt))
+    t = dt * np.arange(n)
+    limit = 0.5 * cfg["command.torque_limit"]
+    if rig.regime == "excite":
+        try:  # designed on the rig's own config, as a user with a good base would
+            te, torque, _ = kane_sim.identify.excitation(cfg, max(rig.duration, 2.0) + rig.start,
+                                                         seed=rig.seed % 7)
+            return np.interp(t, te, torque)
+        except ValueError:  # no multisine keeps this rig's sliders apart: a plain one
+            pass
+    if rig.regime == "prbs":
+        edges = np.cumsum(rng.uniform(0.2, 2.0, size=int(n * dt / 0.2) + 2))
+        levels = rng.uniform(-1.0, 1.0, size=len(edges)) * rng.uniform(2.0, 6.0)
+        return levels[np.searchsorted(edges, t)]
+    freqs = np.array([0.3, 0.7, 1.3, 2.1, 3.4])
+    phases = rng.uniform(0, 2 * np.pi, size=len(freqs))
+    shape = np.sum(np.sin(2 * np.pi * np.outer(t, freqs) + phases), axis=1) / len(freqs)
+    if rig.regime == "oscillation":
+        return 1.5 * shape
+    if rig.regime in ("multisine_bias", "excite"):
+        return 4.0 * shape + 2.0 * np.sin(2 * np.pi * 0.05 * t)
+    if rig.regime == "full_turns":  # a bias that spins the crank through full turns
+        return np.clip(6.0 * shape + 9.0, -limit, limit)
+    if rig.regime == "servo":  # the position servo's setpoint [rad]
+        return 0.5 * np.sin(2 * np.pi * 0.2 * t) + 0.3 * shape
+    raise ValueError("regime %r" % rig.regime)
+
+
+def record(rig):
+    """What the rig's bag cut to /joint_states holds: the sensors' readings at their arrival
+    stamps (t, q1 = crank, q2 = slider 4, u1, u2), the crank's effort then (the torque in
+    force), from `start` on."""
+    sim = kane_sim.Simulator(rig.config())
+    drive = torque_profile(rig)
+    run = sim.run(len(drive) / sim.config["simulation.physics_rate"], torque=drive,
+                  output_rate=sim.config["simulation.physics_rate"])
+    s = run.sensors
+    t = np.asarray(s["t"])
+    keep = t >= rig.start
+    applied = np.asarray(run.applied_torque)
+    index = np.clip(np.searchsorted(run.t, t[keep] + 1e-9, side="right") - 1, 0, len(applied) - 1)
+    position, velocity = np.asarray(s["position"])[keep], np.asarray(s["velocity"])[keep]
+    return {"t": t[keep], "q1": position[:, 0], "q2": position[:, 3], "u1": velocity[:, 0],
+            "u2": velocity[:, 3], "applied_torque": applied[index]}
+
+
+def score(rig, fit):
+    """Per fitted parameter: truth, estimate, relative error, reported sigma, z = error / sigma,
+    whether it was told (not kept at the base, not marked as moving with a kept value)."""
+    rows = {}
+    config = rig.config()  # the rig's own values (the rod's inertia follows its mass if not set)
+    for name in fit.names:
+        truth = 0.0 if name == "torque_offset" else config[name]
+        est, sigma = fit.estimates[name], fit.std_errors[name]
+        told = name not in fit.kept and name not in fit.entangled
+        scale = abs(truth) if truth else 1.0
+        rows[name] = {"truth": truth, "estimate": est, "sigma": sigma, "told": told,
+                      "error": (est - truth) / scale,
+                      "z": abs(est - truth) / sigma if sigma > 0 else math.inf}
+    return rows
+
+
+def parameter_class(name):
+    for label, names in CLASSES.items():
+        if name in names:
+            return label
+    return "other"

@@ -1,0 +1,90 @@
+"""Identification on rigs it was not tuned on (rigs.py): a fixed handful of the random family,
+each fitted from what a bag cut to /joint_states holds, recorded mid-run with its sensors'
+noise, encoder counts and latency; and rigs the base does not describe, refused by name with
+nothing written. The whole family's figures: bench/identify_family.py and
+doc/guide/identification.md."""
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import kane_sim
+from kane_sim import identify as ki
+
+sys.path.insert(0, os.path.dirname(__file__))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+import rigs  # noqa: E402
+from conftest import tool  # noqa: E402
+
+
+# Three regimes of the family, each a different rig (masses and k x[0.5, 2], dampers, friction
+# and the rod's inertia drawn), sensors and rate: measured errors of the masses and k 1.7 %,
+# 0.23 % and 0.54 % at the worst (bench/identify_family.py, seeds 100, 102, 104).
+@pytest.mark.parametrize("seed, regime", [(100, "oscillation"), (102, "prbs"), (104, "servo")])
+def test_rigs_of_the_family_are_fitted(seed, regime):
+    rig = rigs.draw(seed, regime=regime, duration=30)
+    fit = ki.identify(rigs.record(rig), None, holdout=0)
+    assert fit.refusal is None, fit.report()
+    assert fit.refined["converged"]
+    scores = rigs.score(rig, fit)
+    for name in rigs.MASSES + rigs.STIFFNESS:
+        row = scores[name]
+        if row["told"]:
+            # The issue's bound for the worst of a family: 2 %; a servo-held (closed-loop) rig
+            # is fitted as recorded, segment by segment.
+            assert abs(row["error"]) < 0.025, (name, row, fit.report())
+    # Friction the rig has is found, friction it has not comes out near 0 (per cent of 1 N).
+    for name in rigs.FRICTION:
+        row = scores[name]
+        if row["told"]:
+            assert abs(row["estimate"] - row["truth"]) < 0.4 * max(row["truth"], 0.05), \
+                (name, row)
+
+
+@pytest.fixture(scope="module")
+def lagging_torque(tmp_path_factory):
+    """A 12 s PRBS rig whose recorded torque lags the motion by 50 ms (a drive's effort read
+    late): no parameters make the model follow it."""
+    rig = rigs.draw(102, regime="prbs", duration=12)
+    data = rigs.record(rig)
+    data["applied_torque"] = np.interp(data["t"] - 0.05, data["t"], data["applied_torque"])
+    csv = tmp_path_factory.mktemp("lag") / "rig.csv"
+    names = ("t", "q1", "q2", "u1", "u2", "applied_torque")
+    np.savetxt(csv, np.column_stack([data[n] for n in names]), delimiter=",",
+               header=",".join(names), comments="")
+    return csv
+
+
+def test_a_fit_that_does_not_converge_is_refused_and_written_only_when_forced(lagging_torque,
+                                                                              tmp_path):
+    out = tmp_path / "fitted.yaml"
+    args = [tool("identify"), str(lagging_torque), "-o", str(out), "--holdout", "0",
+            "--no-validate"]
+    r = subprocess.run(args, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 3, r.stdout + r.stderr
+    assert "NOT converged" in r.stdout and "REFUSED" in r.stdout
+    for words in ("more than 3 times their noise", "rod_half_length L and gravity g",
+                  "a lag", "nothing written (--force writes it anyway)"):
+        assert words in r.stderr, (words, r.stderr)
+    assert not out.exists()
+    forced = subprocess.run(args + ["--force"], capture_output=True, text=True, timeout=300)
+    assert forced.returncode == 0, forced.stderr
+    assert "--force: writing a refused fit" in forced.stderr and out.exists()
+    kane_sim.Config(str(out))  # a config the loader takes
+
+
+@pytest.mark.parametrize("key, value", [("mechanism.rod_half_length", 0.35),
+                                        ("mechanism.gravity", 8.5)])
+def test_a_base_that_does_not_describe_the_rig_is_refused_naming_l_and_g(key, value):
+    rig = rigs.draw(102, regime="prbs", duration=12)
+    base = kane_sim.Config().with_values({key: value})
+    # Refused either by the least squares (a mass or inertia far below 0) or by the refinement
+    # (the positions not followed): both name L and g, and nothing is written.
+    try:
+        fit = ki.identify(rigs.record(rig), base, holdout=0, validate=False)
+    except ValueError as e:
+        assert "not physical" in str(e) and "the base's L and g" in str(e), str(e)
+        return
+    assert fit.refusal and "rod_half_length L and gravity g" in fit.refusal, fit.report()
