@@ -205,6 +205,17 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
     half = len(r) // 2
     inflation = max(_effective_samples_factor(r[:half]), _effective_samples_factor(r[half:]))
     cov_z *= inflation ** 2
+    # And the segments as independent blocks (a cluster-robust sandwich, A^-1 B A^-1 with B the
+    # sum over segments of their score's outer product): what is left of a misfit (a lag, a
+    # quantiser, an unmodelled load) shows in how much the segments disagree. Each parameter's
+    # variance is the larger of the two.
+    if n_seg >= 3:
+        a_inv = np.linalg.pinv(jac.T @ jac)
+        scores = np.array([jac[owner == k].T @ r[owner == k] for k in range(n_seg)])
+        sandwich = a_inv @ (scores.T @ scores) @ a_inv * n_seg / (n_seg - 1)
+        wider = np.sqrt(np.maximum(np.diag(sandwich), 0.0) / np.maximum(np.diag(cov_z), 1e-300))
+        widen = np.maximum(wider, 1.0)
+        cov_z = cov_z * np.outer(widen, widen)
     cov = np.zeros((len(names), len(names)))
     scaled = cov_z[:n_free, :n_free] * np.outer(scale[:n_free], scale[:n_free])
     for a_i, i in enumerate(free):
