@@ -87,7 +87,7 @@ def _run_rows(base, names, run):
     """The states of a run and its regressor rows (Kane's equations, two per sample)."""
     states = np.ascontiguousarray(np.column_stack([run.q, run.u]))
     y, _ = _core.identification_rows(base._core, names, states, np.ascontiguousarray(run.u_dot),
-                                     run.torque)
+                                     run.applied_torque)
     return states, y.reshape(-1, len(names))
 
 
@@ -103,7 +103,7 @@ def _torque_share(base, names, run, y):
     the parameters only up to a common scale."""
     theta = np.array([_base_theta(base, n) for n in names])
     terms = y[0::2] * theta
-    return _rms(run.torque) / max(np.max(np.sqrt(np.mean(terms ** 2, axis=0))), 1e-300)
+    return _rms(run.applied_torque) / max(np.max(np.sqrt(np.mean(terms ** 2, axis=0))), 1e-300)
 
 
 def _largest_feasible(base, names, t, bias, shape, most):
