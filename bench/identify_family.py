@@ -6,7 +6,7 @@ median and worst relative error of what it told (not kept, not marked), the cove
 told (rig, parameter) pairs within 3 of their reported sigma), refusals with their reasons, the
 wall time and peak memory.
 
-Usage: bench/identify_family.py [--rigs N] [--first SEED] [--duration S]   (after sourcing the
+Usage: /usr/bin/python3 bench/identify_family.py [--rigs N] [--first SEED] [--duration S]   (after sourcing the
 build's devel/setup.bash; N = 30, SEED = 100, the regimes in turn; S = 0: each rig's own 20 to
 120 s)
 """
