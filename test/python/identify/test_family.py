@@ -72,6 +72,7 @@ def test_a_fit_that_does_not_converge_is_refused_and_written_only_when_forced(la
     forced = subprocess.run(args + ["--force"], capture_output=True, text=True, timeout=300)
     assert forced.returncode == 0, forced.stderr
     assert "--force: writing a refused fit" in forced.stderr and out.exists()
+    assert "# REFUSED, written with --force: the output-error fit" in out.read_text()
     kane_sim.Config(str(out))  # a config the loader takes
 
 

@@ -395,3 +395,11 @@ def test_excite_writes_a_profile_simulate_plays(tmp_path):
     assert r.returncode == 0, r.stderr
     table = kane_sim.TorqueProfile.from_csv(str(out))
     assert table.at(2.0) != 0.0
+
+
+def test_a_torque_in_other_units_is_refused_naming_them(truth_run):
+    # The drive read in mN m: every mass and k comes out 1000 times the truth (1282 kg for the
+    # rod in a user's try); refused, not written.
+    data = dict(truth_run, applied_torque=truth_run["applied_torque"] * 1000.0)
+    fit = ki.identify(data, config_path(), validate=False, holdout=0)
+    assert fit.refusal and "times the base's" in fit.refusal and "torque's units" in fit.refusal
