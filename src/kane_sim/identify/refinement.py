@@ -57,6 +57,8 @@ BIAS_KNOT_SPACING = 10.0
 # mechanism's slowest mode (~1 Hz) to show the parameters, short enough that a trajectory of a
 # slightly wrong model does not wander off the recording (one 30 s replay did: 0.3 rad RMS).
 SEGMENT_SECONDS = 2.0
+# [s] the largest lag of the positions behind the torque (either way) the fit may find.
+MAX_LAG = 0.1
 # The fit has converged when the positions are fitted to within this many times the sensors'
 # noise (the filter's residual).
 CONVERGED_NOISE_FACTOR = 3.0
@@ -118,13 +120,20 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
     knots = np.linspace(t_data[0], t_data[-1],
                         max(2, int(np.ceil((t_data[-1] - t_data[0]) / BIAS_KNOT_SPACING)) + 1))
     n_free, n_seg = len(free), len(segments)
-    x0 = np.concatenate([theta[free], np.concatenate(segments.x0), np.zeros(len(knots))])
+    # The last unknown: how late the positions are against the torque [s] (a sensor's latency:
+    # readings stamped when they arrive, the effort when it is read; 0-4 ms biased dampers by
+    # tens of per cent). The model's positions are compared at t - lag.
+    n_lag = n_free + 4 * n_seg + len(knots)
+    x0 = np.concatenate([theta[free], np.concatenate(segments.x0), np.zeros(len(knots)), [0.0]])
     floors = [0.01 if _dissipative(names[i]) or names[i] == "torque_offset" else 1e-3
-              for i in free] + [0.1, 0.01, 0.5, 0.1] * n_seg + [0.01] * len(knots)
+              for i in free] + [0.1, 0.01, 0.5, 0.1] * n_seg + [0.01] * len(knots) + [1e-3]
     scale = np.maximum(np.abs(x0), floors)
     lower = np.array([0.0 if _dissipative(names[i])
                       else (-np.inf if names[i] == "torque_offset" else 1e-6 * scale[k])
-                      for k, i in enumerate(free)] + [-np.inf] * (4 * n_seg + len(knots))) / scale
+                      for k, i in enumerate(free)] + [-np.inf] * (4 * n_seg + len(knots))
+                     + [-MAX_LAG]) / scale
+    upper = np.full(len(x0), np.inf)
+    upper[n_lag] = MAX_LAG / scale[n_lag]
     z0 = np.maximum(x0 / scale, lower + 1e-12)
     bias_basis = np.column_stack([np.interp(t_data, knots, np.eye(len(knots))[j])
                                   for j in range(len(knots))])
@@ -141,6 +150,7 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
             {"sensors.enabled": False, "command.mode": "effort", "command.torque_limit": limit}))
         offset = est.get("torque_offset", 0.0)
         x = z * scale
+        lag = x[n_lag]
         q = np.empty((len(rows), 2))
         at = 0
         for k in range(n_seg):
@@ -151,9 +161,10 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
             t = run.t - run.t[0] + segments.start[k]
             seg_rows = segments.rows[k]
             for c in (0, 1):
-                q[at:at + len(seg_rows), c] = np.interp(motion.t[seg_rows], t, run.q[:, c])
+                q[at:at + len(seg_rows), c] = np.interp(motion.t[seg_rows] - lag, t,
+                                                        run.q[:, c])
             at += len(seg_rows)
-        q[:, 0] += bias_basis @ x[n_free + 4 * n_seg:]
+        q[:, 0] += bias_basis @ x[n_free + 4 * n_seg:n_lag]
         return q
 
     def residual(z, tolerant=True):
@@ -172,14 +183,14 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
     owner = np.concatenate([owner, owner])  # q1 rows, then q2 rows
     groups = [[j] for j in range(n_free)] + \
         [[n_free + 4 * k + c for k in range(n_seg)] for c in range(4)] + \
-        [[n_free + 4 * n_seg + j] for j in range(len(knots))]
+        [[n_free + 4 * n_seg + j] for j in range(len(knots))] + [[n_lag]]
 
     def jacobian(z):
         r0 = residual(z)
         jac = np.zeros((len(r0), len(z)))
         for group in groups:
             h = 1e-6 * np.maximum(np.abs(z[group]), 1.0)
-            h = np.where(z[group] + h > np.inf, -h, h)
+            h = np.where(z[group] + h > upper[group], -h, h)  # a step inside the bounds
             z1 = z.copy()
             z1[group] += h
             delta = residual(z1) - r0
@@ -192,7 +203,7 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
         return jac
 
     residual(z0, tolerant=False)  # the start must simulate: a failure here is named, not hidden
-    solution = least_squares(residual, z0, jac=jacobian, bounds=(lower, np.inf),
+    solution = least_squares(residual, z0, jac=jacobian, bounds=(lower, upper),
                              max_nfev=max_evaluations, ftol=1e-8, xtol=1e-8, gtol=1e-8)
     z = solution.x
     out = theta.copy()
@@ -222,9 +233,11 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
         cov[i, free] = scaled[a_i]
     rms = tuple(float(np.sqrt(np.mean((r[k * half:(k + 1) * half] * sigma[k]) ** 2)))
                 for k in (0, 1))
-    bias = z[n_free + 4 * n_seg:] * scale[n_free + 4 * n_seg:]
+    bias = z[n_free + 4 * n_seg:n_lag] * scale[n_free + 4 * n_seg:n_lag]
     converged = all(rms[k] <= CONVERGED_NOISE_FACTOR * sigma[k] for k in (0, 1))
     return out, cov, {"evaluations": int(solution.nfev), "position_rms": rms,
                       "noise": tuple(float(x) for x in sigma), "segments": n_seg,
                       "converged": converged, "evaluation_limit": max_evaluations,
-                      "crank_bias": (knots.tolist(), bias.tolist())}
+                      "crank_bias": (knots.tolist(), bias.tolist()),
+                      "lag": float(z[n_lag] * scale[n_lag]),
+                      "lag_error": float(np.sqrt(max(cov_z[n_lag, n_lag], 0.0)) * scale[n_lag])}

@@ -75,6 +75,10 @@ class Identification:
                              self.refined["evaluations"]) + self.refined["position_rms"]
                             + self.refined["noise"]
                             + ("" if self.refined["converged"] else ": NOT converged",)))
+            if "lag" in self.refined:
+                lines.append("the positions lag the torque by %.3g +- %.2g ms (fitted beside them: "
+                             "a sensor's latency, an effort read late)"
+                             % (1e3 * self.refined["lag"], 1e3 * self.refined["lag_error"]))
             knots, bias = self.refined.get("crank_bias", ([], []))
             if bias:
                 lines.append("crank encoder drift (fitted beside them, a knot every %g s): %s rad"

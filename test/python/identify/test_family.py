@@ -35,12 +35,13 @@ def test_rigs_of_the_family_are_fitted(seed, regime):
             # The bound for the worst of a family: 2 %; a servo-held (closed-loop) rig
             # is fitted as recorded, segment by segment.
             assert abs(row["error"]) < 0.025, (name, row, fit.report())
-    # Friction the rig has is found, friction it has not comes out near 0 (per cent of 1 N).
+    # Friction the rig has is found, friction it has not comes out near 0: within 40 % of the
+    # truth or 3 of its reported sigma.
     for name in rigs.FRICTION:
         row = scores[name]
         if row["told"]:
-            assert abs(row["estimate"] - row["truth"]) < 0.4 * max(row["truth"], 0.05), \
-                (name, row)
+            assert abs(row["estimate"] - row["truth"]) <= max(0.4 * row["truth"],
+                                                              3 * row["sigma"]), (name, row)
 
 
 @pytest.fixture(scope="module")
