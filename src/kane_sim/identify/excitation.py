@@ -6,6 +6,7 @@ import numpy as np
 from kane_sim import _core
 from kane_sim.core import Config, Simulator
 from kane_sim.identify.least_squares import _base_theta, _estimate, _rms, _separation
+from kane_sim.identify.refinement import replay_settings
 
 
 # [s] --excite designs on at most this much of the profile (the bias sine's period is 20 s from
@@ -130,8 +131,7 @@ def _largest_feasible(base, names, t, bias, shape, most):
 def _excitation_run(base, t, torque):
     """The base mechanism driven by `torque` (100 Hz output), or None when the sliders come
     within 2 cm of contact or a step is refused."""
-    cfg = base.with_values({"sensors.enabled": False, "command.mode": "effort",
-                            "command.torque_limit": float(np.max(np.abs(torque))) + 1.0})
+    cfg = base.with_values(replay_settings(float(np.max(np.abs(torque))) + 1.0))
     sim = Simulator(cfg)
     step = sim.step_size
     index = np.clip(np.searchsorted(t, step * np.arange(len(t)), side="right") - 1, 0, len(t) - 1)

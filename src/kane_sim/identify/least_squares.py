@@ -309,12 +309,13 @@ def parameters():
     return _core.identifiable_parameters()
 
 
-def fitted_config(base, estimates, std_errors=None):
+def fitted_config(base, estimates, std_errors=None, extra=None):
     """The base Config with the estimates written in, and the names of those written at their
     bound: an estimate below a parameter's bound (a damper's 0) by less than 3 standard errors is
     noise around it and is written as the bound; further below, ValueError (the model does not
     describe the data). The rest length goes in as initial_state.q2 (the config's spring is
-    unstretched at the initial state); the torque offset is not a config value."""
+    unstretched at the initial state); the torque offset is not a config value. `extra`: other
+    config values set in the same validation (a replay's settings)."""
     values, clipped = {}, []
     for name, value in estimates.items():
         if name == "torque_offset":
@@ -339,4 +340,4 @@ def fitted_config(base, estimates, std_errors=None):
         values["mechanism.rod_inertia"] = float(
             values["mechanism.rod_mass"] * base["mechanism.rod_inertia"]
             / base["mechanism.rod_mass"])
-    return base.with_values(values), clipped
+    return base.with_values(dict(values, **(extra or {}))), clipped

@@ -24,13 +24,18 @@ def _torque_on_grid(motion, times, step):
     return CubicSpline(motion.t, motion.torque)(np.clip(times, motion.t[0], motion.t[-1]))
 
 
+def replay_settings(limit):
+    """What a replay of recorded torque needs of a config: no sensors (the positions are the
+    model's own), effort mode (the torque drives as recorded), a limit above the torque."""
+    return {"sensors.enabled": False, "command.mode": "effort", "command.torque_limit": limit}
+
+
 def _replay(config, motion, x0, start, torque_offset=0.0):
     """`config` driven by the recorded torque (plus `torque_offset`) from state x0 at time
     `start` to the end of the recording: (t, q (M, 2)), rows at the data's rate when it divides
     the physics rate, else every physics step."""
     limit = float(np.max(np.abs(motion.torque)) + abs(torque_offset) + 1.0)
-    sim = Simulator(Config(config).with_values(
-        {"sensors.enabled": False, "command.mode": "effort", "command.torque_limit": limit}))
+    sim = Simulator(Config(config).with_values(replay_settings(limit)))
     sim.set_state([float(v) for v in x0])
     step = sim.step_size
     n = int(math.floor((motion.t[-1] - start) / step + 1e-9))
@@ -110,8 +115,7 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
     sigma = np.sqrt(np.mean((motion.q[keep] - prepared.states[:, :2]) ** 2, axis=0))
     sigma = np.maximum(sigma, 1e-9)
     limit = float(np.max(np.abs(motion.torque)) + 1.0)
-    config0 = Config(base).with_values(
-        {"sensors.enabled": False, "command.mode": "effort", "command.torque_limit": limit})
+    config0 = Config(base).with_values(replay_settings(limit))
     step = 1.0 / config0["simulation.physics_rate"]
     segments = _Segments(motion, prepared, step)
     rows = np.concatenate(segments.rows)
@@ -145,9 +149,8 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
 
     def model_q(z):
         est = estimates(z)
-        config, _ = fitted_config(base, est)
-        sim = Simulator(Config(config).with_values(
-            {"sensors.enabled": False, "command.mode": "effort", "command.torque_limit": limit}))
+        config, _ = fitted_config(base, est, extra=replay_settings(limit))  # one validation
+        sim = Simulator(config)
         offset = est.get("torque_offset", 0.0)
         x = z * scale
         lag = x[n_lag]
