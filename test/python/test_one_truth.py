@@ -1,5 +1,6 @@
 """One case, one answer, through every offline door: `simulate` (a single run's last CSV row),
-`simulate --sweep` (the case's row), `rosrun kane_sim sweep`'s row, Python's Simulator.run,
+`simulate --sweep` (the case's row), `rosrun kane_sim sweep`'s row, Python's Simulator.run (and
+its states_only form, identification's replays),
 Python's sweep row and each mechanism of a BatchSimulator (lanes and drivers) driven step by
 step, over every
 command mode (effort, velocity, position), with and without a profile, sensors on and off,
@@ -79,6 +80,7 @@ def test_every_offline_door_gives_the_same_final_state(tmp_path, mode, profile, 
     run_tool("sweep", "--config", cfg, "--duration", DURATION, "--csv", cli_swept,
              "--sweep", "mechanism.gravity=9.81:9.81:1", *flags)
     run = kane_sim.Simulator(cfg).run(DURATION, torque=torque)
+    lean = kane_sim.Simulator(cfg).run(DURATION, torque=torque, states_only=True)  # fits' door
     py_sweep = kane_sim.sweep(cfg, cases={"mechanism.gravity": [9.81]}, duration=DURATION,
                               torque=torque)
 
@@ -89,6 +91,7 @@ def test_every_offline_door_gives_the_same_final_state(tmp_path, mode, profile, 
     assert sweep_row["status"] == "ok" and py_sweep["status"][0] == "ok"
     for k, name in enumerate(("t", "q1", "q2", "u1", "u2")):
         doors = {"simulate --sweep": sweep_row[name], "Simulator.run": run[name][-1],
+                 "Simulator.run(states_only)": lean[name][-1],
                  "sweep()": py_sweep[name][0], "sweep CLI": final_row(cli_swept)[name]}
         if batch is not None:  # every mechanism of the batch, on lanes where it can
             for path, (times, states) in batch.items():
