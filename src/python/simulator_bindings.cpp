@@ -5,6 +5,7 @@
 #include <cmath>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -188,7 +189,6 @@ class PythonSimulator {
     commands.update(driver_);
     const RunEnd end = runWithoutGil(
         commands, n, std::max(n, 1L), [](const SimDriver&) {}, &pending_readings_);
-    if (end == RunEnd::kStopped) throw py::error_already_set();  // KeyboardInterrupt
     if (end == RunEnd::kStepRefused) throw StepRefused(lastEventOr("a step was refused"));
     return stateArray();
   }
@@ -275,7 +275,6 @@ class PythonSimulator {
     }
     finish();
     py::dict result = last_result_;
-    if (end == RunEnd::kStopped) throw py::error_already_set();  // KeyboardInterrupt, as raised
     if (end == RunEnd::kStepRefused) throw StepRefused(lastEventOr("a step was refused"));
     return result;
   }
@@ -382,21 +381,33 @@ class PythonSimulator {
   }
 
   // runProfile without the GIL (other Python threads run meanwhile), looking at Python's signals
-  // every kSignalCheckSteps steps: kStopped when one raised (its exception is pending then).
+  // every kSignalCheckSteps steps. A handler that raised (Ctrl-C's KeyboardInterrupt) stops the
+  // run and is thrown here, with the GIL back -- also when it came on the run's last step, which
+  // ends the run as finished: the exception is fetched when it is raised, never left pending
+  // (a result returned with an exception set is Python's SystemError).
   // The sensor readings due after each step go to `readings`.
   template <typename Commands, typename OnSample>
   RunEnd runWithoutGil(Commands& commands, long steps, long steps_per_sample, OnSample on_sample,
                        Readings* readings) {
     std::atomic<bool> stop{false};
+    std::unique_ptr<py::error_already_set> raised;
     const bool sensors = driver_.sensorsEnabled();
-    const auto check_signals = [this, &stop, sensors, readings](const SimDriver& d) {
+    const auto check_signals = [this, &stop, &raised, sensors, readings](const SimDriver& d) {
       if (sensors) readings->takeFrom(driver_);
-      if (d.ticks() % kSignalCheckSteps != 0) return;
+      if (d.ticks() % kSignalCheckSteps != 0 || raised) return;
       py::gil_scoped_acquire acquire;
-      if (PyErr_CheckSignals() != 0) stop = true;
+      if (PyErr_CheckSignals() != 0) {
+        raised = std::make_unique<py::error_already_set>();  // fetches and clears it
+        stop = true;
+      }
     };
-    py::gil_scoped_release release;
-    return runProfile(driver_, commands, steps, steps_per_sample, &stop, check_signals, on_sample);
+    RunEnd end;
+    {
+      py::gil_scoped_release release;
+      end = runProfile(driver_, commands, steps, steps_per_sample, &stop, check_signals, on_sample);
+    }
+    if (raised) throw *raised;
+    return end;
   }
 
   // Snapshot columns, column-major so that every column is one contiguous array.

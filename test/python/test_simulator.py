@@ -244,6 +244,45 @@ def test_ctrl_c_stops_long_steps_where_they_are():
     assert 0 < sim.time < 1e7 and np.all(np.isfinite(sim.state))
 
 
+def test_ctrl_c_at_a_runs_last_signal_check_is_keyboardinterrupt_not_systemerror():
+    # A run of 20 000 steps looks at Python's signals once, on its last step: a Ctrl-C seen there
+    # ends the run as finished, and must still come out as KeyboardInterrupt (it once came out
+    # as "SystemError: ... returned a result with an exception set", exit 1 in identify).
+    import _thread
+    import time
+    sim = kane_sim.Simulator(config_path())
+    in_run = [False]
+
+    def handler(signum, frame):
+        if in_run[0]:
+            raise KeyboardInterrupt
+    previous = signal.signal(signal.SIGINT, handler)
+    done = threading.Event()
+
+    def fire():
+        while not done.is_set():
+            _thread.interrupt_main(signal.SIGINT)
+            time.sleep(0.002)
+    interrupted = 0
+    firing = threading.Thread(target=fire)
+    firing.start()
+    try:
+        for _ in range(15):
+            try:
+                in_run[0] = True
+                sim.run(20.0, torque=0.1, states_only=True)
+            except KeyboardInterrupt:
+                interrupted += 1
+            finally:
+                in_run[0] = False
+    finally:
+        done.set()
+        firing.join()
+        signal.signal(signal.SIGINT, previous)
+    assert interrupted >= 10  # a signal is sent every 2 ms: nearly every run sees one
+    assert np.all(np.isfinite(sim.state))
+
+
 def test_steps_hold_the_torque_past_the_command_timeout(sim):
     sim.set_torque(2.0)
     sim.step(2000)  # 2 s, four command timeouts
@@ -255,7 +294,6 @@ def test_runtime_parameters_by_config_name(sim):
     sim.run(0.5, torque=1.0)
     sim["mechanism.slider4_mass"] = 1.6
     assert sim["mechanism.slider4_mass"] == 1.6
-    assert sim.snapshot()["energy_balance"] != 0.0 or True
     with pytest.raises(kane_sim.ConfigError, match="slider4_mass"):
         sim["mechanism.slider4_mass"] = -2
     assert sim["mechanism.slider4_mass"] == 1.6
