@@ -19,6 +19,7 @@ The package does one job per module: data (reading), rates, least_squares, refin
 validation, report, excitation; identify() below runs them in order.
 """
 import math
+import time
 
 import numpy as np
 
@@ -43,8 +44,12 @@ from kane_sim.identify.excitation import (  # noqa: F401  (the public names, as 
 __all__ = ["Motion", "Identification", "identify", "load_motion", "excitation", "simulate_motion"]
 
 
+# The least squares' samples at most (an hour at 1 kHz: every 6th), see identify().
+MAX_LEAST_SQUARES_SAMPLES = 600000
+
+
 def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="auto",
-             holdout=0.25, topic=None, validate=True, refine="auto"):
+             holdout=0.25, topic=None, validate=True, refine="auto", progress=None):
     """Identifies `params` (default: every parameter identifiable by default, parameters()) from
     `data` (a bag, a CSV, arrays or a Motion) over the base `config` (a Config, path or dict: its
     L, g, rod shape and initial state are taken as measured, its other values as the starting
@@ -53,7 +58,8 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
     bandwidth: the derivative filter's [Hz], None (the data as recorded) or "auto" (None on
     noise-free data, DEFAULT_BANDWIDTH otherwise). refine: after the least squares, fit the
     re-simulated positions to the recorded ones (output error, _refine); "auto" does on measured
-    (filtered) data, where the least squares is biased by the noise in its regressor. Returns an
+    (filtered) data, where the least squares is biased by the noise in its regressor. progress:
+    a callable given a line of text at each stage (the CLI prints them on stderr). Returns an
     Identification."""
     base = Config(config)
     names = list(params) if params is not None else \
@@ -70,9 +76,22 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
         raise ValueError("holdout must be a fraction in [0, 0.9), got %r" % (holdout,))
     if refine not in ("auto", True, False):
         raise ValueError("refine must be 'auto', True or False, got %r" % (refine,))
+    say = progress or (lambda text: None)
+    clock = time.monotonic()
     motion = load_motion(data, topic)
-    prepared = estimate_rates(motion, bandwidth)
-    prepared = prepared.select(_usable(base, prepared.states))
+    say("read %d samples, %.4g s at %.4g Hz (%.1f s)" % (len(motion), motion.t[-1] - motion.t[0],
+                                                         motion.rate, time.monotonic() - clock))
+    rated = estimate_rates(motion, bandwidth)
+    prepared = rated.select(_usable(base, rated.states))
+    # An hour at 1 kHz: the least squares (and its held-out check) take every k-th filtered
+    # sample, at most MAX_LEAST_SQUARES_SAMPLES (the filter's band, a few Hz, is far below
+    # their rate; the energy windows' quadrature stays exact to 1e-8 of the work).
+    stride = int(math.ceil(len(prepared) / MAX_LEAST_SQUARES_SAMPLES))
+    notes = list(motion.notes)
+    if stride > 1:
+        prepared = prepared.select(slice(None, None, stride))
+        notes.append("the least squares took one filtered sample in %d (%d of %d: at "
+                            "most %d)" % (stride, len(prepared), len(rated), MAX_LEAST_SQUARES_SAMPLES))
     if len(prepared) < MIN_SAMPLES:
         raise ValueError("data (%s): %d usable samples (the sliders touch in the rest): too few"
                          % (motion.source, len(prepared)))
@@ -87,8 +106,9 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
 
     result = Identification()
     result.names, result.method, result.bandwidth = names, method, prepared.bandwidth
-    result.notes = list(motion.notes)
+    result.notes = notes
     result.base_values = {n: _core.identification_base_value(base._core, n) for n in names}
+    say("least squares: %d samples, %d parameters (%s form)" % (len(prepared), len(names), method))
     y, b, groups, check = _system(base, names, prepared, method)
     theta, cov, kept, messages, cond, rms, entangled = _estimate(
         base, names, y, b, groups, prepared.states, check, _rms(prepared.torque))
@@ -118,8 +138,8 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
         fitted_config(base, dict(zip(names, theta)), dict(zip(names, np.sqrt(np.diag(cov)))))
         if len(kept) < len(names):
             ls_theta = dict(zip(names, theta))
-            theta, cov, result.refined = _refine(base, names, theta, kept, motion,
-                                                 estimate_rates(motion, bandwidth))
+            theta, cov, result.refined = _refine(base, names, theta, kept, motion, rated,
+                                                 progress=progress)
             result.refined["least_squares"] = ls_theta
     result.warnings = base.warnings + _config_warnings(base, motion)
     result.samples, result.rows = len(prepared), len(b)
@@ -130,10 +150,13 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
         result.std_errors[n] = float(math.sqrt(max(cov[i, i], 0.0)))
     result.config, result.clipped = fitted_config(base, result.estimates, result.std_errors)
     if holdout > 0:
+        say("held-out check: the least squares on the first %.0f %%" % (100 * (1 - holdout)))
         result.holdout = _holdout(base, names, prepared, method, holdout)
     if validate:
+        say("validation: re-simulating the recorded torque with the fitted and the base config")
         result.validation = validation(motion, base, result.config,
-                                       result.estimates.get("torque_offset", 0.0), bandwidth)
+                                       result.estimates.get("torque_offset", 0.0), bandwidth,
+                                       start=(rated.t[0], rated.states[0]))
     result.refusal = _refusal(result)
     return result
 

@@ -1,6 +1,8 @@
 """The output-error stage: the parameters that make the re-simulated positions follow the
 recorded ones, from the least-squares values (the regressor's noise biases those)."""
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -21,7 +23,13 @@ def _torque_on_grid(motion, times, step):
         index = np.searchsorted(motion.t, times + 1e-9 * step, side="right") - 1
         return motion.torque[np.clip(index, 0, len(motion) - 1)]
     from scipy.interpolate import CubicSpline
-    return CubicSpline(motion.t, motion.torque)(np.clip(times, motion.t[0], motion.t[-1]))
+    # The spline through the samples around `times` only (a segment of an hour's recording
+    # need not fit all of it): 40 samples either side, where a cubic spline's reach has
+    # fallen below 1e-22 of a sample's (0.27 a sample), so the values are the whole spline's.
+    lo = max(int(np.searchsorted(motion.t, times[0])) - 40, 0)
+    hi = min(int(np.searchsorted(motion.t, times[-1])) + 40, len(motion))
+    t, torque = motion.t[lo:hi], motion.torque[lo:hi]
+    return CubicSpline(t, torque)(np.clip(times, motion.t[0], motion.t[-1]))
 
 
 def replay_settings(limit):
@@ -30,30 +38,39 @@ def replay_settings(limit):
     return {"sensors.enabled": False, "command.mode": "effort", "command.torque_limit": limit}
 
 
+# A replay's rows at most (an hour at 1 kHz compared at 100 Hz): the comparison and the plot
+# need no more, and an hour's rows at the data's rate cost 150 MB a replay.
+MAX_REPLAY_ROWS = 400000
+
+
 def _replay(config, motion, x0, start, torque_offset=0.0):
     """`config` driven by the recorded torque (plus `torque_offset`) from state x0 at time
     `start` to the end of the recording: (t, q (M, 2)), rows at the data's rate when it divides
-    the physics rate, else every physics step."""
+    the physics rate, else every physics step; every k-th of them beyond MAX_REPLAY_ROWS."""
     limit = float(np.max(np.abs(motion.torque)) + abs(torque_offset) + 1.0)
     sim = Simulator(Config(config).with_values(replay_settings(limit)))
     sim.set_state([float(v) for v in x0])
     step = sim.step_size
     n = int(math.floor((motion.t[-1] - start) / step + 1e-9))
-    steps_per_sample = round(1.0 / (motion.rate * step))
-    output_rate = None
-    if steps_per_sample >= 1 and abs(steps_per_sample * motion.rate * step - 1) < 1e-3:
-        output_rate = 1.0 / (steps_per_sample * step)
-        n -= n % steps_per_sample  # a whole number of output periods
+    steps_per_row = round(1.0 / (motion.rate * step))
+    if not (steps_per_row >= 1 and abs(steps_per_row * motion.rate * step - 1) < 1e-3):
+        steps_per_row = 1  # the data's rate does not divide the physics rate: every step
+    steps_per_row *= max(1, int(math.ceil(n / steps_per_row / MAX_REPLAY_ROWS)))
+    n -= n % steps_per_row  # a whole number of output periods
     torque = _torque_on_grid(motion, start + step * np.arange(n), step) + torque_offset
-    run = sim.run(n * step, torque=torque, output_rate=output_rate)
+    run = sim.run(n * step, torque=torque, output_rate=1.0 / (steps_per_row * step),
+                  states_only=True)
     return run.t + start, run.q
 
 
-def simulate_motion(config, motion, torque_offset=0.0, bandwidth="auto"):
+def simulate_motion(config, motion, torque_offset=0.0, bandwidth="auto", start=None):
     """Re-simulates `motion`'s recorded torque (plus `torque_offset`) with `config`, from the
-    recorded state where the derivative filter's output starts. Returns (t, q (M, 2))."""
-    prepared = estimate_rates(motion, bandwidth)
-    return _replay(config, motion, prepared.states[0], prepared.t[0], torque_offset)
+    recorded state where the derivative filter's output starts (start: that (t, state) when
+    known, else the filter runs here). Returns (t, q (M, 2))."""
+    if start is None:
+        prepared = estimate_rates(motion, bandwidth)
+        start = (prepared.t[0], prepared.states[0])
+    return _replay(config, motion, start[1], start[0], torque_offset)
 
 
 # [s] knot spacing of the crank encoder's drift in the output-error fit (_refine)
@@ -69,22 +86,38 @@ MAX_LAG = 0.1
 CONVERGED_NOISE_FACTOR = 3.0
 
 
+# A long recording's output-error fit looks at a bounded part of it, so that an hour at 1 kHz
+# costs what a minute does (the least squares before it sees every sample): at most
+# MAX_SEGMENTS segments, spread evenly over the recording, and at most MAX_ROWS positions per
+# coordinate (every k-th sample). The Jacobian then stays below 2 * MAX_ROWS x (4 * MAX_SEGMENTS
+# + the parameters + the drift knots) doubles (~30 MB), its SVD (the solver's, each iteration)
+# below half a second.
+MAX_SEGMENTS = 30
+MAX_ROWS = 12000
+MAX_KNOTS = 20  # drift knots (and a last one) of a long recording: a knot every span / 20
+
+
 class _Segments:
     """The recording cut into SEGMENT_SECONDS pieces, each replayed from its own start state (a
-    free parameter: multiple shooting). Holds per segment the data rows, the physics steps'
-    torques and the start state's first guess (the filter's)."""
+    free parameter: multiple shooting); of a long one MAX_SEGMENTS spread evenly, of their
+    samples every `stride`-th so that at most MAX_ROWS are compared. Holds per segment the data
+    rows, the physics steps' torques and the start state's first guess (the filter's)."""
 
     def __init__(self, motion, prepared, step):
         t0, t1 = prepared.t[0], prepared.t[-1]
-        count = max(1, int(math.floor((t1 - t0) / SEGMENT_SECONDS)))
-        edges = np.linspace(t0, t1, count + 1)
+        self.count = max(1, int(math.floor((t1 - t0) / SEGMENT_SECONDS)))
+        edges = np.linspace(t0, t1, self.count + 1)
+        chosen = np.unique(np.round(np.linspace(0, self.count - 1, min(self.count, MAX_SEGMENTS)))
+                           .astype(int))
+        samples = len(motion) * len(chosen) / self.count
+        self.stride = max(1, int(math.ceil(samples / MAX_ROWS)))
         self.rows, self.steps, self.torque, self.x0, self.start = [], [], [], [], []
-        for k in range(count):
+        for k in chosen:
             first = int(np.searchsorted(prepared.t, edges[k]))
             start = prepared.t[first]
             end = edges[k + 1]
-            rows = np.flatnonzero((motion.t >= start) & (motion.t < end if k < count - 1
-                                                         else motion.t <= end))
+            rows = np.flatnonzero((motion.t >= start) & (motion.t < end if k < self.count - 1
+                                                         else motion.t <= end))[::self.stride]
             n = int(math.floor((motion.t[rows[-1]] - start) / step + 1e-9)) + 1
             self.rows.append(rows)
             self.steps.append(n)
@@ -96,7 +129,7 @@ class _Segments:
         return len(self.rows)
 
 
-def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
+def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, progress=None):
     """Output error by multiple shooting: the parameters that make the model, driven by the
     recorded torque, pass closest to the recorded positions, each coordinate weighted by its
     noise (the filter's residual). The recording is cut into SEGMENT_SECONDS segments, each
@@ -108,7 +141,7 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
     as it biases the least squares. The crank encoder's slow drift is fitted beside them (a
     linear spline added to the model's q1). Parameters kept at the base stay there. Returns
     (theta, cov, report): report["converged"] says whether the positions were fitted to within
-    CONVERGED_NOISE_FACTOR times the noise."""
+    CONVERGED_NOISE_FACTOR times the noise. progress (when given) hears each iteration."""
     from scipy.optimize import least_squares
     free = [i for i, n in enumerate(names) if n not in kept]
     keep = prepared.keep
@@ -121,8 +154,11 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
     rows = np.concatenate(segments.rows)
     q_data = motion.q[rows]
     t_data = motion.t[rows]
+    # A knot every BIAS_KNOT_SPACING, no more than one per segment (a long recording's segments
+    # lie apart: a knot between two of them would be told by none) nor MAX_KNOTS, and a last one.
     knots = np.linspace(t_data[0], t_data[-1],
-                        max(2, int(np.ceil((t_data[-1] - t_data[0]) / BIAS_KNOT_SPACING)) + 1))
+                        max(2, min(int(np.ceil((t_data[-1] - t_data[0]) / BIAS_KNOT_SPACING)),
+                                   len(segments), MAX_KNOTS) + 1))
     n_free, n_seg = len(free), len(segments)
     # The last unknown: how late the positions are against the torque [s] (a sensor's latency:
     # readings stamped when they arrive, the effort when it is read; 0-4 ms biased dampers by
@@ -181,28 +217,53 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
 
     # The Jacobian by forward differences, grouped: a segment's start state moves only its own
     # rows, so one evaluation perturbs that component of every segment's state at once (4
-    # evaluations for all of them); each parameter and drift knot takes one.
+    # evaluations for all of them); each parameter takes one, the lag one. The drift knots enter
+    # q1 linearly (q1 + basis @ bias): their columns are the basis, no replay. The evaluations
+    # are independent replays (the simulator lets go of the GIL while it steps): they run on
+    # every core this process may use.
     owner = np.concatenate([np.full(len(seg), k) for k, seg in enumerate(segments.rows)])
     owner = np.concatenate([owner, owner])  # q1 rows, then q2 rows
+    first_knot = n_free + 4 * n_seg
     groups = [[j] for j in range(n_free)] + \
-        [[n_free + 4 * k + c for k in range(n_seg)] for c in range(4)] + \
-        [[n_free + 4 * n_seg + j] for j in range(len(knots))] + [[n_lag]]
+        [[n_free + 4 * k + c for k in range(n_seg)] for c in range(4)] + [[n_lag]]
+    workers = min(len(groups), len(os.sched_getaffinity(0)))
+    iterations = []
+    if progress:
+        progress("output error: %d segments of %g s%s, %d parameters, at most %d evaluations"
+                 % (n_seg, SEGMENT_SECONDS, " (of %d)" % segments.count
+                    if segments.count > n_seg else "", n_free, max_evaluations))
 
     def jacobian(z):
-        r0 = residual(z)
-        jac = np.zeros((len(r0), len(z)))
+        steps = []
         for group in groups:
             h = 1e-6 * np.maximum(np.abs(z[group]), 1.0)
-            h = np.where(z[group] + h > upper[group], -h, h)  # a step inside the bounds
+            steps.append(np.where(z[group] + h > upper[group], -h, h))  # inside the bounds
+
+        def moved(k):
             z1 = z.copy()
-            z1[group] += h
-            delta = residual(z1) - r0
+            if k >= 0:
+                z1[groups[k]] += steps[k]
+            return residual(z1)
+        with ThreadPoolExecutor(workers) as pool:
+            results = list(pool.map(moved, range(-1, len(groups))))  # -1: z itself
+        r0 = results[0]
+        if progress:
+            half = len(r0) // 2
+            progress("output error: iteration %d, positions %.3g rad, %.3g m RMS (noise %.3g "
+                     "rad, %.3g m)" % (len(iterations) + 1,
+                                       sigma[0] * np.sqrt(np.mean(r0[:half] ** 2)),
+                                       sigma[1] * np.sqrt(np.mean(r0[half:] ** 2)), *sigma))
+        iterations.append(1)
+        jac = np.zeros((len(r0), len(z)))
+        for group, h, r1 in zip(groups, steps, results[1:]):
+            delta = r1 - r0
             if len(group) == 1:
                 jac[:, group[0]] = delta / h[0]
             else:  # each segment's rows to its own state's column
                 for k, j in enumerate(group):
                     mine = owner == k
                     jac[mine, j] = delta[mine] / h[k]
+        jac[:len(rows), first_knot:n_lag] = bias_basis * (scale[first_knot:n_lag] / sigma[0])
         return jac
 
     residual(z0, tolerant=False)  # the start must simulate: a failure here is named, not hidden
@@ -240,6 +301,7 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40):
     converged = all(rms[k] <= CONVERGED_NOISE_FACTOR * sigma[k] for k in (0, 1))
     return out, cov, {"evaluations": int(solution.nfev), "position_rms": rms,
                       "noise": tuple(float(x) for x in sigma), "segments": n_seg,
+                      "segments_of": segments.count, "stride": segments.stride,
                       "converged": converged, "evaluation_limit": max_evaluations,
                       "crank_bias": (knots.tolist(), bias.tolist()),
                       "lag": float(z[n_lag] * scale[n_lag]),

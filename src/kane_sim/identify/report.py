@@ -1,7 +1,7 @@
 """What identify() found (Identification) and its text report."""
 from kane_sim import _core
 from kane_sim.identify.least_squares import DEFAULT_METHOD
-from kane_sim.identify.refinement import BIAS_KNOT_SPACING, SEGMENT_SECONDS
+from kane_sim.identify.refinement import SEGMENT_SECONDS
 
 
 class Identification:
@@ -55,7 +55,10 @@ class Identification:
                              % (name, self.estimates[name], unit))
                 continue
             value, err = self.estimates[name], self.std_errors[name]
-            rel = " (%.2g %%)" % (100 * err / abs(value)) if value != 0 else ""
+            # A relative error only where it means something: a value within its error of zero
+            # (no friction on the joint, fitted to 1e-20 at its bound) says "zero within error".
+            rel = (" (%.2g %%)" % (100 * err / abs(value)) if abs(value) > err
+                   else " (zero within its error)")
             bound = ", written as 0" if name in self.clipped else ""
             if name == "torque_offset":
                 bound += ", not written (no config key: add it to the torque you command)"
@@ -68,10 +71,17 @@ class Identification:
         for warning in self.warnings:
             lines.append("note: " + warning)
         if self.refined:
-            lines.append("refined by output error (%d segments of %g s, %d evaluations): "
+            r = self.refined
+            part = ""
+            if r.get("segments_of", r["segments"]) > r["segments"] or r.get("stride", 1) > 1:
+                part = " (%d of the recording's %d spread over it%s: a long recording's fit " \
+                       "looks at a bounded part, its errors are that part's)" % (
+                           r["segments"], r["segments_of"],
+                           ", one sample in %d" % r["stride"] if r["stride"] > 1 else "")
+            lines.append("refined by output error (%d segments of %g s%s, %d evaluations): "
                          "positions fitted to %.3g rad, %.3g m RMS (their noise %.3g rad, "
                          "%.3g m)%s"
-                         % ((self.refined["segments"], SEGMENT_SECONDS,
+                         % ((self.refined["segments"], SEGMENT_SECONDS, part,
                              self.refined["evaluations"]) + self.refined["position_rms"]
                             + self.refined["noise"]
                             + ("" if self.refined["converged"] else ": NOT converged",)))
@@ -81,8 +91,10 @@ class Identification:
                              % (1e3 * self.refined["lag"], 1e3 * self.refined["lag_error"]))
             knots, bias = self.refined.get("crank_bias", ([], []))
             if bias:
-                lines.append("crank encoder drift (fitted beside them, a knot every %g s): %s rad"
-                             % (BIAS_KNOT_SPACING, " ".join("%.3g" % b for b in bias)))
+                values = (" ".join("%.3g" % b for b in bias) if len(bias) <= 8 else
+                          "%d knots from %.3g to %.3g" % (len(bias), min(bias), max(bias)))
+                lines.append("crank encoder drift (fitted beside them, a knot every %.3g s): %s "
+                             "rad" % (knots[1] - knots[0], values))
         if self.method == "energy":
             lines.append("residual RMS: %.4g J per window" % self.residual_rms)
         else:

@@ -4,6 +4,7 @@ import numpy as np
 
 from kane_sim.identify.data import MIN_SAMPLES
 from kane_sim.identify.least_squares import _estimate, _rms, _system
+from kane_sim.identify.rates import estimate_rates
 from kane_sim.identify.refinement import simulate_motion
 
 
@@ -47,15 +48,19 @@ def _holdout(base, names, prepared, method, fraction):
             "torque_rms": float(np.sqrt(np.mean(test.torque ** 2)))}
 
 
-def validation(motion, base, fitted, torque_offset=0.0, bandwidth="auto"):
+def validation(motion, base, fitted, torque_offset=0.0, bandwidth="auto", start=None):
     """RMS error of q1 and q2 when the recorded torque is re-simulated with the fitted config
-    (and the fitted torque offset) and with the base config, over the whole recording."""
+    (and the fitted torque offset) and with the base config, over the whole recording, from
+    `start` ((t, state), the filter's first; computed when not given)."""
+    if start is None:
+        prepared = estimate_rates(motion, bandwidth)
+        start = (prepared.t[0], prepared.states[0])
     out = {"duration": float(motion.t[-1] - motion.t[0]),
            "recorded": {"t": motion.t, "q": motion.q},
            "q1_span": float(np.ptp(motion.q[:, 0])), "q2_span": float(np.ptp(motion.q[:, 1]))}
     for label, config, offset in (("fitted", fitted, torque_offset), ("base", base, 0.0)):
         try:
-            t, q = simulate_motion(config, motion, offset, bandwidth)
+            t, q = simulate_motion(config, motion, offset, start=start)
         except (RuntimeError, ValueError) as e:
             out[label] = {"q1_rms": float("nan"), "q2_rms": float("nan"), "error": str(e)}
             continue

@@ -44,6 +44,27 @@ def test_rigs_of_the_family_are_fitted(seed, regime):
                                                               3 * row["sigma"]), (name, row)
 
 
+def test_a_long_recording_is_fitted_on_a_bounded_part_with_errors_of_that_part():
+    # 200 s at 250 Hz: the least squares sees every sample; the output-error fit 30 of its 99
+    # segments, spread over it, one sample in 2 (MAX_SEGMENTS, MAX_ROWS): its time and memory
+    # are what a minute's are, an hour's too (bench/identify_scale.py). What it reports is
+    # that part's precision: the truth within 3 sigma.
+    from kane_sim.identify import refinement
+    rig = rigs.draw(7, regime="multisine_bias", duration=200)
+    rig.sensors["sensors.rate"] = 250.0
+    lines = []
+    fit = ki.identify(rigs.record(rig), None, holdout=0, validate=False, progress=lines.append)
+    assert fit.refusal is None, fit.report()
+    r = fit.refined
+    assert (r["segments"], r["segments_of"]) == (refinement.MAX_SEGMENTS, 99)
+    assert r["stride"] == 2 and "30 of the recording's 99 spread over it" in fit.report()
+    assert r["converged"]
+    assert lines[0].startswith("read 50000 samples") and any("iteration 3" in x for x in lines)
+    for name, row in rigs.score(rig, fit).items():
+        if row["told"] and name in rigs.MASSES + rigs.STIFFNESS:
+            assert abs(row["error"]) < 0.01 and row["z"] < 3.5, (name, row)
+
+
 @pytest.fixture(scope="module")
 def lagging_torque(tmp_path_factory):
     """A 12 s PRBS rig whose recorded torque lags the motion by 50 ms (a drive's effort read

@@ -1,0 +1,66 @@
+// kane_sim._bag: a bag's JointState topic as NumPy columns (kane_sim/ros/joint_state_bag.h),
+// for identify. Apart from kane_sim._core, which stays ROS-free: this one links rosbag.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "kane_sim/ros/joint_state_bag.h"
+
+namespace py = pybind11;
+
+namespace {
+
+py::array_t<double> array(std::vector<double>&& values) {
+  auto* owned = new std::vector<double>(std::move(values));
+  py::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<double>*>(p); });
+  return py::array_t<double>(static_cast<py::ssize_t>(owned->size()), owned->data(),
+                             free_when_done);
+}
+
+py::dict readJointStates(const std::string& path, const std::string& topic, const std::string& a,
+                         const std::string& b) {
+  // Ctrl-C: Python's signal handler, asked between blocks of messages.
+  std::unique_ptr<py::error_already_set> raised;
+  const auto interrupted = [&raised]() {
+    if (PyErr_CheckSignals() == 0) return false;
+    raised = std::make_unique<py::error_already_set>();
+    return true;
+  };
+  kane_sim::JointStateColumns c;
+  try {
+    c = kane_sim::readJointStates(path, topic, a, b, interrupted);
+  } catch (const kane_sim::BagReadError& e) {
+    if (raised) throw *raised;
+    throw py::value_error(e.what());
+  }
+  py::dict out;
+  out["t"] = array(std::move(c.t));
+  out["position_a"] = array(std::move(c.position_a));
+  out["position_b"] = array(std::move(c.position_b));
+  out["effort_a"] = array(std::move(c.effort_a));
+  if (c.has_velocity) {
+    out["velocity_a"] = array(std::move(c.velocity_a));
+    out["velocity_b"] = array(std::move(c.velocity_b));
+  }
+  return out;
+}
+
+std::map<std::string, std::string> topicTypes(const std::string& path) {
+  try {
+    return kane_sim::bagTopicTypes(path);
+  } catch (const kane_sim::BagReadError& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_bag, m) {
+  m.doc() = "A bag's sensor_msgs/JointState topic as NumPy columns (rosbag's C++ reader)";
+  m.def("topic_types", &topicTypes, py::arg("path"),
+        "{topic: message type} of the bag at path; ValueError when it is not a readable bag");
+  m.def("read_joint_states", &readJointStates, py::arg("path"), py::arg("topic"), py::arg("a"),
+        py::arg("b"),
+        "t, position_a, position_b, effort_a (and velocity_a, velocity_b when every message has "
+        "them) of joints a and b; ValueError naming what a message lacks");
+}

@@ -1,0 +1,82 @@
+// A JointState topic of a bag into columns: rosbag's C++ view, one message at a time.
+#include "kane_sim/ros/joint_state_bag.h"
+
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/JointState.h>
+
+namespace kane_sim {
+
+namespace {
+
+rosbag::Bag openForReading(const std::string& path) {
+  rosbag::Bag bag;
+  try {
+    bag.open(path, rosbag::bagmode::Read);
+  } catch (const std::exception& e) {  // rosbag::BagException and its kin on garbage
+    throw BagReadError(path + " is not a readable bag: " + e.what() +
+                       " (truncated or not a bag; a recording cut short is repaired by `rosbag "
+                       "reindex`)");
+  }
+  return bag;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out.empty() ? "none" : out;
+}
+
+}  // namespace
+
+std::map<std::string, std::string> bagTopicTypes(const std::string& path) {
+  rosbag::Bag bag = openForReading(path);
+  rosbag::View view(bag);  // its queries are not const
+  std::map<std::string, std::string> out;
+  for (const rosbag::ConnectionInfo* c : view.getConnections()) out[c->topic] = c->datatype;
+  return out;
+}
+
+JointStateColumns readJointStates(const std::string& path, const std::string& topic,
+                                  const std::string& a, const std::string& b,
+                                  const std::function<bool()>& interrupted) {
+  rosbag::Bag bag = openForReading(path);
+  rosbag::View view(bag, rosbag::TopicQuery(topic));
+  JointStateColumns out;
+  const std::size_t count = view.size();
+  for (std::vector<double>* column :
+       {&out.t, &out.position_a, &out.position_b, &out.velocity_a, &out.velocity_b, &out.effort_a})
+    column->reserve(count);
+  const std::string where = path + " on " + topic;
+  std::size_t read = 0;
+  for (const rosbag::MessageInstance& m : view) {
+    if ((++read & 0xFFFF) == 0 && interrupted && interrupted()) throw BagReadError("interrupted");
+    const sensor_msgs::JointState::ConstPtr msg = m.instantiate<sensor_msgs::JointState>();
+    if (!msg) throw BagReadError(where + " is not sensor_msgs/JointState");
+    std::size_t i = msg->name.size(), j = msg->name.size();
+    for (std::size_t k = 0; k < msg->name.size(); ++k) {
+      if (msg->name[k] == a) i = k;
+      if (msg->name[k] == b) j = k;
+    }
+    for (const auto& [index, joint] : {std::pair{i, &a}, std::pair{j, &b}})
+      if (index == msg->name.size())
+        throw BagReadError(where + " has no joint '" + *joint + "' (names: " + joined(msg->name) +
+                           ")");
+    if (msg->effort.size() <= i)
+      throw BagReadError(where + " carries no effort for " + a +
+                         ": identification needs the delivered torque");
+    if (msg->position.size() <= std::max(i, j)) throw BagReadError(where + " carries no positions");
+    out.has_velocity = out.has_velocity && msg->velocity.size() > std::max(i, j);
+    const double stamp = msg->header.stamp.toSec();
+    out.t.push_back(stamp != 0.0 ? stamp : m.getTime().toSec());
+    out.position_a.push_back(msg->position[i]);
+    out.position_b.push_back(msg->position[j]);
+    out.velocity_a.push_back(out.has_velocity ? msg->velocity[i] : 0.0);
+    out.velocity_b.push_back(out.has_velocity ? msg->velocity[j] : 0.0);
+    out.effort_a.push_back(msg->effort[i]);
+  }
+  if (out.t.empty()) throw BagReadError(path + " has no messages on " + topic);
+  return out;
+}
+
+}  // namespace kane_sim
