@@ -1,7 +1,9 @@
 // kane_sim._core.BatchSimulator: the C++ BatchSimulator (sim/batch_simulator.h) with NumPy
 // arrays in and out; a step releases the GIL (its threads and lanes run without Python).
+#include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <exception>
 #include <future>
@@ -12,6 +14,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include "kane_sim/format_number.h"
 #include "kane_sim/sim/batch_simulator.h"
 #include "python_layer.h"
 
@@ -20,6 +23,9 @@ namespace python {
 namespace {
 
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+// Mechanism-steps a step() call runs without a watcher thread for Ctrl-C: ~100 ns each on SIMD
+// lanes, ~1 us on drivers, so at most ~65 ms before Python sees the signal.
+constexpr double kInlineMechanismSteps = 65536.0;
 using Mask = py::array_t<bool, py::array::c_style | py::array::forcecast>;
 
 std::vector<bool> maskOf(const BatchSimulator& batch, const Mask& mask, const char* call) {
@@ -91,15 +97,23 @@ void bindBatch(py::module_& m) {
                                     std::to_string(b.size()) + ")");
             std::vector<bool> active;
             if (!mask.is_none()) active = maskOf(b, mask.cast<Mask>(), "step");
-            // The step on a thread of its own; this one, without the GIL, looks at Python's
-            // signals every 20 ms: Ctrl-C stops every lane where it is (KeyboardInterrupt).
+            // A long step on a thread of its own; this one, without the GIL, looks at Python's
+            // signals every 20 ms: Ctrl-C stops every lane where it is (KeyboardInterrupt). A
+            // short one (at most kInlineMechanismSteps, a few ms) runs here without the GIL:
+            // a learning loop's call of one step would otherwise start a thread each time.
             std::atomic<bool> stop{false};
             std::unique_ptr<py::error_already_set> raised;
+            const std::vector<bool>* only = mask.is_none() ? nullptr : &active;
             try {
-              raised = runStoppable(
-                  stop,
-                  [&] { b.step(actions.data(), steps, mask.is_none() ? nullptr : &active, &stop); },
-                  std::chrono::milliseconds(20));
+              if (static_cast<double>(steps) * static_cast<double>(b.size()) <=
+                  kInlineMechanismSteps) {
+                py::gil_scoped_release release;
+                b.step(actions.data(), steps, only, nullptr);
+              } else {
+                raised = runStoppable(
+                    stop, [&] { b.step(actions.data(), steps, only, &stop); },
+                    std::chrono::milliseconds(20));
+              }
             } catch (const std::invalid_argument& e) {
               throw py::value_error(std::string("step: ") + e.what());
             }
@@ -107,6 +121,61 @@ void bindBatch(py::module_& m) {
             return states(b);
           },
           py::arg("actions"), py::arg("steps") = 1, py::arg("mask") = py::none())
+      .def(
+          "rollout",
+          [](BatchSimulator& b, const Array& actions, long steps) {
+            const py::ssize_t n = static_cast<py::ssize_t>(b.size());
+            if (actions.ndim() != 2 || actions.shape(0) != n)
+              throw py::value_error("rollout: actions must have shape (" + std::to_string(n) +
+                                    ", T): one value per mechanism and time step, got " +
+                                    shapeText(actions));
+            const py::ssize_t horizon = actions.shape(1);
+            for (py::ssize_t k = 0; k < n * horizon; ++k)
+              if (!std::isfinite(actions.data()[k]))
+                throw py::value_error("rollout: actions[" + std::to_string(k / horizon) + ", " +
+                                      std::to_string(k % horizon) +
+                                      "] = " + formatNumber(actions.data()[k]) + " is not finite");
+            Array out({n, horizon + 1, py::ssize_t{4}});
+            double* o = out.mutable_data();
+            const auto record = [&](py::ssize_t t) {
+              for (py::ssize_t i = 0; i < n; ++i) {
+                const State x = b.state(static_cast<std::size_t>(i));
+                double* row = o + (i * (horizon + 1) + t) * 4;
+                row[0] = x.q1, row[1] = x.q2, row[2] = x.u1, row[3] = x.u2;
+              }
+            };
+            record(0);
+            std::atomic<bool> stop{false};
+            const auto run = [&] {
+              std::vector<double> column(static_cast<std::size_t>(n));
+              for (py::ssize_t t = 0; t < horizon && !stop; ++t) {
+                for (py::ssize_t i = 0; i < n; ++i) column[i] = actions.data()[i * horizon + t];
+                try {
+                  b.step(column.data(), steps, nullptr, &stop);
+                } catch (const std::invalid_argument& e) {
+                  throw std::invalid_argument("at time step " + std::to_string(t) + ": " +
+                                              e.what());
+                }
+                if (!stop) record(t + 1);
+              }
+            };
+            std::unique_ptr<py::error_already_set> raised;
+            try {
+              if (static_cast<double>(horizon) * static_cast<double>(steps) *
+                      static_cast<double>(n) <=
+                  kInlineMechanismSteps) {
+                py::gil_scoped_release release;
+                run();
+              } else {
+                raised = runStoppable(stop, run, std::chrono::milliseconds(20));
+              }
+            } catch (const std::invalid_argument& e) {
+              throw py::value_error(std::string("rollout: ") + e.what());
+            }
+            if (raised) throw *raised;
+            return out;
+          },
+          py::arg("actions"), py::arg("steps") = 1)
       .def(
           "reset",
           [](BatchSimulator& b, const Mask& mask) {
@@ -116,11 +185,53 @@ void bindBatch(py::module_& m) {
           py::arg("mask"))
       .def(
           "reseed",
-          [](BatchSimulator& b, const Mask& mask, std::uint64_t seed) {
-            b.reseed(maskOf(b, mask, "reset"), seed);
+          [](BatchSimulator& b, const Mask& mask, const std::vector<std::uint64_t>& seeds) {
+            if (seeds.size() != b.size())
+              throw py::value_error("reset: seeds must hold one per mechanism (" +
+                                    std::to_string(b.size()) + ")");
+            b.reseed(maskOf(b, mask, "reset"), seeds);
             return states(b);
           },
-          py::arg("mask"), py::arg("seed"))
+          py::arg("mask"), py::arg("seeds"))
+      .def(
+          "set_states",
+          [](BatchSimulator& b, const Array& x, const Mask& mask) {
+            const std::vector<bool> chosen = maskOf(b, mask, "set_states");
+            if (x.ndim() != 2 || static_cast<std::size_t>(x.shape(0)) != b.size() ||
+                x.shape(1) != 4)
+              throw py::value_error("set_states: states must have shape (" +
+                                    std::to_string(b.size()) +
+                                    ", 4) (q1, q2, u1, u2 of each "
+                                    "mechanism), got " +
+                                    shapeText(x));
+            const auto at = [&x](std::size_t i) {
+              const double* v = x.data() + 4 * i;
+              return State{v[0], v[1], v[2], v[3]};
+            };
+            // Every chosen state is checked before any is set: a refusal changes nothing.
+            for (std::size_t i = 0; i < b.size(); ++i) {
+              if (!chosen[i]) continue;
+              const Status status = b.checkState(i, at(i));
+              if (!status.ok)
+                throw py::value_error("set_states: mechanism " + std::to_string(i) + ": " +
+                                      status.error);
+            }
+            for (std::size_t i = 0; i < b.size(); ++i)
+              if (chosen[i]) static_cast<void>(b.setState(i, at(i)));
+            return states(b);
+          },
+          py::arg("states"), py::arg("mask"))
+      .def(
+          "check_state",
+          [](const BatchSimulator& b, std::size_t i, const std::array<double, 4>& x) {
+            if (i >= b.size())
+              throw py::index_error("check_state: mechanism " + std::to_string(i) + " of " +
+                                    std::to_string(b.size()));
+            const Status status = b.checkState(i, State{x[0], x[1], x[2], x[3]});
+            return status.ok ? std::string() : status.error;
+          },
+          py::arg("mechanism"), py::arg("state"),
+          "'' when set_states would accept state for that mechanism, else why not")
       .def_property_readonly("states", &states)
       .def_property_readonly("times",
                              [](const BatchSimulator& b) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <yaml-cpp/yaml.h>
 
@@ -54,6 +55,13 @@ class PythonConfig {
   LoadedConfig loaded_;
   std::string source_;
 };
+
+// "(3, 4)", "(5,)": an array's shape as refusals name it (NumPy's way).
+inline std::string shapeText(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
 
 // Runs work() (C++ that checks `stop`) on a thread of its own while this one, without the GIL,
 // looks at Python's signals every `poll`: a handler that raises (Ctrl-C) sets `stop`, and that

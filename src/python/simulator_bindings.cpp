@@ -468,12 +468,6 @@ class PythonSimulator {
     return std::string(py::str(py::type::of(h).attr("__name__")));
   }
 
-  static std::string shapeText(const py::array& a) {
-    std::string s = "(";
-    for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
-    return s + (a.ndim() == 1 ? ",)" : ")");
-  }
-
   static void checkTorqueArray(const Array& values, long steps) {
     if (values.ndim() != 1 || values.shape(0) != steps)
       throw py::value_error("run: a torque array holds one value per physics step: shape (" +

@@ -6,12 +6,11 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
-#include <thread>
 
 #include "kane_sim/format_number.h"
 #include "kane_sim/model/generated_mechanism.h"
 #include "kane_sim/sim/profile_commands.h"
-#include "kane_sim/sim/parallel.h"
+#include "kane_sim/sim/worker_pool.h"
 #include "lane_sweep.h"
 
 namespace kane_sim {
@@ -49,6 +48,7 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
   const LaneArch arch =
       settings_.simd == "off" ? LaneArch::kScalar : parseLaneArch(settings_.simd);  // names a typo
   step_size_ = 1.0 / configs_[0].simulation.physics_rate;  // as Simulator's step_size_
+  pool_ = std::make_unique<WorkerPool>(static_cast<unsigned>(settings_.threads));
   const std::string why = whyDrivers(configs_, settings_);
   on_lanes_ = why.empty();
   for (const Config& c : configs_) sensors_ = sensors_ || c.sensors.enabled;
@@ -123,7 +123,7 @@ void BatchSimulator::buildDriver(std::size_t lane, const Config& config) {
 
 template <class F>
 void BatchSimulator::parallel(std::size_t count, const F& work) {
-  parallelFor(count, static_cast<unsigned>(settings_.threads), work);
+  pool_->forEach(count, work);
 }
 
 bool BatchSimulator::step(const double* actions, long steps, const std::vector<bool>* active,
@@ -200,6 +200,7 @@ void BatchSimulator::stepLanes(const double* actions, long steps, std::size_t ch
     const LaneOutcome& o = outcomes[k];
     l.x = o.state;
     l.ticks += static_cast<std::uint64_t>(o.steps);
+    if (!o.refused && o.slider_crossings == 0) continue;  // the common case: no text to make
     const std::string at = "t = " + timeText(static_cast<double>(l.ticks) * step_size_) + " s: ";
     if (o.refused) {
       // The Simulator's checks refused the next step (its message needs its own loop: say what
@@ -237,10 +238,36 @@ void BatchSimulator::resetLane(std::size_t i) {
   }
 }
 
-void BatchSimulator::reseed(const std::vector<bool>& mask, std::uint64_t seed) {
+Status BatchSimulator::checkState(std::size_t i, const State& x) const {
+  const Lane& l = lanes_[i];
+  // The lanes path has no Simulator of its own: one of the lane's config checks the state.
+  const Status status =
+      l.driver ? l.driver->simulator().checkState(x) : Simulator(configs_[i]).checkState(x);
+  if (!status.ok) return {false, status.error + "; state kept"};
+  return {};
+}
+
+Status BatchSimulator::setState(std::size_t i, const State& x) {
+  Lane& l = lanes_[i];
+  if (l.driver) {
+    const Status status = l.driver->setState(x);
+    if (!status.ok) return status;
+    l.reading = l.driver->simulator().joints();
+  } else {
+    const Status status = checkState(i, x);
+    if (!status.ok) return status;
+    l.x = {x.q1, x.q2, x.u1, x.u2, 0.0, 0.0};
+  }
+  l.terminated = false;
+  l.reason.clear();
+  return {};
+}
+
+void BatchSimulator::reseed(const std::vector<bool>& mask,
+                            const std::vector<std::uint64_t>& seeds) {
   for (std::size_t i = 0; i < size(); ++i) {
     if (!mask[i]) continue;
-    configs_[i].sensors.seed = seed + i;
+    configs_[i].sensors.seed = static_cast<int>(seeds[i]);  // Python keeps it <= 2^31 - 1
     if (on_lanes_) {  // no sensors on lanes: a fresh start, its clock at 0
       lanes_[i].ticks = 0;
       resetLane(i);

@@ -296,7 +296,7 @@ def test_vector_env_shapes_truncation_and_next_step_autoreset():
         bad.reset()
         with pytest.raises(ValueError, match="reward"):
             bad.step(np.zeros(2))
-    with pytest.raises(ValueError, match="options takes 'mask' only, got maks"):
+    with pytest.raises(ValueError, match="options takes reset_mask and states, got maks"):
         env.reset(options={"maks": [True] * 5})
     with pytest.raises(ValueError, match=r"actions\[1\] = nan"):
         env.step(np.array([0.0, np.nan, 0.0, 0.0, 0.0]))

@@ -19,6 +19,7 @@
 #include "kane_sim/config/config.h"
 #include "kane_sim/model/state.h"
 #include "kane_sim/sim/sim_driver.h"
+#include "kane_sim/sim/worker_pool.h"
 
 namespace kane_sim {
 
@@ -50,9 +51,16 @@ class BatchSimulator {
             const std::atomic<bool>* stop = nullptr);
 
   // Lanes with mask[i] back to their initial state (the driver's reset: sim time runs on), or
-  // with a seed rebuilt from their config with sensors.seed = seed + i (time 0 again).
+  // with seeds rebuilt from their config with sensors.seed = seeds[i] (time 0 again).
   void reset(const std::vector<bool>& mask);
-  void reseed(const std::vector<bool>& mask, std::uint64_t seed);
+  void reseed(const std::vector<bool>& mask, const std::vector<std::uint64_t>& seeds);
+  // Whether lane `lane` can be put into `state`: what a Simulator of its config's set_state
+  // accepts (finite, within scale, the sliders apart, within rk4's reach at this step).
+  Status checkState(std::size_t lane, const State& state) const;
+  // Lane `lane` put into `state` (a Simulator's set_state: an episode started anywhere), running
+  // again; its time runs on. Refused (nothing changes; the reason names the state) unless
+  // checkState accepts it.
+  Status setState(std::size_t lane, const State& state);
 
   State state(std::size_t lane) const;
   double time(std::size_t lane) const;
@@ -100,6 +108,8 @@ class BatchSimulator {
   std::vector<Chunk> chunks_;
   const std::vector<bool>* active_ = nullptr;  // during step()
   const std::atomic<bool>* stop_ = nullptr;    // during step()
+  // settings_.threads workers, started once: a call of one physics step starts no thread.
+  std::unique_ptr<WorkerPool> pool_;
 };
 
 }  // namespace kane_sim

@@ -1,0 +1,219 @@
+"""kane_sim.VectorEnv as Gymnasium 1.x's vector environments are used by learning code (a
+CleanRL-style PPO loop: spaces, reset, step, autoreset), without Gymnasium and with a stand-in
+module that has its Box and AutoresetMode; BatchSimulator's rollout, set_states and per-mechanism
+seeds, each against the single runs; reads from another thread between steps, never half of one."""
+import sys
+import threading
+import types
+
+import numpy as np
+import pytest
+
+import kane_sim
+from conftest import config_path
+
+
+def ppo_style_rollout(env, steps, seed=1):
+    """What a CleanRL-style PPO collection loop reads and calls of a vector env."""
+    obs_dim = int(np.prod(env.single_observation_space.shape))
+    act_dim = int(np.prod(env.single_action_space.shape))
+    low, high = env.single_action_space.low, env.single_action_space.high
+    obs, _ = env.reset(seed=seed)
+    assert obs.shape == (env.num_envs, obs_dim)
+    rng = np.random.default_rng(seed)
+    dones, rewards = [], []
+    for _ in range(steps):
+        action = np.clip(rng.normal(0.0, 20.0, (env.num_envs, act_dim)), low, high)
+        obs, reward, terminated, truncated, info = env.step(action)
+        assert obs.shape == (env.num_envs, obs_dim) and obs.dtype == env.single_observation_space.dtype
+        assert reward.shape == (env.num_envs,) and np.all(np.isfinite(reward))
+        dones.append(np.logical_or(terminated, truncated))
+        rewards.append(reward)
+    return np.array(dones), np.array(rewards), obs
+
+
+def test_a_ppo_loop_runs_unchanged_without_gymnasium():
+    with kane_sim.VectorEnv(8, config_path(), max_episode_steps=20, dtype=np.float32) as env:
+        assert env.single_observation_space.shape == (4,)
+        assert env.single_action_space.shape == (1,) and env.single_action_space.high[0] == 50.0
+        assert env.observation_space.shape == (8, 4) and env.action_space.shape == (8, 1)
+        assert env.metadata["autoreset_mode"].value == "NextStep"
+        sample = env.single_action_space.sample()
+        assert sample.shape == (1,) and sample.dtype == np.float32 and abs(sample[0]) <= 50.0
+        dones, rewards, obs = ppo_style_rollout(env, 45)
+        assert obs.dtype == np.float32
+        # Truncated at 20 actions, reset on the 21st (reward 0), truncated again at 41.
+        assert dones[19].all() and dones[40].all() and not dones[20].any()
+        assert not rewards[20].any()
+    with pytest.raises(RuntimeError, match="closed"):
+        env.step(np.zeros(8))
+
+
+def test_a_stand_in_gymnasium_gives_its_own_box_and_autoreset_mode(monkeypatch):
+    import enum
+    gym = types.ModuleType("gymnasium")
+    gym.spaces = types.ModuleType("gymnasium.spaces")
+    gym.vector = types.ModuleType("gymnasium.vector")
+
+    class Box:  # gymnasium.spaces.Box's constructor and attributes
+        def __init__(self, low, high, shape=None, dtype=np.float32):
+            self.low, self.high = np.asarray(low, dtype), np.asarray(high, dtype)
+            self.shape, self.dtype = tuple(shape), np.dtype(dtype)
+
+    class AutoresetMode(enum.Enum):
+        NEXT_STEP = "NextStep"
+        SAME_STEP = "SameStep"
+        DISABLED = "Disabled"
+    gym.spaces.Box, gym.vector.AutoresetMode = Box, AutoresetMode
+    for name, module in (("gymnasium", gym), ("gymnasium.spaces", gym.spaces),
+                         ("gymnasium.vector", gym.vector)):
+        monkeypatch.setitem(sys.modules, name, module)
+    env = kane_sim.VectorEnv(3, config_path(), autoreset_mode=AutoresetMode.SAME_STEP)
+    assert isinstance(env.single_action_space, Box) and isinstance(env.observation_space, Box)
+    assert env.metadata["autoreset_mode"] is AutoresetMode.SAME_STEP
+    assert env.action_space.high.shape == (3, 1)
+
+
+def test_same_step_autoreset_returns_the_first_observation_and_the_last_in_final_obs():
+    env = kane_sim.VectorEnv(3, config_path(), max_episode_steps=2, autoreset_mode="same_step")
+    first, _ = env.reset()
+    env.step(np.ones(3))
+    obs, reward, terminated, truncated, info = env.step(np.ones((3, 1)))
+    assert truncated.all() and info["_final_obs"].all()
+    assert np.array_equal(obs, first)  # already the next episode's start
+    assert not np.array_equal(info["final_obs"][0], first[0]) and reward.any()
+    obs, reward, *_ = env.step(np.ones(3))
+    assert not np.array_equal(obs, first) and reward.any()  # no lost step
+
+
+def test_disabled_autoreset_waits_for_a_masked_reset():
+    env = kane_sim.VectorEnv(3, config_path(), max_episode_steps=1, autoreset_mode="Disabled")
+    first, _ = env.reset()
+    _, _, _, truncated, _ = env.step(np.ones(3))
+    assert truncated.all()
+    with pytest.raises(ValueError, match="mechanisms 0, 1, 2 ended their episode.*reset_mask"):
+        env.step(np.ones(3))
+    obs, _ = env.reset(options={"reset_mask": np.array([True, False, False])})
+    assert np.array_equal(obs[0], first[0]) and not np.array_equal(obs[1], first[1])
+    with pytest.raises(ValueError, match="mechanisms 1, 2 ended"):
+        env.step(np.ones(3))
+
+
+def test_random_starts_are_seeded_within_their_bounds_and_refusals_named():
+    noise = {"q1": 0.3, "u1": 2.0}
+    a = kane_sim.VectorEnv(64, config_path(), start_noise=noise)
+    b = kane_sim.VectorEnv(64, config_path(), start_noise=noise)
+    x0 = kane_sim.Config(config_path())
+    obs_a, _ = a.reset(seed=5)
+    obs_b, _ = b.reset(seed=5)
+    assert np.array_equal(obs_a, obs_b)  # the seed decides the draws
+    assert np.all(np.abs(obs_a[:, 0] - x0["initial_state.q1"]) <= 0.3)
+    assert np.all(np.abs(obs_a[:, 2]) <= 2.0) and np.ptp(obs_a[:, 2]) > 1.0
+    assert np.all(obs_a[:, 1] == x0["initial_state.q2"])  # q2 not drawn
+    assert not np.array_equal(a.reset(seed=6)[0], obs_a)
+    for bad, words in (({"q1": float("nan")}, "half-width"), ({"q1": -1.0}, "half-width"),
+                       ({"q1": float("inf")}, "half-width"), ({"q3": 0.1}, "takes q1, q2"),
+                       ({"q1": 1e308}, "half-width"), ([0.1], "dict")):
+        with pytest.raises((ValueError, TypeError), match=words):
+            kane_sim.VectorEnv(2, config_path(), start_noise=bad)
+    # A draw the simulator refuses is drawn again; refused every time: named, never a hang.
+    fast = kane_sim.VectorEnv(2, config_path(), start_noise={"u1": 999.0})
+    obs, _ = fast.reset(seed=0)  # |u1| h < 1 rad, but rk4 refuses some: drawn again
+    assert np.all(np.abs(obs[:, 2]) < 999.0)
+    fast._accepted = lambda i, x: False
+    with pytest.raises(ValueError, match="100 draws for mechanism 0 were all refused"):
+        fast.reset(seed=0)
+
+
+def test_hostile_arguments_name_vector_env_and_the_value():
+    with pytest.raises(TypeError, match="VectorEnv: unknown argument seed"):
+        kane_sim.VectorEnv(2, config_path(), seed=0)
+    with pytest.raises(ValueError, match="autoreset_mode"):
+        kane_sim.VectorEnv(2, config_path(), autoreset_mode="sometimes")
+    with pytest.raises(TypeError, match="dtype"):
+        kane_sim.VectorEnv(2, config_path(), dtype=np.int32)
+    env = kane_sim.VectorEnv(2, config_path())
+    env.reset()
+    with pytest.raises(ValueError, match=r"shape \(2,\) or \(2, 1\)"):
+        env.step(np.zeros((2, 2)))
+    with pytest.raises(ValueError, match="options takes reset_mask and states, got maks"):
+        env.reset(options={"maks": [True, True]})
+    with pytest.raises(ValueError, match="seed as a list holds 2"):
+        env.reset(seed=[1, 2, 3])
+    with pytest.raises(IndexError, match=r"\[0, 2\), got -1"):
+        env.sim.config(-1)
+
+
+def test_seeds_per_mechanism_are_the_single_runs_noise(tmp_path):
+    import yaml
+    cfg = yaml.safe_load(open(config_path()))
+    cfg["sensors"] = yaml.safe_load(open(config_path("sensors.yaml")))["sensors"]
+    path = tmp_path / "sensors.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    batch = kane_sim.BatchSimulator(3, str(path))
+    batch.reset(seed=[40, 7, 123])
+    assert [batch.config(i)["sensors.seed"] for i in range(3)] == [40, 7, 123]
+    for _ in range(20):
+        batch.step(np.array([1.0, 2.0, 3.0]), 10)
+    sim = kane_sim.Simulator(batch.config(1))
+    sim.set_torque(2.0)
+    sim.step(200)
+    assert np.array_equal(batch.states[1], sim.state)
+
+
+@pytest.mark.parametrize("simd", ["auto", "off"])
+def test_rollout_and_set_states_are_the_single_runs_bit_for_bit(simd):
+    n, horizon = 6, 40
+    rng = np.random.default_rng(2)
+    starts = np.column_stack([rng.uniform(-1, 1, n), np.full(n, 1.2), rng.uniform(-2, 2, n),
+                              np.zeros(n)])
+    plan = rng.uniform(-10, 10, (n, horizon))
+    batch = kane_sim.BatchSimulator(n, config_path(), simd=simd)
+    batch.set_states(starts)
+    trajectory = batch.rollout(plan, steps=5)
+    assert trajectory.shape == (n, horizon + 1, 4)
+    for i in range(n):
+        sim = kane_sim.Simulator(config_path())
+        sim.set_state(starts[i])
+        assert np.array_equal(trajectory[i, 0], sim.state)
+        for t in range(horizon):
+            sim.set_torque(plan[i, t])
+            sim.step(5)
+            assert np.array_equal(trajectory[i, t + 1], sim.state), (i, t)
+    # One refused state changes nothing, and names the mechanism.
+    before = batch.states
+    bad = before.copy()
+    bad[0, 0] = 0.3
+    bad[4, 2] = np.nan
+    with pytest.raises(ValueError, match="mechanism 4: u1 = nan is not finite"):
+        batch.set_states(bad)
+    assert np.array_equal(batch.states, before)
+    with pytest.raises(ValueError, match=r"actions\[2, 7\] = inf"):
+        plan[2, 7] = np.inf
+        batch.rollout(plan)
+    with pytest.raises(ValueError, match=r"shape \(6, T\)"):
+        batch.rollout(np.zeros(6))
+    assert np.array_equal(batch.states, before)
+
+
+def test_reads_from_another_thread_see_whole_steps():
+    n = 4096
+    batch = kane_sim.BatchSimulator(n, config_path())
+    done = threading.Event()
+    torn = []
+
+    def read():
+        while not done.is_set():
+            times = batch.times
+            if np.ptp(times) != 0.0:  # every mechanism steps together: one time for all
+                torn.append(np.ptp(times))
+    reader = threading.Thread(target=read)
+    reader.start()
+    try:
+        for _ in range(200):
+            batch.step(np.zeros(n), 7)
+    finally:
+        done.set()
+        reader.join()
+    assert not torn, torn[:3]
+    assert batch.times[0] == pytest.approx(1.4)
