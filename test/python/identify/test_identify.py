@@ -403,3 +403,18 @@ def test_a_torque_in_other_units_is_refused_naming_them(truth_run):
     data = dict(truth_run, applied_torque=truth_run["applied_torque"] * 1000.0)
     fit = ki.identify(data, config_path(), validate=False, holdout=0)
     assert fit.refusal and "times the base's" in fit.refusal and "torque's units" in fit.refusal
+
+
+def test_a_parameter_the_motion_told_poorly_is_named():
+    fit = ki.Identification()
+    fit.names = ["mechanism.slider3_mass", "mechanism.rod_mass", "friction.crank_joint",
+                 "torque_offset"]
+    fit.estimates = {"mechanism.slider3_mass": 0.25, "mechanism.rod_mass": 1.96,
+                     "friction.crank_joint": 1e-20, "torque_offset": 0.001}
+    fit.std_errors = {"mechanism.slider3_mass": 0.027, "mechanism.rod_mass": 0.019,
+                      "friction.crank_joint": 0.001, "torque_offset": 0.01}
+    fit.base_values = dict.fromkeys(fit.names, 1.0)
+    fit.residual_rms = 0.01  # J per window (the energy form)
+    assert fit.poorly_told == ["mechanism.slider3_mass"]  # 11 %; 1 %; zero within; offset
+    assert "told poorly by this motion (error above 5 % of the value: use it with its error, " \
+        "or record more motion of its joint): mechanism.slider3_mass (11 %)" in fit.report()
