@@ -24,6 +24,14 @@ set +u
 # shellcheck disable=SC1091
 source "$build/devel/setup.bash"
 set -u
+# Every figure below belongs to this machine: its CPU, the instruction sets the lanes may take,
+# its cores (the speed issue: figures from an AVX-512 VM read as the user's AVX2 one's).
+echo "## Machine"
+echo "- CPU: $(grep -m1 '^model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')"
+echo "- cores this process may use: $(nproc); $(lscpu 2>/dev/null | grep -m1 '^Thread(s) per core' | sed 's/  */ /g')"
+echo "- SIMD lanes this CPU runs: $(/usr/bin/python3 -c 'from kane_sim import _core; print(", ".join(a for a in ("avx512", "avx2", "sse2") if _core.lane_arch_available(a)))')"
+echo "- $(uname -sr), $(gcc --version | head -1), $(date -u +%Y-%m-%d)"
+echo
 echo "## Core throughput (Google Benchmark)"
 "$build/bench_bin/bench_core" --benchmark_min_time=1 --benchmark_repetitions=3 \
   --benchmark_report_aggregates_only=true 2>/dev/null
@@ -38,3 +46,5 @@ echo; echo "## Live node"
 /usr/bin/python3 bench/node_perf.py "$build" --seconds "${1:-60}"
 echo; echo "## The Python module against simulate; rates"
 /usr/bin/python3 bench/python_perf.py "$build"
+echo; echo "## BatchSimulator (one and ten physics steps per call, rollout)"
+/usr/bin/python3 bench/batch_simulator.py

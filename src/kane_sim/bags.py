@@ -49,6 +49,10 @@ def choose_topic(types, path, msg_type, suffix, topic=None, flag="topic="):
     if topic is None:
         named = [t for t in candidates if t.rstrip("/").endswith(suffix)]
         if not named:
+            other = sorted(t for t in types if t.rstrip("/").endswith(suffix))
+            if other:  # the name is there, with another type
+                raise ValueError("%s's topic %s is %s, not %s (%s topics: %s)"
+                                 % (path, other[0], types[other[0]], msg_type, msg_type, listed))
             raise ValueError("%s has no %s topic (%s topics: %s)" % (path, suffix, msg_type, listed))
         if len(named) > 1:
             raise ValueError("%s has %d %s topics (%s): name one with %s"

@@ -71,7 +71,10 @@ def _lane_configs(n, config, params):
 def _real_array(what, values, n):
     """values as n finite-or-not real numbers (ints, floats): TypeError for bools, complex
     numbers, strings; ValueError for a scalar or a wrong shape."""
-    a = np.asarray(values)
+    try:
+        a = np.asarray(values)
+    except ValueError:  # NumPy's "inhomogeneous shape": rows of different lengths
+        raise ValueError("%s must be an array of real numbers, got ragged rows" % what) from None
     if a.ndim == 0:
         raise ValueError("%s must hold one value per mechanism (%d), got a scalar" % (what, n))
     if a.dtype.kind not in "iuf":
@@ -192,12 +195,10 @@ class BatchSimulator:
         [:, 0] now, [:, t + 1] after time step t (a terminated mechanism keeps its state). The
         same numbers as T calls of step(actions[:, t], steps), without T calls' overhead."""
         steps = _whole_steps("rollout", steps)
-        a = np.asarray(actions)
+        a = _real_array("rollout: actions", actions, len(self))
         if a.ndim != 2 or a.shape[0] != len(self):
             raise ValueError("rollout: actions must have shape (%d, T), got %s"
                              % (len(self), a.shape))
-        if a.dtype.kind not in "iuf":
-            raise TypeError("rollout: actions must be real numbers, got %s" % a.dtype)
         if a.shape[1] * steps > 10_000_000:
             raise ValueError("rollout: %d time steps of %d physics steps is more than 1e7"
                              % (a.shape[1], steps))
@@ -248,11 +249,21 @@ class BatchSimulator:
         rk4's reach): one refused changes nothing (ValueError naming the mechanism). Returns the
         states (n, 4)."""
         m = self._mask("set_states", mask)
-        x = np.asarray(states)
-        if x.dtype.kind not in "iuf":
-            raise TypeError("set_states: states must be real numbers, got %s" % x.dtype)
+        x = _real_array("set_states: states", states, len(self))
         with self._exclusive("set_states"):
-            return self._batch.set_states(x.astype(float), m)
+            return self._batch.set_states(x, m)
+
+    def check_states(self, states, mask=None):
+        """Raises what set_states(states, mask) would (nothing is set)."""
+        m = self._mask("set_states", mask)
+        x = _real_array("set_states: states", states, len(self))
+        if x.shape != (len(self), 4):
+            raise ValueError("set_states: states must have shape (%d, 4) (q1, q2, u1, u2 of "
+                             "each mechanism), got %s" % (len(self), x.shape))
+        for i in np.flatnonzero(m):
+            why = self._batch.check_state(int(i), [float(v) for v in x[i]])
+            if why:
+                raise ValueError("set_states: mechanism %d: %s" % (i, why))
 
     @property
     def states(self):
@@ -346,7 +357,18 @@ class Box:
         return "Box(%s, %s, %s, %s)" % (self.low.min(), self.high.max(), self.shape, self.dtype)
 
 
+def _inward(values, dtype, toward):
+    """values in `dtype`, rounded toward `toward` (+inf for a lower bound, -inf for an upper):
+    float32's nearest of 6283185.307 is 6283185.5, a setpoint the servo refuses."""
+    v = np.asarray(values, dtype=float)
+    cast = v.astype(dtype)
+    beyond = (cast < v) if toward > 0 else (cast > v)
+    return np.where(beyond & np.isfinite(v), np.nextafter(cast, np.array(toward, dtype)), cast)
+
+
 def _box(low, high, shape, dtype):
+    low = np.broadcast_to(_inward(low, dtype, np.inf), shape)
+    high = np.broadcast_to(_inward(high, dtype, -np.inf), shape)
     gym = _gymnasium()
     if gym is not None:
         return gym.spaces.Box(np.broadcast_to(np.asarray(low, dtype=dtype), shape),
@@ -370,9 +392,12 @@ def _autoreset_mode(mode):
 
 
 START_NOISE_KEYS = ("q1", "q2", "u1", "u2")
+# Gymnasium's wrappers (RecordEpisodeStatistics, ClipAction, NormalizeObservation) assert
+# isinstance(env, gymnasium.vector.VectorEnv): with Gymnasium installed, VectorEnv is one.
+_VECTOR_ENV_BASE = _gymnasium().vector.VectorEnv if _gymnasium() is not None else object
 
 
-class VectorEnv:
+class VectorEnv(_VECTOR_ENV_BASE):
     """n mechanisms in the shape of Gymnasium 1.x's vector environments
     (gymnasium.vector.VectorEnv; Gymnasium is not needed, its spaces are used when installed).
 
@@ -470,6 +495,8 @@ class VectorEnv:
         self.action_space = _box(self.action_low[:, None], self.action_high[:, None],
                                  (self.num_envs, 1), self.dtype)
         self._rng = np.random.default_rng()
+        self._seeds = None  # per mechanism, after reset(seed=[...])
+        self._draws = np.zeros(self.num_envs, dtype=np.int64)
         self._steps = np.zeros(self.num_envs, dtype=np.int64)
         self._ended = np.zeros(self.num_envs, dtype=bool)
         self._started = False
@@ -507,6 +534,14 @@ class VectorEnv:
         delivered = np.clip(actions, self.action_low, self.action_high)
         return u1 - 1e-3 * np.where(self._effort, np.square(delivered), 0.0)
 
+    @property
+    def unwrapped(self):
+        return self
+
+    def render(self):
+        raise NotImplementedError("VectorEnv draws nothing: kane_sim.animate(result) draws a "
+                                  "run, rviz the node")
+
     def __enter__(self):
         return self
 
@@ -535,8 +570,7 @@ class VectorEnv:
             x = self._initial.copy()
             pending = chosen
             for _ in range(100):
-                x[pending] = self._initial[pending] + self._rng.uniform(
-                    -self.start_noise, self.start_noise, size=(len(pending), 4))
+                x[pending] = self._initial[pending] + self._draw(pending)
                 refused = [i for i in pending if not self._accepted(i, x[i])]
                 if not refused:
                     break
@@ -550,6 +584,19 @@ class VectorEnv:
             self.sim.set_states(states, mask)
         self._steps[mask] = 0
         self._ended[mask] = False
+
+    def _draw(self, chosen):
+        """Uniform offsets within start_noise for the chosen mechanisms: from the env's
+        generator (an int seed), or each from its own seed and how many starts it has drawn (a
+        list of seeds: mechanism i's starts depend on seed[i] alone, as Gymnasium's)."""
+        if self._seeds is None:
+            return self._rng.uniform(-self.start_noise, self.start_noise, size=(len(chosen), 4))
+        out = np.empty((len(chosen), 4))
+        for k, i in enumerate(chosen):
+            rng = np.random.default_rng([int(self._seeds[i]), int(self._draws[i])])
+            self._draws[i] += 1
+            out[k] = rng.uniform(-self.start_noise, self.start_noise)
+        return out
 
     def _accepted(self, i, x):
         return self.sim._batch.check_state(int(i), [float(v) for v in x]) == ""
@@ -572,15 +619,16 @@ class VectorEnv:
             raise TypeError("reset: reset_mask must be %d booleans, got %s of %s"
                             % (self.num_envs, m.shape, m.dtype))
         states = options.get("states")
-        if states is not None:
-            states = np.asarray(states, dtype=float)
-            if states.shape != (self.num_envs, 4):
-                raise ValueError("reset: options['states'] must have shape (%d, 4), got %s"
-                                 % (self.num_envs, states.shape))
+        if states is not None:  # every chosen state checked before anything moves
+            states = _real_array("reset: options['states']", states, self.num_envs)
+            self.sim.check_states(states, m)
         if seed is not None:
             self.sim.reset(m, seed)  # the sensors' noise afresh; validates the seed
-            self._rng = np.random.default_rng(seed if np.ndim(seed) == 0 else
-                                              [int(v) for v in seed])
+            if np.ndim(seed) == 0:
+                self._rng, self._seeds = np.random.default_rng(seed), None
+            else:  # each mechanism its own stream of starts: seed[i] and its start count
+                self._seeds = np.array([int(v) for v in seed])
+                self._draws = np.zeros(self.num_envs, dtype=np.int64)
         self._start(m, states)
         self._started = True
         return self._observe(), {}

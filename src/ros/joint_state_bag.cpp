@@ -48,33 +48,47 @@ JointStateColumns readJointStates(const std::string& path, const std::string& to
        {&out.t, &out.position_a, &out.position_b, &out.velocity_a, &out.velocity_b, &out.effort_a})
     column->reserve(count);
   const std::string where = path + " on " + topic;
+  std::vector<double> received;  // the bag's times, for when a header has no stamp
+  received.reserve(count);
   std::size_t read = 0;
-  for (const rosbag::MessageInstance& m : view) {
-    if ((++read & 0xFFFF) == 0 && interrupted && interrupted()) throw BagReadError("interrupted");
-    const sensor_msgs::JointState::ConstPtr msg = m.instantiate<sensor_msgs::JointState>();
-    if (!msg) throw BagReadError(where + " is not sensor_msgs/JointState");
-    std::size_t i = msg->name.size(), j = msg->name.size();
-    for (std::size_t k = 0; k < msg->name.size(); ++k) {
-      if (msg->name[k] == a) i = k;
-      if (msg->name[k] == b) j = k;
+  try {
+    for (const rosbag::MessageInstance& m : view) {
+      if ((++read & 0xFFFF) == 0 && interrupted && interrupted()) throw BagReadError("interrupted");
+      const sensor_msgs::JointState::ConstPtr msg = m.instantiate<sensor_msgs::JointState>();
+      if (!msg) throw BagReadError(where + " is not sensor_msgs/JointState");
+      const std::string which = where + ", message " + std::to_string(read - 1) + ",";
+      std::size_t i = msg->name.size(), j = msg->name.size();
+      for (std::size_t k = 0; k < msg->name.size(); ++k) {
+        if (msg->name[k] == a) i = k;
+        if (msg->name[k] == b) j = k;
+      }
+      for (const auto& [index, joint] : {std::pair{i, &a}, std::pair{j, &b}})
+        if (index == msg->name.size())
+          throw BagReadError(which + " has no joint '" + *joint + "' (names: " + joined(msg->name) +
+                             ")");
+      if (msg->effort.size() <= i)
+        throw BagReadError(which + " carries no effort for " + a +
+                           ": identification needs the delivered torque");
+      if (msg->position.size() <= std::max(i, j))
+        throw BagReadError(which + " carries no positions");
+      out.has_velocity = out.has_velocity && msg->velocity.size() > std::max(i, j);
+      const double stamp = msg->header.stamp.toSec();
+      if (stamp == 0.0) ++out.unstamped;
+      out.t.push_back(stamp);
+      received.push_back(m.getTime().toSec());
+      out.position_a.push_back(msg->position[i]);
+      out.position_b.push_back(msg->position[j]);
+      out.velocity_a.push_back(out.has_velocity ? msg->velocity[i] : 0.0);
+      out.velocity_b.push_back(out.has_velocity ? msg->velocity[j] : 0.0);
+      out.effort_a.push_back(msg->effort[i]);
     }
-    for (const auto& [index, joint] : {std::pair{i, &a}, std::pair{j, &b}})
-      if (index == msg->name.size())
-        throw BagReadError(where + " has no joint '" + *joint + "' (names: " + joined(msg->name) +
-                           ")");
-    if (msg->effort.size() <= i)
-      throw BagReadError(where + " carries no effort for " + a +
-                         ": identification needs the delivered torque");
-    if (msg->position.size() <= std::max(i, j)) throw BagReadError(where + " carries no positions");
-    out.has_velocity = out.has_velocity && msg->velocity.size() > std::max(i, j);
-    const double stamp = msg->header.stamp.toSec();
-    out.t.push_back(stamp != 0.0 ? stamp : m.getTime().toSec());
-    out.position_a.push_back(msg->position[i]);
-    out.position_b.push_back(msg->position[j]);
-    out.velocity_a.push_back(out.has_velocity ? msg->velocity[i] : 0.0);
-    out.velocity_b.push_back(out.has_velocity ? msg->velocity[j] : 0.0);
-    out.effort_a.push_back(msg->effort[i]);
+  } catch (const BagReadError&) {
+    throw;
+  } catch (const std::exception& e) {  // rosbag's and the deserializer's, on a corrupt chunk
+    throw BagReadError(path + " is not a readable bag: " + e.what() + " (after " +
+                       std::to_string(read) + " messages of " + topic + "; a corrupt chunk)");
   }
+  if (out.unstamped > 0) out.t = std::move(received);
   if (out.t.empty()) throw BagReadError(path + " has no messages on " + topic);
   return out;
 }

@@ -217,3 +217,64 @@ def test_reads_from_another_thread_see_whole_steps():
         reader.join()
     assert not torn, torn[:3]
     assert batch.times[0] == pytest.approx(1.4)
+
+
+def test_a_refused_start_changes_nothing_and_starts_are_typed():
+    env = kane_sim.VectorEnv(2, config_path())
+    env.reset(seed=0)
+    for _ in range(5):
+        env.step(np.full(2, 5.0))
+    states, times = env.sim.states, env.sim.times
+    for bad, kind, words in (([[np.nan, 1, 0, 0], [0.2, 1.1, 0, 0]], ValueError, "q1 = nan"),
+                             (np.ones((2, 4)) + 0j, TypeError, "complex"),
+                             (np.ones((2, 4), dtype=bool), TypeError, "bool"),
+                             ([["a", 1, 0, 0], [0, 1, 0, 0]], TypeError, "<U"),
+                             ([[0, 1, 0], [0, 1, 0, 0]], ValueError, "ragged")):
+        with pytest.raises(kind, match=words):
+            env.reset(seed=9, options={"states": bad})
+        assert np.array_equal(env.sim.states, states) and np.array_equal(env.sim.times, times)
+    obs, _ = env.reset(options={"states": [[0.1, 1.2, 0.5, 0.0], [0.3, 1.1, 0.0, 0.0]]})
+    assert np.array_equal(obs[0], [0.1, 1.2, 0.5, 0.0])
+
+
+def test_a_seed_list_gives_each_mechanism_its_own_starts():
+    env = kane_sim.VectorEnv(3, config_path(), start_noise={"q1": 0.3, "u1": 2.0})
+    a = env.reset(seed=[7, 8, 9])[0]
+    b = env.reset(seed=[7, 100, 200])[0]
+    assert np.array_equal(a[0], b[0]) and not np.array_equal(a[1], b[1])
+    c = env.reset(seed=[7, 8, 9])[0]
+    assert np.array_equal(a, c)
+
+
+def test_float32_action_bounds_are_ones_the_mechanisms_accept():
+    env = kane_sim.VectorEnv(2, config_path(), {"command.mode": "position"}, dtype=np.float32)
+    high = env.single_action_space.high
+    assert high.dtype == np.float32 and float(high[0]) <= 2e6 * np.pi
+    env.reset()
+    env.step(np.full((2, 1), high[0]))  # a clipped action is accepted
+    assert float(env.action_space.low[0, 0]) >= -2e6 * np.pi
+
+
+def test_with_gymnasium_installed_it_is_a_gymnasium_vector_env(monkeypatch):
+    import importlib
+    import kane_sim.batch as batch
+    gym = types.ModuleType("gymnasium")
+    gym.spaces = types.ModuleType("gymnasium.spaces")
+    gym.vector = types.ModuleType("gymnasium.vector")
+
+    class VectorEnv:  # gymnasium.vector.VectorEnv: what its wrappers assert
+        metadata = {}
+
+    gym.vector.VectorEnv, gym.vector.AutoresetMode = VectorEnv, batch.AutoresetMode
+    gym.spaces.Box = batch.Box
+    for name, module in (("gymnasium", gym), ("gymnasium.spaces", gym.spaces),
+                         ("gymnasium.vector", gym.vector)):
+        monkeypatch.setitem(sys.modules, name, module)
+    try:
+        reloaded = importlib.reload(batch)
+        env = reloaded.VectorEnv(2, config_path())
+        assert isinstance(env, VectorEnv) and env.unwrapped is env
+    finally:
+        monkeypatch.undo()
+        importlib.reload(batch)
+    assert not isinstance(kane_sim.VectorEnv(2, config_path()), VectorEnv)

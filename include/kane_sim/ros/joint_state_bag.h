@@ -22,18 +22,20 @@ struct BagReadError : std::runtime_error {
 // Every topic of the bag with its message type ("sensor_msgs/JointState").
 std::map<std::string, std::string> bagTopicTypes(const std::string& path);
 
-// Two joints of a JointState topic, one row per message: t (the header's stamp, or the bag's
-// when the header has none), the joints' positions, velocities (when every message has them)
-// and the first joint's effort.
+// Two joints of a JointState topic, one row per message: t (the headers' stamps, or the bag's
+// receive times for every message when any header has none: one clock, never two mixed), the
+// joints' positions, velocities (when every message has them) and the first joint's effort.
 struct JointStateColumns {
   std::vector<double> t, position_a, position_b, velocity_a, velocity_b, effort_a;
   bool has_velocity = true;
+  std::size_t unstamped = 0;  // messages whose header stamp is 0 (then t is the bag's times)
 };
 
 // Reads `topic` of `path` for joints `a` (with its effort) and `b`. Throws BagReadError for a
-// message without either joint, without a's effort or without positions, and for a topic with
-// no messages. `interrupted` (when set) is asked every 65536 messages: true stops the read
-// (BagReadError "interrupted").
+// message without either joint, without a's effort or without positions (naming the message's
+// index), for a message rosbag cannot read (a corrupt chunk), and for a topic with no messages.
+// `interrupted` (when set) is asked every 65536 messages: true stops the read (BagReadError
+// "interrupted").
 JointStateColumns readJointStates(const std::string& path, const std::string& topic,
                                   const std::string& a, const std::string& b,
                                   const std::function<bool()>& interrupted = {});

@@ -62,11 +62,16 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
     a callable given a line of text at each stage (the CLI prints them on stderr). Returns an
     Identification."""
     base = Config(config)
+    if isinstance(params, str):  # "a,b" as the command line's --params
+        params = [p.strip() for p in params.split(",") if p.strip()]
     names = list(params) if params is not None else \
         [p["name"] for p in _core.identifiable_parameters() if p["by_default"]]
     for name in names:
         if not isinstance(name, str):
             raise TypeError("params: names must be strings, got %r" % (name,))
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise ValueError("params: %s named twice" % ", ".join(twice))
     if not names:
         raise ValueError("params: name at least one parameter (kane_sim.identify.parameters())")
     _core.identification_base_value(base._core, names[0])  # an unknown name fails here, named

@@ -19,6 +19,8 @@ MAX_MAGNITUDE = 1e6
 
 
 MIN_SAMPLES = 50
+MIN_SAMPLE_STEP = 1e-6  # [s] a median step below it is not a rig's sampling (stamps in ns?)
+MAX_GAP_STEPS = 20      # a gap of more median steps (and over 0.1 s) is refused, not resampled
 
 
 class Motion:
@@ -64,10 +66,11 @@ def _columns_from_mapping(data, source):
                 raise ValueError("data (%s) has no column '%s' (it needs t, q1, q2, applied_torque; u1 and "
                                  "u2 are used when present)" % (source, name))
             return None
-        try:
-            values = np.asarray(data[name], dtype=float)
-        except (TypeError, ValueError):
-            raise ValueError("data (%s): column '%s' is not numeric" % (source, name)) from None
+        raw = np.asarray(data[name])
+        if raw.dtype.kind not in "iuf":  # complex (its imaginary part lost), bools, text
+            raise ValueError("data (%s): column '%s' must be real numbers, got %s"
+                             % (source, name, raw.dtype))
+        values = raw.astype(float)
         if values.ndim != 1:
             raise ValueError("data (%s): column '%s' must be one-dimensional, got shape %s"
                              % (source, name, values.shape))
@@ -122,7 +125,11 @@ def _read_bag(path, topic=None):
            "applied_torque": c["effort_a"]}
     if "velocity_a" in c:
         out.update(u1=c["velocity_a"], u2=c["velocity_b"])
-    return out, "%s %s" % (path, topic)
+    source = "%s %s" % (path, topic)
+    if c["unstamped"]:  # one clock for all: the bag's receive times
+        source += " (%d of its %d messages have no header stamp: the bag's receive times used)" \
+            % (c["unstamped"], len(c["t"]))
+    return out, source
 
 
 def load_motion(data, topic=None):
@@ -165,9 +172,13 @@ def _uniform(cols, source):
             raise ValueError("data (%s): %s[%d] = %r is beyond any rig's reading (|x| > %g)"
                              % (source, name, big[0], values[big[0]], MAX_MAGNITUDE))
     start = float(cols["t"][0])
-    cols = dict(cols, t=cols["t"] - start)
-    t = cols["t"]
-    dt = np.diff(t)
+    with np.errstate(over="ignore", invalid="ignore"):
+        cols = dict(cols, t=cols["t"] - start)
+        t = cols["t"]
+        dt = np.diff(t)
+    if not (np.isfinite(t[-1]) and np.all(np.isfinite(dt))):
+        raise ValueError("data (%s): time runs from %r to %r: a span a double cannot hold"
+                         % (source, start, float(cols["t"][-1]) + start))
     bad = np.flatnonzero(dt <= 0)
     if bad.size:
         i = bad[0]
@@ -176,6 +187,16 @@ def _uniform(cols, source):
                          % (source, i + 1, t[i + 1] + start, what, bad.size))
     notes = []
     step = float(np.median(dt))
+    if step < MIN_SAMPLE_STEP:
+        raise ValueError("data (%s): samples %.3g s apart (the median step): faster than any "
+                         "rig's sensors; are the stamps in seconds?" % (source, step))
+    gap = int(np.argmax(dt))
+    if dt[gap] > MAX_GAP_STEPS * step and dt[gap] > 0.1:
+        # A paused recording or one wrong stamp: resampling would make up the motion between.
+        raise ValueError("data (%s): a gap of %.6g s between t[%d] = %r and t[%d] = %r (the "
+                         "median step is %.3g s): a paused recording or a wrong stamp; cut the "
+                         "data there" % (source, dt[gap], gap, t[gap] + start, gap + 1,
+                                         t[gap + 1] + start, step))
     if np.max(np.abs(dt - step)) > 1e-6 * step:
         # Jittered stamps (a reading stamped when it arrived) of a regular sampling: a line
         # fitted to the stamps is the sampling, when no stamp strays a third of a period from it.

@@ -34,6 +34,7 @@ py::dict readJointStates(const std::string& path, const std::string& topic, cons
     throw py::value_error(e.what());
   }
   py::dict out;
+  out["unstamped"] = c.unstamped;
   out["t"] = array(std::move(c.t));
   out["position_a"] = array(std::move(c.position_a));
   out["position_b"] = array(std::move(c.position_b));

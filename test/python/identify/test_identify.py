@@ -418,3 +418,31 @@ def test_a_parameter_the_motion_told_poorly_is_named():
     assert fit.poorly_told == ["mechanism.slider3_mass"]  # 11 %; 1 %; zero within; offset
     assert "told poorly by this motion (error above 5 % of the value: use it with its error, " \
         "or record more motion of its joint): mechanism.slider3_mass (11 %)" in fit.report()
+
+
+def test_a_corrupt_bag_and_broken_time_axes_are_named_not_tracebacks(tmp_path, rig_bag):
+    corrupt = tmp_path / "corrupt.bag"
+    data = bytearray(rig_bag.read_bytes())
+    data[len(data) // 3:len(data) // 3 + 4000] = b"\xff" * 4000
+    corrupt.write_bytes(bytes(data))
+    r = subprocess.run([tool("identify"), str(corrupt)], capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 3 and "is not a readable bag" in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr
+    run = kane_sim.Simulator(kane_sim.Config(config_path())).run(
+        10.0, torque=3.0 * np.sin(2 * np.pi * 0.7 * np.arange(10000) / 1000.0), output_rate=100)
+    base = {"t": run.t, "q1": run.q[:, 0], "q2": run.q[:, 1],
+            "applied_torque": run.applied_torque}
+    for change, words in (
+            (lambda t: np.concatenate([t[:-1], [t[-1] + 2e4]]),
+             "a gap of 20000 s between t\\[999\\]"),
+            (lambda t: t * 1e-12, "samples 1e-14 s apart"),
+            (lambda t: np.concatenate([[-1.7e308], t[1:-1], [1.7e308]]), "a span a double"),
+            (lambda t: np.concatenate([t[:-1], [1e9]]), "a gap of 1e\\+09 s")):
+        with pytest.raises(ValueError, match=words):
+            ki.load_motion(dict(base, t=change(run.t)))
+    for bad, kind in ((run.q[:, 1] + 0j, "complex"), (run.q[:, 1] > 1.0, "bool")):
+        with pytest.raises(ValueError, match="column 'q2' must be real numbers, got %s" % kind):
+            ki.load_motion(dict(base, q2=bad))
+    with pytest.raises(ValueError, match="params: mechanism.rod_mass named twice"):
+        ki.identify(base, None, params="mechanism.rod_mass, mechanism.rod_mass")
