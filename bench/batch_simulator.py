@@ -2,8 +2,8 @@
 starts, effort mode, a torque per mechanism every call), at 10 physics steps per call and at one
 (a learning loop's step), on the CPU's widest SIMD lanes with libm's sin/cos (every lane the
 single run's bits) and with the vector sin/cos, on one thread and two, and on the drivers (simd
-off) for scale; the fixed cost of a call (n = 64, one step); and rollout (T = 100 actions at
-once). Each figure the best of three 1 s windows; the machine printed first.
+off) for scale; the fixed cost of a call (n = 64, one step); rollout (T = 100 actions at
+once); and building 10^5 and 10^6 mechanisms with distinct rod masses and k. Each figure the best of three 1 s windows; the machine printed first.
 Usage: /usr/bin/python3 bench/batch_simulator.py [N]   (N = 4096)"""
 import platform
 import sys
@@ -53,6 +53,24 @@ def rollout_rate(n, horizon=100, **settings):
     return best / 1e6
 
 
+def build_randomised(n):
+    """Domain randomisation: n mechanisms with distinct rod masses and k, built (seconds, and the
+    process's resident memory growth per mechanism)."""
+    import gc
+    import resource
+    rng = np.random.default_rng(3)
+    params = {"mechanism.rod_mass": rng.uniform(0.8, 1.2, n),
+              "mechanism.spring_stiffness": rng.uniform(150.0, 250.0, n)}
+    gc.collect()
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    start = time.perf_counter()
+    batch = kane_sim.BatchSimulator(n, params=params, threads=2)
+    elapsed = time.perf_counter() - start
+    grown = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before
+    batch.step(np.zeros(n), 1)
+    return elapsed, grown * 1024.0 / n
+
+
 def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 4096
     print("machine: %s" % machine())
@@ -70,6 +88,10 @@ def main():
                                                         call))
     print("rollout, T = 100, one physics step each, 2 threads: %.1f M mechanism-steps/s"
           % rollout_rate(n, threads=2))
+    for size in (10 ** 5, 10 ** 6):
+        seconds, per = build_randomised(size)
+        print("domain randomisation, %d mechanisms with distinct rod masses and k: built in "
+              "%.2f s, %.0f bytes a mechanism (peak memory growth)" % (size, seconds, per))
 
 
 if __name__ == "__main__":

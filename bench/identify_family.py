@@ -2,9 +2,11 @@
 """Identification over a family of rigs it was not tuned on (test/python/identify/rigs.py):
 random masses, k, dampers, friction and rod inertia, six motion regimes, random sensors, recorded
 mid-run. Prints per rig what identify() decided, then the distribution: per parameter class the
-median and worst relative error of what it told (not kept, not marked), the coverage (share of
-told (rig, parameter) pairs within 3 of their reported sigma), refusals with their reasons, the
-wall time and peak memory.
+median and worst relative error of what it told (not kept, not marked), also without the
+parameters it named as told poorly, the coverage (share of told (rig, parameter) pairs within 3
+of their reported sigma), a fresh torque's re-simulation error (the true rig against the fitted
+config, 10 s of another multisine, against the sensors' noise), refusals with their reasons,
+the wall time and peak memory.
 
 Usage: /usr/bin/python3 bench/identify_family.py [--rigs N] [--first SEED] [--duration S]   (after sourcing the
 build's devel/setup.bash; N = 30, SEED = 100, the regimes in turn; S = 0: each rig's own 20 to
@@ -32,7 +34,7 @@ def main():
     args = parser.parse_args()
     errors = {label: [] for label in rigs.CLASSES}
     well_told = {label: [] for label in rigs.CLASSES}  # not named as told poorly
-    z_all, refused, walls = [], [], []
+    z_all, refused, walls, fresh_ratio = [], [], [], []
     for k in range(args.rigs):
         seed = args.first + k
         rig = rigs.draw(seed, regime=rigs.REGIMES[k % len(rigs.REGIMES)],
@@ -52,6 +54,8 @@ def main():
             print("%-44s REFUSED (%.1f s): %s" % (rig, walls[-1], fit.refusal[:110]), flush=True)
             continue
         rows = rigs.score(rig, fit)
+        fresh, noise = rigs.fresh_torque_error(rig, fit)
+        fresh_ratio.append(max(fresh[0] / noise[0], fresh[1] / noise[1]))
         worst = {}
         for name, row in rows.items():
             if not row["told"] or name == "torque_offset":
@@ -63,9 +67,10 @@ def main():
                     well_told.setdefault(label, []).append(abs(row["error"]))
                 worst[label] = max(worst.get(label, 0.0), abs(row["error"]))
             z_all.append(row["z"])
-        print("%-44s ok (%.1f s): worst %s; z max %.2g" % (
+        print("%-44s ok (%.1f s): worst %s; z max %.2g; fresh torque %.2g x noise" % (
             rig, walls[-1], ", ".join("%s %.2g %%" % (k2, 100 * v) for k2, v in worst.items()),
-            max([r["z"] for r in rows.values() if r["told"]] or [0])), flush=True)
+            max([r["z"] for r in rows.values() if r["told"]] or [0]), fresh_ratio[-1]),
+            flush=True)
     print("\nper class (told parameters whose truth is not 0): median / worst relative error")
     for label, values in errors.items():
         if values:
@@ -80,6 +85,11 @@ def main():
     if len(z):
         print("coverage: %.1f %% of %d told (rig, parameter) pairs within 3 sigma (median z %.2g)"
               % (100 * np.mean(z <= 3), len(z), np.median(z)))
+    if fresh_ratio:
+        f = np.array(fresh_ratio)
+        print("fresh torque (10 s of another multisine, true rig against fitted config): RMS "
+              "error / sensor noise median %.2g, worst %.2g; within 3x the noise: %d of %d"
+              % (np.median(f), np.max(f), np.sum(f <= 3), len(f)))
     print("refused: %d of %d rigs" % (len(refused), args.rigs))
     for rig, why in refused:
         print("  %s: %s" % (rig, why))

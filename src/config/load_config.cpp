@@ -203,6 +203,15 @@ void readParameter(Section& s, const ParameterSpec& p, Config* config) {
     value = s.number(p.key);
   else if (!s.number(p.key, &value))
     return;
+  storeNumber(key, p, value, config);
+}
+
+}  // namespace
+
+void storeNumber(const std::string& key, const ParameterSpec& p, double value, Config* config) {
+  const ValueRule& rule = p.rule;
+  const ConfigField& f = p.field;
+  if (!std::isfinite(value)) throw ConfigError(key, "must be finite, got " + formatNumber(value));
   switch (rule.kind) {
     case ValueRule::kPositive:
       requirePositive(key, value);
@@ -230,6 +239,8 @@ void readParameter(Section& s, const ParameterSpec& p, Config* config) {
     f.number(*config) = value;
   }
 }
+
+namespace {
 
 // The rules that tie parameters of a section together, after its own rules.
 void checkMechanism(const Section& s, MechanismParameters* p) {

@@ -24,6 +24,30 @@ MAX_MECHANISMS = 1_000_000  # state ~1 KB a mechanism on lanes, ~7 KB on drivers
 MAX_SEED = 2 ** 31 - 1      # sensors.seed's range
 
 
+def _numbers_table(n, base, params):
+    """(names, values (n, k)) when every param is a real number (or n of them) of the physics or
+    the initial state and the sensors are off: the batch is built in C++ from the table (the
+    loader's rules per number, no Config per row: 10^6 mechanisms in seconds). None otherwise."""
+    if not params or base["sensors.enabled"]:
+        return None
+    names, columns = [], []
+    for name, values in params.items():
+        if not isinstance(name, str):
+            return None
+        try:
+            if not _core.BatchSimulator.takes_directly(name):
+                return None
+        except _core.ConfigError:
+            return None  # an unknown name: the loader's path names it
+        array = np.asarray(values)
+        if array.dtype.kind not in "iuf" or array.ndim > 1 or \
+                (array.ndim == 1 and array.shape != (n,)):
+            return None  # the loader's path refuses it by name
+        names.append(name)
+        columns.append(np.broadcast_to(array.astype(float), (n,)))
+    return names, np.ascontiguousarray(np.column_stack(columns))
+
+
 def _lane_configs(n, config, params):
     """One Config per mechanism: `config` with row i of `params` ({name: scalar or n values});
     identical rows share one Config. ConfigError names the mechanism."""
@@ -115,13 +139,23 @@ class BatchSimulator:
         if not isinstance(vector_trig, (bool, np.bool_)):
             raise TypeError("BatchSimulator: vector_trig must be True or False, got %r"
                             % (vector_trig,))
-        self._configs = _lane_configs(int(n), config, params)
-        self._batch = _core.BatchSimulator([c._core for c in self._configs], simd,
-                                           bool(vector_trig), int(threads))
+        base = config if isinstance(config, Config) else Config(config)
+        table = _numbers_table(int(n), base, dict(params or {}))
+        if table is not None:
+            # Domain randomisation of the physics: the C++ batch holds each mechanism's config
+            # (~1 KB); a Python Config is made only when config(i) asks for one.
+            self._base, self._table = base, table
+            self._configs = None
+            self._batch = _core.BatchSimulator.from_numbers(
+                base._core, table[0], table[1], simd, bool(vector_trig), int(threads))
+        else:
+            self._configs = _lane_configs(int(n), base, params)
+            self._batch = _core.BatchSimulator([c._core for c in self._configs], simd,
+                                               bool(vector_trig), int(threads))
         self._lock = threading.Lock()   # held by a step and by a read of the mechanisms
         self._claim = threading.Lock()  # guards _busy: a step under way
         self._busy = False
-        self._seeds = np.array([c["sensors.seed"] for c in self._configs], dtype=np.int64)
+        self._seeds = self._batch.values("sensors.seed").astype(np.int64)
 
     def __len__(self):
         return self._batch.size
@@ -148,9 +182,18 @@ class BatchSimulator:
         if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < len(self):
             raise IndexError("config: mechanism must be a whole number in [0, %d), got %r"
                              % (len(self), i))
-        c = self._configs[i]
+        if self._configs is None:
+            names, values = self._table
+            c = self._base.with_values({k: float(v) for k, v in zip(names, values[i])})
+        else:
+            c = self._configs[i]
         seed = int(self._seeds[i])
         return c if seed == c["sensors.seed"] else c.with_values({"sensors.seed": seed})
+
+    def values(self, name):
+        """Every mechanism's value of config name `name`: an array (n,) of numbers, or a list of
+        n strings (command.mode, ...). Without building n Configs."""
+        return self._read(lambda: self._batch.values(name))
 
     @contextlib.contextmanager
     def _exclusive(self, call):
@@ -481,12 +524,17 @@ class VectorEnv(_VECTOR_ENV_BASE):
             if self._sensors else columns.STATE)
         self.single_observation_shape = (len(self.observation_names),)
         self.single_action_shape = ()
-        self._mode = [self.sim.config(i)["command.mode"] for i in range(self.num_envs)]
-        self._effort = np.array([m == "effort" for m in self._mode])
-        self.action_high = np.array([self._action_range(i) for i in range(self.num_envs)])
+        self._mode = np.array(self.sim.values("command.mode"))
+        self._effort = self._mode == "effort"
+        # The command's range: effort the torque limit; velocity the servo's refusal (0.5 rad a
+        # physics step); position a million turns.
+        self.action_high = np.where(
+            self._effort, self.sim.values("command.torque_limit"),
+            np.where(self._mode == "velocity", 0.5 * self.sim.values("simulation.physics_rate"),
+                     2e6 * np.pi))
         self.action_low = -self.action_high
-        self._initial = np.array([[self.sim.config(i)["initial_state." + k]
-                                   for k in START_NOISE_KEYS] for i in range(self.num_envs)])
+        self._initial = np.column_stack([self.sim.values("initial_state." + k)
+                                         for k in START_NOISE_KEYS])
         obs_dim = len(self.observation_names)
         self.single_observation_space = _box(-np.inf, np.inf, (obs_dim,), self.dtype)
         self.single_action_space = _box(self.action_low.max(), self.action_high.min(), (1,),
@@ -520,14 +568,6 @@ class VectorEnv(_VECTOR_ENV_BASE):
                                  "got %r" % (key, value))
             out[START_NOISE_KEYS.index(key)] = float(value)
         return out
-
-    def _action_range(self, i):
-        c = self.sim.config(i)
-        if self._mode[i] == "effort":
-            return c["command.torque_limit"]
-        if self._mode[i] == "velocity":  # the servo's refusal: 0.5 rad a physics step
-            return 0.5 * c["simulation.physics_rate"]
-        return 2e6 * np.pi  # position: a million turns
 
     def _default_reward(self, obs, actions):
         u1 = obs[:, self.observation_names.index("velocity_crank_joint" if self._sensors else "u1")]

@@ -16,6 +16,8 @@
 
 #include "kane_sim/format_number.h"
 #include "kane_sim/sim/batch_simulator.h"
+#include "kane_sim/sim/numbers_into_configs.h"
+#include "kane_sim/sim/parallel.h"
 #include "python_layer.h"
 
 namespace kane_sim {
@@ -85,6 +87,73 @@ void bindBatch(py::module_& m) {
            }),
            py::arg("configs"), py::arg("simd") = "auto", py::arg("vector_trig") = false,
            py::arg("threads") = 1)
+      .def_static(
+          "from_numbers",
+          [](const PythonConfig& base, const std::vector<std::string>& names, const Array& values,
+             const std::string& simd, bool vector_trig, int threads) {
+            std::vector<const ParameterSpec*> specs;
+            for (const std::string& name : names) {
+              const ParameterSpec& spec = specOf(name);
+              if (!takenDirectly(spec))
+                throw py::value_error("from_numbers: " + name +
+                                      " is not a number of the physics or the initial state");
+              specs.push_back(&spec);
+            }
+            if (values.ndim() != 2 || static_cast<std::size_t>(values.shape(1)) != names.size())
+              throw py::value_error("from_numbers: values must have shape (n, " +
+                                    std::to_string(names.size()) + "), got " + shapeText(values));
+            const std::size_t n = static_cast<std::size_t>(values.shape(0));
+            if (n == 0) throw py::value_error("a batch needs at least one mechanism");
+            // A base file without mechanism.rod_inertia: the inertia follows m and L per row.
+            const bool inertia_from_mass =
+                !(base.tree()["mechanism"] && base.tree()["mechanism"]["rod_inertia"]);
+            std::vector<Config> configs;
+            std::string refused;
+            {
+              py::gil_scoped_release release;
+              try {
+                configs = configsWithNumbers(base.config(), inertia_from_mass, specs, values.data(),
+                                             n, coreCount());
+              } catch (const MechanismConfigError& e) {
+                refused = e.what();
+              }
+            }
+            if (!refused.empty()) {
+              PyErr_SetString(py::module_::import("kane_sim._core").attr("ConfigError").ptr(),
+                              refused.c_str());
+              throw py::error_already_set();
+            }
+            try {
+              return std::make_unique<BatchSimulator>(std::move(configs),
+                                                      BatchSettings{simd, vector_trig, threads});
+            } catch (const std::invalid_argument& e) {
+              throw py::value_error(e.what());
+            }
+          },
+          py::arg("base"), py::arg("names"), py::arg("values"), py::arg("simd") = "auto",
+          py::arg("vector_trig") = false, py::arg("threads") = 1,
+          "n mechanisms from a base and a table of numbers (n, len(names)): physics and "
+          "initial-state values stored by the loader's rules, no YAML per row")
+      .def_static(
+          "takes_directly", [](const std::string& name) { return takenDirectly(specOf(name)); },
+          py::arg("name"), "Whether from_numbers takes this parameter.")
+      .def(
+          "values",
+          [](const BatchSimulator& b, const std::string& name) -> py::object {
+            const ParameterSpec& spec = specOf(name);
+            const std::size_t n = b.size();
+            if (spec.field.number || spec.field.whole) {
+              Array out(static_cast<py::ssize_t>(n));
+              for (std::size_t i = 0; i < n; ++i)
+                out.mutable_data()[i] = numericValue(spec, b.config(i));
+              return std::move(out);
+            }
+            py::list out;
+            for (std::size_t i = 0; i < n; ++i) out.append(valueText(spec, b.config(i)));
+            return std::move(out);
+          },
+          py::arg("name"),
+          "Every mechanism's value of a config name: numbers as an array, others as text.")
       .def_property_readonly("size", &BatchSimulator::size)
       .def_property_readonly("path", &BatchSimulator::path)
       .def_property_readonly("on_lanes", &BatchSimulator::onLanes)

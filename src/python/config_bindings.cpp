@@ -9,9 +9,6 @@
 
 namespace kane_sim {
 namespace python {
-namespace {
-
-// "mechanism.rod_mass" -> its schema entry; ConfigError naming the name otherwise.
 const ParameterSpec& specOf(const std::string& name) {
   const size_t dot = name.find('.');
   const ParameterSpec* spec =
@@ -22,8 +19,6 @@ const ParameterSpec& specOf(const std::string& name) {
                       "(kane_sim.Config.names() lists them)");
   return *spec;
 }
-
-}  // namespace
 
 PythonConfig::PythonConfig(YAML::Node tree, std::string source)
     : tree_(std::move(tree)), loaded_(loadSimulationConfig(tree_)), source_(std::move(source)) {}
@@ -99,7 +94,7 @@ void bindConfig(py::module_& m) {
       .def("get", &PythonConfig::get, py::arg("name"))
       .def("with_value",
            py::overload_cast<const std::string&, const std::string&>(&PythonConfig::with,
-                                                                      py::const_),
+                                                                     py::const_),
            py::arg("name"), py::arg("value_yaml"))
       .def("with_values",
            py::overload_cast<const std::vector<std::pair<std::string, std::string>>&>(

@@ -56,6 +56,9 @@ class PythonConfig {
   std::string source_;
 };
 
+// "mechanism.rod_mass" -> its schema entry; ConfigError naming the name otherwise.
+const ParameterSpec& specOf(const std::string& name);
+
 // "(3, 4)", "(5,)": an array's shape as refusals name it (NumPy's way).
 inline std::string shapeText(const py::array& a) {
   std::string s = "(";

@@ -278,3 +278,39 @@ def test_with_gymnasium_installed_it_is_a_gymnasium_vector_env(monkeypatch):
         monkeypatch.undo()
         importlib.reload(batch)
     assert not isinstance(kane_sim.VectorEnv(2, config_path()), VectorEnv)
+
+
+def test_randomised_physics_from_a_table_is_the_loaders_configs_bit_for_bit(tmp_path):
+    # Numbers of the physics and the initial state go into C++ configs by the loader's rules
+    # (from_numbers); a parameter outside them (command.timeout) takes the loader's path, one
+    # Config per row. Same mechanisms, same bits, same refusals.
+    n = 40
+    rng = np.random.default_rng(4)
+    physics = {"mechanism.rod_mass": rng.uniform(0.5, 2.0, n),
+               "mechanism.spring_stiffness": rng.uniform(100.0, 300.0, n),
+               "damping.slider4_joint": rng.uniform(0.0, 0.5, n),
+               "initial_state.q1": rng.uniform(-1.0, 1.0, n)}
+    fast = kane_sim.BatchSimulator(n, config_path(), physics)
+    slow = kane_sim.BatchSimulator(n, config_path(), dict(physics, **{"command.timeout": 0.5}))
+    assert fast._configs is None and slow._configs is not None
+    actions = rng.uniform(-5.0, 5.0, (30, n))
+    for a in actions:
+        fast.step(a, 10)
+        slow.step(a, 10)
+    assert np.array_equal(fast.states, slow.states)
+    # The rod's inertia follows each row's mass as the loader derives it (the base sets none).
+    inertia = fast.values("mechanism.rod_inertia")
+    for i in (0, 17, n - 1):
+        assert inertia[i] == slow.config(i)["mechanism.rod_inertia"] == \
+            fast.config(i)["mechanism.rod_inertia"]
+        assert fast.config(i)["mechanism.rod_mass"] == physics["mechanism.rod_mass"][i]
+    assert fast.values("command.mode") == ["effort"] * n
+    for bad, words in ((-1.0, "mechanism 7: config key 'mechanism.rod_mass' must be > 0, got -1"),
+                       (np.nan, "mechanism 7: config key 'mechanism.rod_mass' must be finite"),
+                       (1e308, "mechanism 7: config key 'initial_state'")):
+        masses = np.ones(n)
+        masses[7] = bad
+        for extra in ({}, {"command.timeout": 0.5}):
+            with pytest.raises(kane_sim.ConfigError, match=words):
+                kane_sim.BatchSimulator(n, config_path(),
+                                        dict({"mechanism.rod_mass": masses}, **extra))

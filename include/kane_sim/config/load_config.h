@@ -9,6 +9,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "kane_sim/config/config.h"
+#include "kane_sim/config/parameter_schema.h"
 
 namespace kane_sim {
 
@@ -31,6 +32,11 @@ struct LoadedConfig {
 
 // Throws ConfigError on a missing required key, a wrong type or an out-of-range value.
 LoadedConfig loadConfig(const YAML::Node& root);
+
+// One number into `config` by its schema row's rule (finite, positive, its range, whole): the
+// loader's own check and message, under `key`. How loadConfig stores a number, and how a batch
+// sets 10^6 mechanisms' numbers without a YAML round trip each (numbers_into_configs.h).
+void storeNumber(const std::string& key, const ParameterSpec& spec, double value, Config* config);
 // One YAML document from a file; ConfigError (key "file") when it cannot be read or parsed.
 YAML::Node loadYamlFile(const std::string& path);
 // loadConfig(loadYamlFile(path)).

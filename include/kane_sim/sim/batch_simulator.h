@@ -36,6 +36,8 @@ class BatchSimulator {
   ~BatchSimulator();
 
   std::size_t size() const { return configs_.size(); }
+  // Mechanism `lane`'s config (with the sensors.seed a reseed gave it).
+  const Config& config(std::size_t lane) const { return configs_[lane]; }
   // "avx512 lanes", "drivers (command.mode is position)", ...: how lanes step, and why.
   const std::string& path() const { return path_; }
   bool onLanes() const { return on_lanes_; }

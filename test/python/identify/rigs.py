@@ -150,6 +150,31 @@ def score(rig, fit):
     return rows
 
 
+def fresh_torque_error(rig, fit, duration=10.0, seed=0):
+    """How the fitted config predicts a motion it never saw: the true rig and the fitted config,
+    no sensors, driven by a fresh torque (another multisine, within 3 N m) from the rig's
+    initial state for `duration` s. Returns (q1 RMS [rad], q2 RMS [m]) of their difference and
+    the rig's sensor noise (crank, slider 4) to compare them with."""
+    rng = np.random.default_rng(10_000 + seed)
+    truth = rig.config().with_values({"sensors.enabled": False, "command.mode": "effort"})
+    fitted = fit.config.with_values({"sensors.enabled": False, "command.mode": "effort"})
+    dt = 1.0 / truth["simulation.physics_rate"]
+    t = dt * np.arange(int(round(duration / dt)))
+    freqs = rng.uniform(0.2, 3.0, 4)
+    phases = rng.uniform(0, 2 * np.pi, 4)
+    torque = 3.0 * np.sum(np.sin(2 * np.pi * np.outer(t, freqs) + phases), axis=1) / 4
+    runs = []
+    for config in (truth, fitted):
+        sim = kane_sim.Simulator(config.with_values(
+            {"simulation.physics_rate": truth["simulation.physics_rate"]}))
+        runs.append(sim.run(duration, torque=torque, states_only=True).q)
+    err = runs[0] - runs[1]
+    rms = tuple(float(np.sqrt(np.mean(err[:, k] ** 2))) for k in (0, 1))
+    noise = (rig.sensors["sensors.crank_position_noise"],
+             rig.sensors["sensors.slider4_position_noise"])
+    return rms, noise
+
+
 def parameter_class(name):
     for label, names in CLASSES.items():
         if name in names:

@@ -1,0 +1,48 @@
+// A batch's configs from a table of numbers: the loader's rule per number, its derived inertia,
+// the start-up check; no YAML.
+#include "kane_sim/sim/numbers_into_configs.h"
+
+#include "kane_sim/config/load_config.h"
+#include "kane_sim/sim/config_check.h"
+#include "kane_sim/sim/parallel.h"
+
+namespace kane_sim {
+
+bool takenDirectly(const ParameterSpec& spec) {
+  switch (spec.role) {
+    case ParameterRole::kInertial:
+    case ParameterRole::kGeometric:
+    case ParameterRole::kGravity:
+    case ParameterRole::kStiffness:
+    case ParameterRole::kDissipative:
+    case ParameterRole::kInitialState:
+      return spec.field.number != nullptr;
+    default:
+      return false;
+  }
+}
+
+std::vector<Config> configsWithNumbers(const Config& base, bool inertia_from_mass,
+                                       const std::vector<const ParameterSpec*>& specs,
+                                       const double* values, std::size_t n, unsigned threads) {
+  std::vector<Config> out(n, base);
+  const std::size_t k = specs.size();
+  parallelBlocks(static_cast<long>(n), threads, [&](long begin, long end) {
+    for (long i = begin; i < end; ++i) {
+      Config& c = out[static_cast<std::size_t>(i)];
+      try {
+        for (std::size_t j = 0; j < k; ++j)
+          storeNumber(specs[j]->path(), *specs[j], values[static_cast<std::size_t>(i) * k + j], &c);
+        if (inertia_from_mass)
+          c.mechanism.rod_inertia = MechanismParameters::slenderRodInertia(
+              c.mechanism.rod_mass, c.mechanism.rod_half_length);
+        checkSimulatable(c);
+      } catch (const ConfigError& e) {
+        throw MechanismConfigError("mechanism " + std::to_string(i) + ": " + e.what());
+      }
+    }
+  });
+  return out;
+}
+
+}  // namespace kane_sim
