@@ -2,7 +2,7 @@
 `simulate --sweep` (the case's row), `rosrun kane_sim sweep`'s row, Python's Simulator.run (and
 its states_only form, identification's replays),
 Python's sweep row and each mechanism of a BatchSimulator (lanes and drivers) driven step by
-step, over every
+step, built from a table of numbers (from_numbers) and given the whole plan (rollout), over every
 command mode (effort, velocity, position), with and without a profile, sensors on and off,
 the physics options off and on (contact, the five dampers: the joints' and the spring's, and
 the four joints' Coulomb friction). All run the one driver, so they agree bit for bit; a door that
@@ -51,12 +51,21 @@ def batch_run(cfg, torque, n=3):
     drivers), the profile's value at each mechanism's time sent before every physics step, as
     a single run's profile is: {path: (times, states)}."""
     out = {}
+    steps = int(round(DURATION * 1000))
     for simd in ("auto", "off"):
+        # Step by step; the same mechanisms from a table of numbers (the domain-randomisation
+        # door: the physics stored without the loader's YAML); the whole plan at once (rollout).
+        table = {"mechanism.gravity": np.full(n, 9.81)}
+        for label, params in (("", None), (" from numbers", table)):
+            batch = kane_sim.BatchSimulator(n, cfg, params, simd=simd)
+            for _ in range(steps):
+                batch.step(np.array([torque.at(t) for t in batch.times]))
+            assert not batch.terminated.any(), batch.reasons
+            out[batch.path + label] = (batch.times, batch.states)
         batch = kane_sim.BatchSimulator(n, cfg, simd=simd)
-        for _ in range(int(round(DURATION * 1000))):
-            batch.step(np.array([torque.at(t) for t in batch.times]))
-        assert not batch.terminated.any(), batch.reasons
-        out[batch.path] = (batch.times, batch.states)
+        plan = np.array([torque.at(k * (1.0 / 1000.0)) for k in range(steps)])
+        rolled = batch.rollout(np.tile(plan, (n, 1)))
+        out[batch.path + " rollout"] = (batch.times, rolled[:, -1])
     return out
 
 
