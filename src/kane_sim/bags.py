@@ -1,6 +1,6 @@
 """Opening a bag and finding its topics, once for the package: plot_bag, bag_summary, loop_bag
-and identify (through rosbag's C++ reader, kane_sim._bag) read bags through here, so a device, a garbage file or a missing rosbag gets one
-message wherever it is given. Imports nothing but the standard library until a bag is opened."""
+and identify (through rosbag's C++ reader, kane_sim._bag) read bags through here, so a device,
+a garbage file or a missing rosbag gets one message wherever it is given. Imports nothing but the standard library until a bag is opened."""
 import os
 
 
@@ -53,7 +53,8 @@ def choose_topic(types, path, msg_type, suffix, topic=None, flag="topic="):
             if other:  # the name is there, with another type
                 raise ValueError("%s's topic %s is %s, not %s (%s topics: %s)"
                                  % (path, other[0], types[other[0]], msg_type, msg_type, listed))
-            raise ValueError("%s has no %s topic (%s topics: %s)" % (path, suffix, msg_type, listed))
+            raise ValueError("%s has no %s topic (%s topics: %s)"
+                             % (path, suffix, msg_type, listed))
         if len(named) > 1:
             raise ValueError("%s has %d %s topics (%s): name one with %s"
                              % (path, len(named), suffix, ", ".join(named), flag))

@@ -25,7 +25,8 @@ def ppo_style_rollout(env, steps, seed=1):
     for _ in range(steps):
         action = np.clip(rng.normal(0.0, 20.0, (env.num_envs, act_dim)), low, high)
         obs, reward, terminated, truncated, info = env.step(action)
-        assert obs.shape == (env.num_envs, obs_dim) and obs.dtype == env.single_observation_space.dtype
+        assert obs.shape == (env.num_envs, obs_dim)
+        assert obs.dtype == env.single_observation_space.dtype
         assert reward.shape == (env.num_envs,) and np.all(np.isfinite(reward))
         dones.append(np.logical_or(terminated, truncated))
         rewards.append(reward)
