@@ -87,8 +87,9 @@ def main():
               % (100 * np.mean(z <= 3), len(z), np.median(z)))
     if fresh_ratio:
         f = np.array(fresh_ratio)
-        print("fresh torque (10 s of another multisine, true rig against fitted config): RMS "
-              "error / sensor noise median %.2g, worst %.2g; within 3x the noise: %d of %d"
+        print("fresh torque (10 s of another multisine, the fitted config restarted from the "
+              "true rig's state every 2 s): RMS error / sensor noise median %.2g, worst %.2g; "
+              "within 3x the noise: %d of %d"
               % (np.median(f), np.max(f), np.sum(f <= 3), len(f)))
     print("refused: %d of %d rigs" % (len(refused), args.rigs))
     for rig, why in refused:
