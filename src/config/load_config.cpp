@@ -211,7 +211,12 @@ void readParameter(Section& s, const ParameterSpec& p, Config* config) {
 void storeNumber(const std::string& key, const ParameterSpec& p, double value, Config* config) {
   const ValueRule& rule = p.rule;
   const ConfigField& f = p.field;
-  if (!std::isfinite(value)) throw ConfigError(key, "must be finite, got " + formatNumber(value));
+  if (!std::isfinite(value))  // in the file's words, as Section::toNumber says it of YAML
+    throw ConfigError(key, std::string("must be finite, got '") +
+                               (std::isnan(value) ? ".nan"
+                                : value > 0       ? ".inf"
+                                                  : "-.inf") +
+                               "'");
   switch (rule.kind) {
     case ValueRule::kPositive:
       requirePositive(key, value);

@@ -105,8 +105,7 @@ void bindBatch(py::module_& m) {
             const std::size_t n = static_cast<std::size_t>(values.shape(0));
             if (n == 0) throw py::value_error("a batch needs at least one mechanism");
             // A base file without mechanism.rod_inertia: the inertia follows m and L per row.
-            const bool inertia_from_mass =
-                !(base.tree()["mechanism"] && base.tree()["mechanism"]["rod_inertia"]);
+            const bool inertia_from_mass = inertiaFollowsMass(base.tree());
             std::vector<Config> configs;
             std::string refused;
             {

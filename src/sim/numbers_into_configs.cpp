@@ -22,6 +22,23 @@ bool takenDirectly(const ParameterSpec& spec) {
   }
 }
 
+Config configWithNumbers(const Config& base, bool inertia_from_mass,
+                         const std::vector<const ParameterSpec*>& specs, const double* values) {
+  Config c = base;
+  for (std::size_t j = 0; j < specs.size(); ++j)
+    storeNumber(specs[j]->path(), *specs[j], values[j], &c);
+  if (inertia_from_mass)
+    c.mechanism.rod_inertia =
+        MechanismParameters::slenderRodInertia(c.mechanism.rod_mass, c.mechanism.rod_half_length);
+  checkSimulatable(c);
+  return c;
+}
+
+bool inertiaFollowsMass(const YAML::Node& base) {
+  const YAML::Node mechanism = base["mechanism"];
+  return !(mechanism && mechanism.IsMap() && mechanism["rod_inertia"]);
+}
+
 std::vector<Config> configsWithNumbers(const Config& base, bool inertia_from_mass,
                                        const std::vector<const ParameterSpec*>& specs,
                                        const double* values, std::size_t n, unsigned threads) {
@@ -29,14 +46,9 @@ std::vector<Config> configsWithNumbers(const Config& base, bool inertia_from_mas
   const std::size_t k = specs.size();
   parallelBlocks(static_cast<long>(n), threads, [&](long begin, long end) {
     for (long i = begin; i < end; ++i) {
-      Config& c = out[static_cast<std::size_t>(i)];
       try {
-        for (std::size_t j = 0; j < k; ++j)
-          storeNumber(specs[j]->path(), *specs[j], values[static_cast<std::size_t>(i) * k + j], &c);
-        if (inertia_from_mass)
-          c.mechanism.rod_inertia = MechanismParameters::slenderRodInertia(
-              c.mechanism.rod_mass, c.mechanism.rod_half_length);
-        checkSimulatable(c);
+        out[static_cast<std::size_t>(i)] = configWithNumbers(
+            base, inertia_from_mass, specs, values + static_cast<std::size_t>(i) * k);
       } catch (const ConfigError& e) {
         throw MechanismConfigError("mechanism " + std::to_string(i) + ": " + e.what());
       }

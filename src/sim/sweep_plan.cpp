@@ -9,6 +9,7 @@
 #include "kane_sim/config/parameter_schema.h"
 #include "kane_sim/format_number.h"
 #include "kane_sim/sim/config_check.h"
+#include "kane_sim/sim/numbers_into_configs.h"
 #include "kane_sim/sim/sweep.h"
 
 namespace kane_sim {
@@ -177,6 +178,27 @@ Config sweepCaseConfig(const YAML::Node& base, const SweepPlan& plan, size_t ind
   for (const std::string& key : plan.keys)
     if (!isParameter(key)) throw ConfigError(key, kNotAKey);
   return loadSimulationConfig(caseTree(base, plan, index)).config;
+}
+
+SweepCaseConfigs::SweepCaseConfigs(const YAML::Node& base, const SweepPlan& plan) : plan_(plan) {
+  for (const std::string& key : plan.keys) {
+    const std::vector<std::string> parts = split(key, '.');
+    const ParameterSpec* spec = parts.size() == 2 ? findParameter(parts[0], parts[1]) : nullptr;
+    if (!spec || !takenDirectly(*spec)) return;  // the loader's path, case by case
+    specs_.push_back(spec);
+  }
+  try {
+    base_ = loadSimulationConfig(YAML::Clone(base)).config;
+  } catch (const std::exception&) {
+    return;  // a base the loader refuses: each case says so, as before
+  }
+  inertia_from_mass_ = inertiaFollowsMass(base);
+  direct_ = !specs_.empty();
+}
+
+Config SweepCaseConfigs::at(const YAML::Node& own_base, size_t index) const {
+  if (!direct_) return sweepCaseConfig(own_base, plan_, index);
+  return configWithNumbers(base_, inertia_from_mass_, specs_, plan_.cases[index].data());
 }
 
 void checkSweepKeys(const SweepPlan& plan) {

@@ -8,10 +8,10 @@
 #include <system_error>
 #include <thread>
 
+#include "kane_sim/sim/parallel.h"
 #include "kane_sim/sim/profile_commands.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/sweep.h"
-#include "kane_sim/sim/parallel.h"
 #include "lane_sweep.h"
 
 namespace kane_sim {
@@ -81,6 +81,7 @@ std::vector<SweepResult> runSweep(const YAML::Node& base, const SweepPlan& plan,
   const LaneArch arch = lanes ? parseLaneArch(settings.simd) : LaneArch::kScalar;
   // Cases go to the threads in chunks: a chunk's lane-eligible cases step together.
   const size_t chunk = lanes ? kSweepChunk : 1;
+  const SweepCaseConfigs case_configs(base, plan);
   // yaml-cpp nodes share state between copies: each worker clones the base once, alone.
   auto worker = [&](const YAML::Node& own_base) {
     std::vector<SweepResult> own(chunk);
@@ -93,7 +94,7 @@ std::vector<SweepResult> runSweep(const YAML::Node& base, const SweepPlan& plan,
         SweepResult& result = own[i - begin];
         result = SweepResult();
         try {
-          configs[i - begin] = sweepCaseConfig(own_base, plan, i);
+          configs[i - begin] = case_configs.at(own_base, i);
         } catch (const std::exception& e) {
           result.status = "config_refused";
           result.error = e.what();

@@ -11,6 +11,7 @@
 
 #include "kane_sim/batch/lanes.h"
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/config/parameter_schema.h"
 #include "kane_sim/sim/parallel.h"
 #include "kane_sim/sim/simulator.h"
 #include "kane_sim/sim/state_rates.h"
@@ -89,6 +90,44 @@ TEST(Sweep, CaseConfigsGoThroughTheLoader) {
   }
   const SweepPlan typo = sweepGrid({parseSweepAxis("mechanism.rod_mas=1:2:2")});
   EXPECT_THROW(sweepCaseConfig(baseYaml(), typo, 0), ConfigError);
+}
+
+// Physics and initial-state keys take the direct path (the base loaded once, each case's
+// numbers stored by the loader's rules): every schema value equal to the loader's config of the
+// same case, the rod's inertia derived alike, and a refusal in the loader's words.
+TEST(Sweep, DirectCaseConfigsAreTheLoadersConfigsAndWords) {
+  SweepPlan plan;
+  plan.keys = {"mechanism.rod_mass", "mechanism.spring_stiffness", "initial_state.q1"};
+  plan.cases = {{1.3, 150.0, 0.2}, {0.7, 250.0, -0.4},         {-1.0, 150.0, 0.2},
+                {1.0, 0.0, 0.2},   {1.0, 150.0, std::nan("")}, {1e308, 150.0, 0.2}};
+  const SweepCaseConfigs direct(baseYaml(), plan);
+  const YAML::Node base = baseYaml();
+  for (size_t i = 0; i < plan.cases.size(); ++i) {
+    std::string loader_error, direct_error;
+    Config from_loader, from_direct;
+    try {
+      from_loader = sweepCaseConfig(base, plan, i);
+    } catch (const ConfigError& e) {
+      loader_error = e.what();
+    }
+    try {
+      from_direct = direct.at(base, i);
+    } catch (const ConfigError& e) {
+      direct_error = e.what();
+    }
+    EXPECT_EQ(direct_error, loader_error) << "case " << i;
+    if (!loader_error.empty()) continue;
+    for (const ParameterSpec& spec : parameterSchema()) {
+      if (spec.field.number || spec.field.whole) {
+        EXPECT_EQ(numericValue(spec, from_direct), numericValue(spec, from_loader))
+            << spec.path() << ", case " << i;
+      }
+    }
+  }
+  // Three of six refused (a negative mass, k 0, q1 NaN: the loader's checks) and the mass of
+  // 1e308 by the start-up check: the paths agree on each, word for word (above).
+  EXPECT_THROW(direct.at(base, 2), ConfigError);
+  EXPECT_THROW(direct.at(base, 5), ConfigError);
 }
 
 // The results come back in case order, each equal to the same case run alone (bit for bit:

@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
+
 #include "kane_sim/config/config.h"
 #include "kane_sim/config/parameter_schema.h"
 
@@ -26,6 +28,15 @@ bool takenDirectly(const ParameterSpec& spec);
 struct MechanismConfigError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// `values` (one per spec) into a copy of `base`, then the start-up check: the loader's config
+// of the base's file with those values written in. Throws the loader's ConfigError.
+Config configWithNumbers(const Config& base, bool inertia_from_mass,
+                         const std::vector<const ParameterSpec*>& specs, const double* values);
+
+// Whether a base file lets the rod's inertia follow its mass and L (it sets no
+// mechanism.rod_inertia): what configWithNumbers' inertia_from_mass asks.
+bool inertiaFollowsMass(const YAML::Node& base);
 
 // Row i of `values` (n x specs.size(), row-major) into a copy of `base`; MechanismConfigError
 // names the row. `inertia_from_mass`: the
