@@ -30,6 +30,29 @@ using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 constexpr double kInlineMechanismSteps = 65536.0;
 using Mask = py::array_t<bool, py::array::c_style | py::array::forcecast>;
 
+// work(stop) for step and rollout: a short one (at most kInlineMechanismSteps, a few ms) here
+// without the GIL -- a learning loop's call of one step would otherwise start a thread each
+// time; a long one on a thread of its own while this one, without the GIL, looks at Python's
+// signals every 20 ms: Ctrl-C sets `stop` (every lane ends where it is) and its
+// KeyboardInterrupt is raised here. std::invalid_argument becomes ValueError("<call>: ...").
+template <class Work>
+void runBatchWork(const char* call, double mechanism_steps, Work work) {
+  std::atomic<bool> stop{false};
+  std::unique_ptr<py::error_already_set> raised;
+  try {
+    if (mechanism_steps <= kInlineMechanismSteps) {
+      py::gil_scoped_release release;
+      work(stop);
+    } else {
+      raised = runStoppable(
+          stop, [&] { work(stop); }, std::chrono::milliseconds(20));
+    }
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(std::string(call) + ": " + e.what());
+  }
+  if (raised) throw *raised;
+}
+
 std::vector<bool> maskOf(const BatchSimulator& batch, const Mask& mask, const char* call) {
   if (mask.ndim() != 1 || static_cast<std::size_t>(mask.shape(0)) != batch.size())
     throw py::value_error(std::string(call) + ": mask must hold one bool per mechanism (" +
@@ -165,27 +188,10 @@ void bindBatch(py::module_& m) {
                                     std::to_string(b.size()) + ")");
             std::vector<bool> active;
             if (!mask.is_none()) active = maskOf(b, mask.cast<Mask>(), "step");
-            // A long step on a thread of its own; this one, without the GIL, looks at Python's
-            // signals every 20 ms: Ctrl-C stops every lane where it is (KeyboardInterrupt). A
-            // short one (at most kInlineMechanismSteps, a few ms) runs here without the GIL:
-            // a learning loop's call of one step would otherwise start a thread each time.
-            std::atomic<bool> stop{false};
-            std::unique_ptr<py::error_already_set> raised;
             const std::vector<bool>* only = mask.is_none() ? nullptr : &active;
-            try {
-              if (static_cast<double>(steps) * static_cast<double>(b.size()) <=
-                  kInlineMechanismSteps) {
-                py::gil_scoped_release release;
-                b.step(actions.data(), steps, only, nullptr);
-              } else {
-                raised = runStoppable(
-                    stop, [&] { b.step(actions.data(), steps, only, &stop); },
-                    std::chrono::milliseconds(20));
-              }
-            } catch (const std::invalid_argument& e) {
-              throw py::value_error(std::string("step: ") + e.what());
-            }
-            if (raised) throw *raised;
+            runBatchWork(
+                "step", static_cast<double>(steps) * static_cast<double>(b.size()),
+                [&](const std::atomic<bool>& stop) { b.step(actions.data(), steps, only, &stop); });
             return states(b);
           },
           py::arg("actions"), py::arg("steps") = 1, py::arg("mask") = py::none())
@@ -213,34 +219,22 @@ void bindBatch(py::module_& m) {
               }
             };
             record(0);
-            std::atomic<bool> stop{false};
-            const auto run = [&] {
-              std::vector<double> column(static_cast<std::size_t>(n));
-              for (py::ssize_t t = 0; t < horizon && !stop; ++t) {
-                for (py::ssize_t i = 0; i < n; ++i) column[i] = actions.data()[i * horizon + t];
-                try {
-                  b.step(column.data(), steps, nullptr, &stop);
-                } catch (const std::invalid_argument& e) {
-                  throw std::invalid_argument("at time step " + std::to_string(t) + ": " +
-                                              e.what());
-                }
-                if (!stop) record(t + 1);
-              }
-            };
-            std::unique_ptr<py::error_already_set> raised;
-            try {
-              if (static_cast<double>(horizon) * static_cast<double>(steps) *
-                      static_cast<double>(n) <=
-                  kInlineMechanismSteps) {
-                py::gil_scoped_release release;
-                run();
-              } else {
-                raised = runStoppable(stop, run, std::chrono::milliseconds(20));
-              }
-            } catch (const std::invalid_argument& e) {
-              throw py::value_error(std::string("rollout: ") + e.what());
-            }
-            if (raised) throw *raised;
+            runBatchWork(
+                "rollout",
+                static_cast<double>(horizon) * static_cast<double>(steps) * static_cast<double>(n),
+                [&](const std::atomic<bool>& stop) {
+                  std::vector<double> column(static_cast<std::size_t>(n));
+                  for (py::ssize_t t = 0; t < horizon && !stop; ++t) {
+                    for (py::ssize_t i = 0; i < n; ++i) column[i] = actions.data()[i * horizon + t];
+                    try {
+                      b.step(column.data(), steps, nullptr, &stop);
+                    } catch (const std::invalid_argument& e) {
+                      throw std::invalid_argument("at time step " + std::to_string(t) + ": " +
+                                                  e.what());
+                    }
+                    if (!stop) record(t + 1);
+                  }
+                });
             return out;
           },
           py::arg("actions"), py::arg("steps") = 1)

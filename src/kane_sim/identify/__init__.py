@@ -69,12 +69,12 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
     for name in names:
         if not isinstance(name, str):
             raise TypeError("params: names must be strings, got %r" % (name,))
-    twice = sorted({n for n in names if names.count(n) > 1})
-    if twice:
-        raise ValueError("params: %s named twice" % ", ".join(twice))
     if not names:
         raise ValueError("params: name at least one parameter (kane_sim.identify.parameters())")
     _core.identification_base_value(base._core, names[0])  # an unknown name fails here, named
+    # The regressor's own checks of the names (each known, none twice), before the data is read:
+    # built on no samples.
+    _core.identification_energy(base._core, names, np.zeros((0, 4)), np.zeros(0))
     if method not in METHODS:
         raise ValueError("method must be one of %s, got %r" % (", ".join(METHODS), method))
     if not (isinstance(holdout, (int, float)) and 0 <= holdout < 0.9):

@@ -444,5 +444,5 @@ def test_a_corrupt_bag_and_broken_time_axes_are_named_not_tracebacks(tmp_path, r
     for bad, kind in ((run.q[:, 1] + 0j, "complex"), (run.q[:, 1] > 1.0, "bool")):
         with pytest.raises(ValueError, match="column 'q2' must be real numbers, got %s" % kind):
             ki.load_motion(dict(base, q2=bad))
-    with pytest.raises(ValueError, match="params: mechanism.rod_mass named twice"):
+    with pytest.raises(ValueError, match="params: 'mechanism.rod_mass' named twice"):
         ki.identify(base, None, params="mechanism.rod_mass, mechanism.rod_mass")
