@@ -6,16 +6,85 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <string>
 
 namespace kane_sim {
+
+// std::to_chars(buffer, buffer + 32, value)'s text, built from printf's digits: the shortest
+// digits that read back as `value` (printf rounds correctly, so the first precision that reads
+// back gives the digits closest to the value, as to_chars does), in fixed or scientific notation,
+// whichever is shorter, fixed on a tie. For a standard library without floating-point to_chars
+// (emscripten 3.1.6's libc++, the browser's build); a test holds it to to_chars natively.
+inline char* shortestCharsByPrintf(char* buffer, double value) {
+  char* out = buffer;
+  if (std::signbit(value)) *out++ = '-';
+  const double magnitude = std::fabs(value);
+  if (std::isnan(value) || std::isinf(value) || magnitude == 0.0) {
+    const char* text = std::isnan(value) ? "nan" : std::isinf(value) ? "inf" : "0";
+    std::strcpy(out, text);
+    return out + std::strlen(text);
+  }
+  char scientific[40];
+  for (int precision = 1; precision <= 17; ++precision) {
+    std::snprintf(scientific, sizeof scientific, "%.*e", precision - 1, magnitude);
+    if (std::strtod(scientific, nullptr) == magnitude) break;
+  }
+  // scientific = d[.ddd]e±XX: the digits and the exponent
+  char digits[20];
+  int count = 0;
+  const char* p = scientific;
+  for (; *p != 'e'; ++p)
+    if (*p != '.') digits[count++] = *p;
+  const int exponent = std::atoi(p + 1);
+  while (count > 1 && digits[count - 1] == '0') --count;
+  char fixed[400];
+  int n = 0;
+  if (exponent >= 0 && count <= exponent + 1) {
+    // A whole number: to_chars prints its exact digits, as printf's %.0f does (same length).
+    n = std::snprintf(fixed, sizeof fixed, "%.0f", magnitude);
+  } else if (exponent >= 0) {
+    for (int i = 0; i < count || i <= exponent; ++i) {
+      if (i == exponent + 1) fixed[n++] = '.';
+      fixed[n++] = i < count ? digits[i] : '0';
+    }
+  } else {
+    fixed[n++] = '0';
+    fixed[n++] = '.';
+    for (int i = 0; i < -exponent - 1; ++i) fixed[n++] = '0';
+    for (int i = 0; i < count; ++i) fixed[n++] = digits[i];
+  }
+  char shortest_scientific[40];
+  int s = 0;
+  shortest_scientific[s++] = digits[0];
+  if (count > 1) {
+    shortest_scientific[s++] = '.';
+    for (int i = 1; i < count; ++i) shortest_scientific[s++] = digits[i];
+  }
+  s += std::snprintf(shortest_scientific + s, sizeof shortest_scientific - s, "e%c%02d",
+                     exponent < 0 ? '-' : '+', std::abs(exponent));
+  const char* chosen = n <= s ? fixed : shortest_scientific;
+  const int length = n <= s ? n : s;
+  std::memcpy(out, chosen, length);
+  return out + length;
+}
+
+// The shortest text of `value` into `buffer` (32 chars at least): std::to_chars's; returns the end.
+inline char* shortestChars(char* buffer, double value) {
+#if defined(__cpp_lib_to_chars) || (defined(__GLIBCXX__) && __GNUC__ >= 11)
+  return std::to_chars(buffer, buffer + 32, value).ptr;
+#else
+  return shortestCharsByPrintf(buffer, value);
+#endif
+}
 
 inline std::string formatNumber(double value) {
   if (std::isnan(value)) return "nan";
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
   char buffer[32];
-  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, r.ptr);
+  return std::string(buffer, shortestChars(buffer, value));
 }
 
 }  // namespace kane_sim

@@ -455,6 +455,37 @@ YAML::Node expandMergeKeys(const YAML::Node& node) {
 
 }  // namespace
 
+namespace {
+
+// One config document from a stream; `name` says where it came from in every message (a file's
+// path, or what the browser's page calls its text).
+YAML::Node parseYamlDocument(std::istream& in, const std::string& name) {
+  std::vector<YAML::Node> documents;
+  try {
+    documents = YAML::LoadAll(in);
+  } catch (const YAML::Exception& e) {
+    // yaml-cpp says only "bad file" when it stops at its nesting limit.
+    if (e.msg == "bad file")
+      throw ConfigError("file", "'" + name + "' is nested too deeply at line " +
+                                    std::to_string(e.mark.line + 1) + ", column " +
+                                    std::to_string(e.mark.column + 1) +
+                                    " (a config needs two levels: section, key)");
+    throw ConfigError("file", "'" + name + "' is not valid YAML: " + e.what());
+  } catch (const std::exception& e) {  // I/O errors and the like
+    throw ConfigError("file", "'" + name + "' cannot be read as YAML: " + e.what());
+  }
+  if (documents.size() > 1)
+    throw ConfigError("file", "'" + name + "' holds " + std::to_string(documents.size()) +
+                                  " YAML documents; a config is one document (no '---' between "
+                                  "sections)");
+  if (documents.empty()) return YAML::Node();
+  long walked = 0;  // expandMergeKeys walks no more nodes than this check did
+  return hasMergeKey(documents.front(), &walked) ? expandMergeKeys(documents.front())
+                                                 : documents.front();
+}
+
+}  // namespace
+
 YAML::Node loadYamlFile(const std::string& path) {
   std::ifstream file;
   try {
@@ -462,28 +493,16 @@ YAML::Node loadYamlFile(const std::string& path) {
   } catch (const std::invalid_argument& e) {
     throw ConfigError("file", e.what());
   }
-  std::vector<YAML::Node> documents;
-  try {
-    documents = YAML::LoadAll(file);
-  } catch (const YAML::Exception& e) {
-    // yaml-cpp says only "bad file" when it stops at its nesting limit.
-    if (e.msg == "bad file")
-      throw ConfigError("file", "'" + path + "' is nested too deeply at line " +
-                                    std::to_string(e.mark.line + 1) + ", column " +
-                                    std::to_string(e.mark.column + 1) +
-                                    " (a config needs two levels: section, key)");
-    throw ConfigError("file", "'" + path + "' is not valid YAML: " + e.what());
-  } catch (const std::exception& e) {  // I/O errors and the like
-    throw ConfigError("file", "'" + path + "' cannot be read as YAML: " + e.what());
-  }
-  if (documents.size() > 1)
-    throw ConfigError("file", "'" + path + "' holds " + std::to_string(documents.size()) +
-                                  " YAML documents; a config is one document (no '---' between "
-                                  "sections)");
-  if (documents.empty()) return YAML::Node();
-  long walked = 0;  // expandMergeKeys walks no more nodes than this check did
-  return hasMergeKey(documents.front(), &walked) ? expandMergeKeys(documents.front())
-                                                 : documents.front();
+  return parseYamlDocument(file, path);
+}
+
+YAML::Node loadYamlText(const std::string& text, const std::string& name) {
+  if (text.size() > kMaxConfigBytes)
+    throw ConfigError("file", "'" + name + "' is " + std::to_string(text.size()) +
+                                  " bytes; a config is at most " +
+                                  std::to_string(kMaxConfigBytes) + " bytes");
+  std::istringstream in(text);
+  return parseYamlDocument(in, name);
 }
 
 LoadedConfig loadConfigFile(const std::string& path) { return loadConfig(loadYamlFile(path)); }

@@ -12,6 +12,7 @@
 #include "kane_sim/config/parameter_schema.h"
 #include "kane_sim/ros/param_yaml.h"
 #include "kane_sim/sim/config_check.h"
+#include "kane_sim/sim/reconfiguration.h"
 
 namespace kane_sim {
 namespace {
@@ -126,31 +127,12 @@ std::vector<std::string> RuntimeParameters::removeServerKeys(YAML::Node* tree) {
 }
 
 std::string RuntimeParameters::change(const std::vector<std::pair<std::string, double>>& changes) {
-  YAML::Node tree = YAML::Clone(tree_);
-  std::vector<const ParameterSpec*> changed;
-  for (const auto& [name, value] : changes) {
-    const ParameterSpec* p = findReconfigurable(name);
-    if (!p) return "'" + name + "' is not a reconfigurable parameter of kane_sim_node";
-    if (value == numericValue(*p, config_)) continue;  // untouched keys stay as written
-    try {
-      setConfigValue(tree, p->section, p->key, YAML::Node(value));
-    } catch (const ConfigError& e) {
-      return e.what();
-    }
-    changed.push_back(p);
-  }
-  if (changed.empty()) return "";
-  try {
-    LoadedConfig loaded = loadSimulationConfig(tree);
-    const std::string vetoed = veto_ ? veto_(loaded.config) : "";
-    if (!vetoed.empty()) return vetoed;
-    tree_ = tree;
-    config_ = loaded.config;
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
+  const Reconfiguration r = reconfigure(tree_, config_, changes, veto_);
+  if (!r.refused.empty() || r.changed.empty()) return r.refused;
+  tree_ = r.tree;
+  config_ = r.config;
   // The parameter server holds the config in force under the config's own names.
-  for (const ParameterSpec* p : changed)
+  for (const ParameterSpec* p : r.changed)
     private_nh_.setParam(std::string(p->section) + "/" + p->key,
                          tree_[p->section][p->key].as<double>());
   apply_(config_);

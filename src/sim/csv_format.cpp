@@ -1,5 +1,7 @@
 #include "kane_sim/sim/csv_format.h"
 
+#include "kane_sim/format_number.h"
+
 #include <charconv>
 #include <map>
 #include <sstream>
@@ -172,19 +174,23 @@ void writeCsvHeader(std::ostream& out) {
 }
 
 void writeCsvRow(std::ostream& out, const Snapshot& s) {
-  const char* separator = "";
-  for (const CsvColumn& c : csvColumns()) {
-    out << separator;
-    writeCsvNumber(out, c.value(s));
-    separator = ",";
+  thread_local std::vector<double> row;  // one row's values, reused: no allocation per row
+  row.clear();
+  for (const CsvColumn& c : csvColumns()) row.push_back(c.value(s));
+  writeCsvValues(out, row.data(), row.size());
+}
+
+void writeCsvValues(std::ostream& out, const double* values, size_t count) {
+  for (size_t i = 0; i < count; ++i) {
+    if (i) out << ',';
+    writeCsvNumber(out, values[i]);
   }
   out << '\n';
 }
 
 void writeCsvNumber(std::ostream& out, double value) {
   char buffer[32];  // the longest shortest form of a double is 24 characters
-  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  out.write(buffer, r.ptr - buffer);
+  out.write(buffer, shortestChars(buffer, value) - buffer);
 }
 
 }  // namespace kane_sim

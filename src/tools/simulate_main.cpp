@@ -187,8 +187,6 @@ int run(const Options& options) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  const long steps_per_row = grid.steps_per_row;
-  const long rows = grid.rows;
 
   // The same driver as the node: the profile is a stream of commands, clamped alike; each
   // kind of event is printed once.
@@ -212,14 +210,10 @@ int run(const Options& options) {
   if (driver.servoMode())
     std::cerr << "command.mode " << kane_sim::commandModeName(config.command.mode)
               << ": the profile's values are the servo's setpoint [" << unit << "]\n";
-  kane_sim::ProfileCommands commands(profile, config.command.timeout);
-  commands.update(driver);
-  out.write(driver.snapshot());
   const bool sensors = driver.sensorsEnabled();
-  if (sensors) out.writeDueSensorReadings(driver);
-  long outputs = 1;
-  const kane_sim::RunEnd end = kane_sim::runProfile(
-      driver, commands, rows * steps_per_row, steps_per_row, &g_stop,
+  long outputs = 0;
+  const kane_sim::RunEnd end = kane_sim::runOnGrid(
+      driver, profile, grid, &g_stop,
       [&](const kane_sim::SimDriver&) {
         if (sensors) out.writeDueSensorReadings(driver);
       },
@@ -242,7 +236,7 @@ int run(const Options& options) {
             << config.simulation.physics_rate << " Hz on the "
             << kane_sim::equationsName(config.simulation.equations) << " equations, "
             << (driver.servoMode() ? "setpoint " : "torque ") << profile.describe(unit) << "), "
-            << rows + 1 << " outputs, wall time " << wall << " s, "
+            << grid.rows + 1 << " outputs, wall time " << wall << " s, "
             << (wall > 0 ? static_cast<double>(driver.ticks()) / wall : 0.0) << " steps/s\n";
   return 0;
 }

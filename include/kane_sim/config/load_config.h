@@ -39,6 +39,9 @@ LoadedConfig loadConfig(const YAML::Node& root);
 void storeNumber(const std::string& key, const ParameterSpec& spec, double value, Config* config);
 // One YAML document from a file; ConfigError (key "file") when it cannot be read or parsed.
 YAML::Node loadYamlFile(const std::string& path);
+// The same from text in memory (the browser's pasted or uploaded config): the same limits and
+// messages, with `name` where a file's would name its path.
+YAML::Node loadYamlText(const std::string& text, const std::string& name);
 // loadConfig(loadYamlFile(path)).
 LoadedConfig loadConfigFile(const std::string& path);
 

@@ -138,7 +138,14 @@ template <class Real>
 struct Math;
 template <>
 struct Math<double> {
-  static void sinCos(double x, double* s, double* c) { __builtin_sincos(x, s, c); }
+  static void sinCos(double x, double* s, double* c) {
+#if defined(__GNUC__) && !defined(__clang__)
+    __builtin_sincos(x, s, c);
+#else  // Clang (emscripten's WebAssembly build): musl's sin and cos share sincos's kernels
+    *s = std::sin(x);
+    *c = std::cos(x);
+#endif
+  }
   static double tanh(double x) { return std::tanh(x); }
 };
 

@@ -43,6 +43,8 @@ std::string outputTable();
 
 void writeCsvHeader(std::ostream& out);
 void writeCsvRow(std::ostream& out, const Snapshot& snapshot);
+// One row of values already taken from snapshots (the browser's rows, in csvColumns' order).
+void writeCsvValues(std::ostream& out, const double* values, size_t count);
 
 // One number as the CSVs print it: the shortest text that reads back as exactly this double
 // (std::to_chars), so every value round-trips and none carries noise digits.

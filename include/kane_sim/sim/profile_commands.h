@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 
+#include "kane_sim/sim/output_grid.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/torque_profile.h"
 
@@ -102,6 +103,19 @@ RunEnd runProfile(SimDriver& driver, Commands& commands, long steps, long steps_
     }
   }
   return RunEnd::kFinished;
+}
+
+// simulate's run, for every door that makes simulate's rows (`simulate`, the browser's
+// kaneSim.run): `profile` as the command stream, on_sample(driver) for the row at the start, then
+// on_step(driver) (the start's sensor readings), then runProfile over `grid`.
+template <typename OnStep, typename OnSample>
+RunEnd runOnGrid(SimDriver& driver, const TorqueProfile& profile, const OutputGrid& grid,
+                 const std::atomic<bool>* stop, OnStep on_step, OnSample on_sample) {
+  ProfileCommands commands(profile, driver.config().command.timeout);
+  commands.update(driver);
+  on_sample(driver);
+  on_step(driver);
+  return runProfile(driver, commands, grid.steps(), grid.steps_per_row, stop, on_step, on_sample);
 }
 
 }  // namespace kane_sim

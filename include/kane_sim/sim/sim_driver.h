@@ -66,6 +66,7 @@ class SimDriver {
   // Why setpoint(value) would be refused, or "" (the check alone: nothing is recorded).
   std::string setpointProblem(double value) const;
   bool servoMode() const { return config_.command.mode != CommandMode::kEffort; }
+  const Config& config() const { return config_; }  // the config in force (reconfigured)
 
   // One physics step with the command in force (0 N m after a timeout). False when the step
   // was refused: the last good state is kept. Afterwards the torque in force is that of the

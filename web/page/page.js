@@ -1,0 +1,521 @@
+// The page: a live mechanism (its physics in a Web Worker), the parameter panel built from the
+// schema, plots, offline runs as simulate makes them, bags and CSVs opened by drag and drop, a
+// share link, and window.kaneSim for scripts and tests (doc/guide/browser.md).
+import { MechanismView } from "./drawing.js";
+import { Plots } from "./plots.js";
+import { readBag, readCsv, RecordingError } from "./recordings.js";
+
+const $ = (id) => document.getElementById(id);
+const LIVE_WINDOW = 20;  // [s] of sim time the live plots keep
+const DEFAULT_NAME = "mechanism.yaml";
+
+// A worker answering {id, method, args} with {type: "reply", id, result}; other messages (the
+// live session's frames) go to onState.
+class WorkerClient {
+  constructor(onState) {
+    this.worker = new Worker(new URL("./sim_worker.js", import.meta.url), { type: "module" });
+    this.pending = new Map();
+    this.next = 1;
+    this.worker.onmessage = (e) => {
+      if (e.data.type === "reply") {
+        const { resolve } = this.pending.get(e.data.id);
+        this.pending.delete(e.data.id);
+        resolve(e.data.result);
+      } else if (onState) {
+        onState(e.data);
+      }
+    };
+    this.worker.onerror = (e) => {
+      e.preventDefault();
+      for (const { reject } of this.pending.values()) reject(new Error(`the physics worker failed: ${e.message}`));
+      this.pending.clear();
+    };
+  }
+  call(method, args) {
+    return new Promise((resolve, reject) => {
+      const id = this.next++;
+      this.pending.set(id, { resolve, reject });
+      this.worker.postMessage({ id, method, args });
+    });
+  }
+  terminate(reason) {
+    this.worker.terminate();
+    for (const { reject } of this.pending.values()) reject(new Error(reason));
+    this.pending.clear();
+  }
+}
+
+const page = {
+  yaml: "",
+  configName: DEFAULT_NAME,
+  schema: null,
+  live: null,
+  running: true,
+  liveData: { t: [] },
+  replay: null,       // {recording, index, playing, label}
+  lastRun: null,      // {values: Float64Array} for Download CSV
+  runWorker: null,
+  lastPlot: 0,
+  view: new MechanismView($("mechanism")),
+  plots: new Plots($("plots")),
+  torqueLimit: Infinity,
+};
+
+function message(kind, text) {
+  const div = document.createElement("div");
+  div.className = kind;
+  div.textContent = text;
+  const box = $("messages");
+  box.prepend(div);
+  while (box.children.length > 8) box.lastChild.remove();
+}
+
+function status(text) { $("status").textContent = text; }
+
+// ---- the live session ---------------------------------------------------------------------
+
+function columnIndex(name) { return page.schema.columns.findIndex((c) => c.name === name); }
+
+function onState(state) {
+  if (!page.schema) return;  // the first frame of a session arrives before open() answers
+  if (state.error) message("error", state.error);
+  for (const event of state.events) message("warning", event);
+  if (state.error && !state.running) setRunning(false);  // a refused step paused the worker
+  const width = page.schema ? page.schema.columns.length : 0;
+  if (width && state.rows.length) appendLive(state.rows, width);
+  if (page.replay) return;  // a recording is on show: the live mechanism runs on unseen
+  const torque = state.row ? state.row[columnIndex("applied_torque")] : 0;
+  page.view.draw(state.drawing, torque, page.torqueLimit, `t = ${state.time.toFixed(3)} s`);
+  $("clock").textContent = `t = ${state.time.toFixed(2)} s`;
+  const now = performance.now();
+  if (now - page.lastPlot > 100) {
+    page.lastPlot = now;
+    const t = page.liveData.t;
+    const end = t.length ? t[t.length - 1] : 0;
+    page.plots.draw(page.liveData, [Math.max(end - LIVE_WINDOW, t[0] || 0), Math.max(end, LIVE_WINDOW / 10)], null);
+  }
+}
+
+function appendLive(rows, width) {
+  const data = page.liveData;
+  const names = page.schema.columns.map((c) => c.name);
+  for (let r = 0; r + width <= rows.length; r += width) {
+    names.forEach((name, j) => (data[name] || (data[name] = [])).push(rows[r + j]));
+  }
+  data.t = data.t || [];
+  const e = data.energy_balance;
+  if (e && e.length) data.ledger_drift = e.map((v) => v - e[0]);
+  // Keep the window (and a little): the oldest rows dropped in one splice.
+  const t = data.t, end = t[t.length - 1];
+  let drop = 0;
+  while (drop < t.length && t[drop] < end - 1.5 * LIVE_WINDOW) ++drop;
+  if (drop > 1000) for (const k of Object.keys(data)) data[k].splice(0, drop);
+}
+
+async function openConfig(yaml, name) {
+  const reply = await page.live.call("open", { yaml, name });
+  if (reply.error) return reply.error;
+  page.yaml = yaml;
+  page.configName = name;
+  page.schema = reply.schema;
+  page.liveData = { t: [] };
+  page.view.refit();
+  $("config").value = yaml;
+  $("mode").value = reply.schema.mode === "position" ? "position" : "effort";
+  buildParameters(reply.schema);
+  setCommandRange();
+  page.torqueLimit = parseTorqueLimit(reply.yaml);
+  await control({ running: page.running, command: Number($("command-value").value) || 0 });
+  return "";
+}
+
+function parseTorqueLimit(yaml) {
+  const m = /torque_limit:\s*([-+0-9.eE]+|\.inf)/.exec(yaml);
+  return m && m[1] !== ".inf" ? Number(m[1]) : Infinity;
+}
+
+function control(args) { return page.live.call("control", args); }
+
+function setRunning(running) {
+  page.running = running;
+  $("play").textContent = running ? "Pause" : "Run";
+  control({ running });
+}
+
+function setCommandRange() {
+  const position = $("mode").value === "position";
+  const limit = isFinite(page.torqueLimit) ? page.torqueLimit : 5;
+  $("command").min = position ? -Math.PI : -limit;
+  $("command").max = position ? Math.PI : limit;
+  $("command-unit").textContent = position ? "rad" : "N m";
+}
+
+function setCommand(value) {
+  if (!isFinite(value)) {
+    message("error", `the command must be a finite number, got '${value}'`);
+    return;
+  }
+  $("command").value = value;
+  $("command-value").value = value;
+  control({ command: value });
+}
+
+function buildParameters(schema) {
+  const box = $("parameters");
+  box.textContent = "";
+  // The page's speed selector is its real-time factor: the node's parameter stays out.
+  for (const p of schema.parameters.filter((q) => q.name !== "real_time_factor")) {
+    const row = document.createElement("div");
+    row.className = "param";
+    row.title = `${p.key}${p.symbol ? " (" + p.symbol + ")" : ""}: ${p.doc}`;
+    const name = document.createElement("span");
+    name.className = "name";
+    name.textContent = `${p.symbol || p.name}${p.unit ? " [" + p.unit + "]" : ""}`;
+    const range = document.createElement("input");
+    range.type = "range";
+    range.min = p.min;
+    range.max = p.max;
+    range.step = "any";
+    range.value = p.value;
+    range.setAttribute("aria-label", p.name);
+    const number = document.createElement("input");
+    number.type = "number";
+    number.step = "any";
+    number.value = p.value;
+    number.dataset.parameter = p.name;
+    const apply = async (text) => {
+      const value = Number(text);
+      const reply = await page.live.call("setParameter", { name: p.name, value: text.trim() === "" ? NaN : value });
+      if (reply.error) {
+        message("error", `${p.key}: ${reply.error}`);
+        const now = reply.schema.parameters.find((q) => q.name === p.name).value;
+        range.value = now;
+        number.value = now;
+        return;
+      }
+      page.yaml = reply.yaml;
+      $("config").value = reply.yaml;
+      range.value = value;
+      number.value = value;
+    };
+    range.addEventListener("change", () => apply(range.value));
+    number.addEventListener("change", () => apply(number.value));
+    row.append(name, range, number);
+    box.appendChild(row);
+  }
+}
+
+// ---- offline runs (kaneSim.run) ---------------------------------------------------------------
+
+// torque: undefined | number | {constant|step|sine: text} | [[t, torque], ...]
+function torqueSpec(torque) {
+  if (torque === undefined || torque === null) return { kind: "none", text: "", table: [] };
+  if (typeof torque === "number") return { kind: "constant", text: String(torque), table: [] };
+  if (typeof torque === "string") return { kind: "constant", text: torque, table: [] };
+  if (Array.isArray(torque)) {
+    const flat = [];
+    for (const pair of torque) {
+      if (!Array.isArray(pair) || pair.length !== 2)
+        throw new Error("torque: a table is a list of [t, torque] pairs");
+      flat.push(Number(pair[0]), Number(pair[1]));
+    }
+    return { kind: "table", text: "", table: flat };
+  }
+  const kinds = Object.keys(torque);
+  if (kinds.length !== 1 || !["constant", "step", "sine"].includes(kinds[0]))
+    throw new Error(`torque: one of {constant: NM}, {step: "T,BEFORE,AFTER"}, {sine: "AMP,FREQ[,OFFSET]"}, a number or [[t, torque], ...]; got ${JSON.stringify(torque)}`);
+  return { kind: kinds[0], text: String(torque[kinds[0]]), table: [] };
+}
+
+async function run({ config, duration = 10, torque, outputRate = 100 } = {}) {
+  const spec = torqueSpec(torque);
+  const yaml = config === undefined || config === null ? page.yaml : String(config);
+  const name = config === undefined || config === null ? page.configName : "the given config";
+  if (page.runWorker) page.runWorker.terminate("stopped: a new run started");
+  const worker = new WorkerClient(null);
+  page.runWorker = worker;
+  $("run-stop").disabled = false;
+  try {
+    const out = await worker.call("run", { yaml, name, duration: Number(duration), torque: spec,
+                                           outputRate: Number(outputRate) });
+    if (out.error) throw new Error(out.error);
+    const width = out.columns.length;
+    const rows = [];
+    for (let i = 0; i + width <= out.values.length; i += width) rows.push(Array.from(out.values.subarray(i, i + width)));
+    page.lastRun = { values: out.values };
+    $("download").disabled = false;
+    return { columns: out.columns, rows, warnings: out.warnings, refused: out.refused,
+             wallSeconds: out.wallSeconds };
+  } finally {
+    worker.terminate("stopped");
+    if (page.runWorker === worker) page.runWorker = null;
+    $("run-stop").disabled = true;
+  }
+}
+
+function tableToData(columns, rows) {
+  const data = Object.fromEntries(columns.map((c) => [c, []]));
+  for (const row of rows) columns.forEach((c, j) => data[c].push(row[j]));
+  if (data.energy_balance) data.ledger_drift = data.energy_balance.map((v) => v - data.energy_balance[0]);
+  return data;
+}
+
+async function runFromPanel() {
+  const kind = $("run-torque-kind").value;
+  const text = $("run-torque-text").value;
+  const torque = kind === "none" ? undefined : { [kind]: text };
+  status("running…");
+  try {
+    const result = await run({ duration: $("run-duration").value, torque, outputRate: $("run-rate").value });
+    for (const w of result.warnings) message("warning", w);
+    if (result.refused) message("error", result.refused);
+    const steps = result.rows.length ? result.rows[result.rows.length - 1][0] : 0;
+    message("info", `ran ${steps} s of sim time in ${result.wallSeconds.toFixed(3)} s: ${result.rows.length} rows`);
+    showRecording({ kind: "run", data: tableToData(result.columns, result.rows), joints: null,
+                    states: result.rows.length, t0: result.rows[0][0],
+                    t1: result.rows[result.rows.length - 1][0], notes: [] }, "this run");
+    status("ready");
+  } catch (e) {
+    message("error", e.message);
+    status("ready");
+  }
+}
+
+async function downloadCsv() {
+  if (!page.lastRun) return;
+  const worker = new WorkerClient(null);
+  try {
+    const { text } = await worker.call("csvText", { values: page.lastRun.values });
+    const a = document.createElement("a");
+    a.href = URL.createObjectURL(new Blob([text], { type: "text/csv" }));
+    a.download = "kane_sim_run.csv";
+    a.click();
+    setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+  } finally {
+    worker.terminate("done");
+  }
+}
+
+// ---- share links ------------------------------------------------------------------------------
+
+async function encodeShare(state) {
+  const bytes = new TextEncoder().encode(JSON.stringify(state));
+  const stream = new Blob([bytes]).stream().pipeThrough(new CompressionStream("deflate-raw"));
+  const packed = new Uint8Array(await new Response(stream).arrayBuffer());
+  let binary = "";
+  for (const b of packed) binary += String.fromCharCode(b);
+  return btoa(binary).replace(/\+/g, "-").replace(/\//g, "_").replace(/=+$/, "");
+}
+
+async function decodeShare(text) {
+  const binary = atob(text.replace(/-/g, "+").replace(/_/g, "/"));
+  const bytes = Uint8Array.from(binary, (c) => c.charCodeAt(0));
+  const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate-raw"));
+  return JSON.parse(await new Response(stream).text());
+}
+
+async function shareLink() {
+  const state = { config: page.yaml, duration: $("run-duration").value, outputRate: $("run-rate").value,
+                  torqueKind: $("run-torque-kind").value, torqueText: $("run-torque-text").value,
+                  command: Number($("command-value").value) || 0, mode: $("mode").value };
+  const url = `${location.origin}${location.pathname}#run=${await encodeShare(state)}`;
+  history.replaceState(null, "", url);
+  try {
+    await navigator.clipboard.writeText(url);
+    message("info", "share link copied (and in the address bar): it holds the config and the torque");
+  } catch (e) {
+    message("info", "share link in the address bar: it holds the config and the torque");
+  }
+  return url;
+}
+
+// ---- recordings: bags, CSVs, runs -------------------------------------------------------------
+
+function showRecording(recording, label) {
+  page.replay = { recording, index: 0, playing: false, label, timer: null };
+  $("replay").hidden = false;
+  const n = recording.joints ? recording.joints.t.length : recording.data.t.length;
+  $("replay-time").max = Math.max(n - 1, 0);
+  $("replay-time").value = 0;
+  page.view.refit();
+  for (const note of recording.notes) message("info", note);
+  return drawReplay(0);
+}
+
+async function drawReplay(index) {
+  const r = page.replay;
+  if (!r) return;
+  r.index = index;
+  const rec = r.recording;
+  let drawing, t;
+  if (rec.joints) {
+    t = rec.joints.t[index];
+    drawing = (await page.live.call("drawingAtJoints", { positions: rec.joints.positions[index] })).drawing;
+  } else {
+    t = rec.data.t[index];
+    drawing = (await page.live.call("drawingAtQ", { q1: rec.data.q1[index], q2: rec.data.q2[index] })).drawing;
+  }
+  if (page.replay !== r) return;
+  const plotT = rec.joints && rec.kind === "bag" && !rec.data.sensor_t ? t - rec.joints.t[0] : t;
+  const torqueColumn = rec.data.applied_torque;
+  const k = nearest(rec.data.t, plotT);
+  page.view.draw(drawing, torqueColumn ? torqueColumn[k] : 0, page.torqueLimit, `${r.label}: t = ${t.toFixed(3)} s`);
+  $("replay-label").textContent = `${r.label}: ${index + 1} / ${Number($("replay-time").max) + 1}`;
+  page.plots.draw(rec.data, null, plotT);
+}
+
+function nearest(ts, t) {
+  let lo = 0, hi = ts.length - 1;
+  while (lo < hi) {
+    const mid = (lo + hi) >> 1;
+    if (ts[mid] < t) lo = mid + 1; else hi = mid;
+  }
+  return lo;
+}
+
+function closeReplay() {
+  if (page.replay && page.replay.timer) clearInterval(page.replay.timer);
+  page.replay = null;
+  $("replay").hidden = true;
+  page.view.refit();
+}
+
+function playReplay() {
+  const r = page.replay;
+  if (!r) return;
+  if (r.timer) {
+    clearInterval(r.timer);
+    r.timer = null;
+    $("replay-play").textContent = "Play";
+    return;
+  }
+  $("replay-play").textContent = "Pause";
+  const times = r.recording.joints ? r.recording.joints.t : r.recording.data.t;
+  const wallStart = performance.now(), tStart = times[r.index];
+  r.timer = setInterval(() => {
+    const t = tStart + (performance.now() - wallStart) / 1000;
+    const i = Math.min(nearest(times, t), times.length - 1);
+    $("replay-time").value = i;
+    drawReplay(i);
+    if (i >= times.length - 1) playReplay();
+  }, 33);
+}
+
+async function openBag(buffer, label = "bag") {
+  const recording = await readBag(buffer, page.schema);
+  await showRecording(recording, label);
+  return { states: recording.states, t0: recording.t0, t1: recording.t1,
+           topics: recording.topics, notes: recording.notes };
+}
+
+async function openFile(file) {
+  try {
+    if (/\.csv$/i.test(file.name)) {
+      const recording = readCsv(await file.text());
+      await showRecording(recording, file.name);
+      message("info", `${file.name}: ${recording.states} rows, t ${recording.t0} to ${recording.t1} s`);
+    } else {
+      const result = await openBag(await file.arrayBuffer(), file.name);
+      message("info", `${file.name}: ${result.states} joint_states messages, ${result.t0.toFixed(3)} to ${result.t1.toFixed(3)} s`);
+    }
+  } catch (e) {
+    message("error", `${file.name}: ${e instanceof RecordingError ? e.message : "cannot be read: " + e.message}`);
+  }
+}
+
+// ---- wiring -----------------------------------------------------------------------------------
+
+function wire() {
+  $("play").onclick = () => setRunning(!page.running);
+  $("step").onclick = () => { setRunning(false); page.live.call("step"); };
+  $("reset").onclick = () => { page.liveData = { t: [] }; page.live.call("reset"); };
+  $("speed").onchange = () => control({ speed: Number($("speed").value) });
+  $("mode").onchange = async () => {
+    const reply = await page.live.call("setMode", { mode: $("mode").value });
+    if (reply.error) { message("error", reply.error); $("mode").value = $("mode").value === "position" ? "effort" : "position"; return; }
+    page.yaml = reply.yaml;
+    $("config").value = reply.yaml;
+    setCommandRange();
+    setCommand($("mode").value === "position" ? Number(page.liveData.q1 ? page.liveData.q1[page.liveData.q1.length - 1] : 0) : 0);
+  };
+  $("command").oninput = () => setCommand(Number($("command").value));
+  $("command-value").onchange = () => setCommand(Number($("command-value").value));
+  $("command-zero").onclick = () => setCommand(0);
+  $("config-apply").onclick = async () => {
+    const error = await openConfig($("config").value, "the pasted config");
+    if (error) message("error", error); else message("info", "config applied: the mechanism restarted");
+  };
+  $("config-file").onchange = async (e) => {
+    const file = e.target.files[0];
+    if (!file) return;
+    const text = await file.text();
+    const error = await openConfig(text, file.name);
+    if (error) message("error", error); else message("info", `${file.name} loaded`);
+    e.target.value = "";
+  };
+  $("run").onclick = runFromPanel;
+  $("run-stop").onclick = () => { if (page.runWorker) page.runWorker.terminate("stopped by the Stop button"); };
+  $("download").onclick = downloadCsv;
+  $("share").onclick = shareLink;
+  $("replay-time").oninput = () => drawReplay(Number($("replay-time").value));
+  $("replay-play").onclick = playReplay;
+  $("replay-close").onclick = closeReplay;
+  $("open-file").onchange = (e) => { if (e.target.files[0]) openFile(e.target.files[0]); e.target.value = ""; };
+  const drop = $("drop");
+  for (const target of [drop, document.body]) {
+    target.addEventListener("dragover", (e) => { e.preventDefault(); drop.classList.add("over"); });
+    target.addEventListener("dragleave", () => drop.classList.remove("over"));
+    target.addEventListener("drop", (e) => {
+      e.preventDefault();
+      drop.classList.remove("over");
+      if (e.dataTransfer.files[0]) openFile(e.dataTransfer.files[0]);
+    });
+  }
+}
+
+async function start() {
+  wire();
+  page.live = new WorkerClient(onState);
+  const response = await fetch(DEFAULT_NAME);
+  if (!response.ok) throw new Error(`${DEFAULT_NAME} not served (${response.status})`);
+  let yaml = await response.text();
+  let shared = null;
+  const match = /#run=([A-Za-z0-9_-]+)/.exec(location.hash);
+  if (match) {
+    try {
+      shared = await decodeShare(match[1]);
+      yaml = String(shared.config);
+    } catch (e) {
+      message("error", `the share link cannot be read (${e.message}): the default config is loaded`);
+    }
+  }
+  const error = await openConfig(yaml, shared ? "the shared config" : DEFAULT_NAME);
+  if (error) throw new Error(error);
+  if (shared) {
+    $("run-duration").value = shared.duration;
+    $("run-rate").value = shared.outputRate;
+    $("run-torque-kind").value = shared.torqueKind;
+    $("run-torque-text").value = shared.torqueText;
+    await runFromPanel();
+  }
+  status("ready");
+}
+
+const ready = start();
+window.kaneSim = {
+  ready,
+  // {config (YAML text, optional), duration [s], torque, outputRate [Hz]} -> {columns, rows}
+  run: async (options) => { await ready; return run(options); },
+  // an ArrayBuffer of a ROS 1 bag -> {states, t0, t1} once the page shows it
+  openBag: async (buffer) => { await ready; return openBag(buffer); },
+  // a simulate CSV's text -> {states, t0, t1} once the page shows it
+  openCsv: async (text) => {
+    await ready;
+    const r = readCsv(text);
+    await showRecording(r, "CSV");
+    return { states: r.states, t0: r.t0, t1: r.t1 };
+  },
+  shareLink: async () => { await ready; return shareLink(); },
+  live: () => ({ running: page.running, rows: page.liveData.t.length }),
+};
+ready.catch((e) => { status("failed"); message("error", e.message); });

@@ -1,0 +1,128 @@
+// Time plots on canvases, the panels of plot_bag's figure (plot_run in kane_sim.plotting): q1,
+// q2, u1 and u2, the torque, the energies, each load's power with their sum (dT/dt), and the
+// ledger's drift E + D - W - P. Each panel draws what the data have and says nothing otherwise.
+
+const COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
+                "#7f7f7f", "#bcbd22", "#17becf"];
+
+// [title, unit, [[column, label], ...]]; "power" panels take every power_* column that is not
+// zero throughout, and their sum.
+export const PANELS = [
+  ["q1, crank angle", "rad", [["q1", "q1"], ["sensor_q1", "q1 from joint_states"]]],
+  ["q2, slider 4", "m", [["q2", "q2"]]],
+  ["speeds", "rad/s, m/s", [["u1", "u1 [rad/s]"], ["u2", "u2 [m/s]"]]],
+  ["torque", "N m", [["applied_torque", "applied M_m"]]],
+  ["energy", "J", [["kinetic_energy", "kinetic T"], ["gravitational_energy", "gravitational V_g"],
+    ["spring_energy", "spring V_s"], ["total_energy", "total E"], ["motor_work", "motor work W"],
+    ["dissipated_energy", "dissipated D"]]],
+  ["power", "W", "power"],
+  ["ledger drift (E + D - W - P)", "J", [["ledger_drift", "drift"]]],
+];
+
+export class Plots {
+  constructor(container) {
+    this.container = container;
+    this.canvases = PANELS.map(([title]) => {
+      const canvas = document.createElement("canvas");
+      canvas.width = 700;
+      canvas.height = 120;
+      canvas.setAttribute("aria-label", title);
+      container.appendChild(canvas);
+      return canvas;
+    });
+    this.cursor = null;
+  }
+
+  // data: {t: [...], column: [...]}; window: [t0, t1] or null for all; cursor: a time to mark.
+  draw(data, window, cursor) {
+    PANELS.forEach(([title, unit, spec], i) => {
+      let curves = spec === "power" ? powerCurves(data) : spec.filter(([k]) => data[k]);
+      this.panel(this.canvases[i], `${title} [${unit}]`, data, curves, window, cursor);
+    });
+  }
+
+  panel(canvas, title, data, curves, window, cursor) {
+    const g = canvas.getContext("2d");
+    const W = canvas.width, H = canvas.height, left = 60, right = 150, top = 14, bottom = 16;
+    g.clearRect(0, 0, W, H);
+    g.font = "11px sans-serif";
+    g.fillStyle = "#1d2430";
+    g.fillText(title, left, 11);
+    const t = data.t || [];
+    if (!t.length || !curves.length) {
+      g.fillStyle = "#888";
+      g.fillText(t.length ? "not in these data" : "no data yet", left + 10, H / 2);
+      return;
+    }
+    const t0 = window ? window[0] : t[0], t1 = window ? window[1] : t[t.length - 1];
+    let first = 0;
+    while (first < t.length - 1 && t[first] < t0) ++first;
+    let lo = Infinity, hi = -Infinity;
+    for (const [key] of curves) {
+      const ys = data[key] || (key === "sum" ? sumOfPowers(data, curves) : null);
+      if (!ys) continue;
+      for (let i = first; i < ys.length; ++i) {
+        if (isFinite(ys[i])) { lo = Math.min(lo, ys[i]); hi = Math.max(hi, ys[i]); }
+      }
+    }
+    if (!(hi >= lo)) { lo = -1; hi = 1; }
+    if (hi - lo < 1e-12 * Math.max(1, Math.abs(hi))) { hi += 1e-12; lo -= 1e-12; }
+    const pad = (hi - lo) * 0.08;
+    lo -= pad; hi += pad;
+    const X = (x) => left + ((x - t0) / Math.max(t1 - t0, 1e-9)) * (W - left - right);
+    const Y = (y) => top + (1 - (y - lo) / (hi - lo)) * (H - top - bottom);
+    g.strokeStyle = "#ccd";
+    g.strokeRect(left, top, W - left - right, H - top - bottom);
+    g.fillStyle = "#555";
+    g.fillText(tick(hi - pad), 2, top + 10);
+    g.fillText(tick(lo + pad), 2, H - bottom);
+    g.fillText(`${tick(t0)} s`, left, H - 3);
+    g.fillText(`${tick(t1)} s`, W - right - 40, H - 3);
+    curves.forEach(([key, label], c) => {
+      const ys = data[key] || (key === "sum" ? sumOfPowers(data, curves) : null);
+      if (!ys) return;
+      g.strokeStyle = key === "sum" ? "#000" : COLORS[c % COLORS.length];
+      g.setLineDash(key === "sum" ? [2, 2] : []);
+      g.lineWidth = 1.2;
+      g.beginPath();
+      const ts = key === "sensor_q1" ? data.sensor_t : t;
+      let started = false;
+      // At most ~2 points a pixel: long runs are thinned, not cut.
+      const stride = Math.max(1, Math.floor((ts.length - first) / (2 * (W - left - right))));
+      for (let i = key === "sensor_q1" ? 0 : first; i < ys.length; i += stride) {
+        if (ts[i] < t0 || !isFinite(ys[i])) continue;
+        const x = X(ts[i]), y = Y(ys[i]);
+        if (!started) { g.moveTo(x, y); started = true; } else g.lineTo(x, y);
+      }
+      g.stroke();
+      g.setLineDash([]);
+      g.fillStyle = g.strokeStyle;
+      g.fillText(label, W - right + 6, top + 10 + 12 * c);
+    });
+    if (cursor !== null && cursor !== undefined) {
+      g.strokeStyle = "#d1242f";
+      g.beginPath();
+      g.moveTo(X(cursor), top);
+      g.lineTo(X(cursor), H - bottom);
+      g.stroke();
+    }
+  }
+}
+
+function powerCurves(data) {
+  const keys = Object.keys(data).filter((k) => k.startsWith("power_") &&
+                                               data[k].some((v) => v !== 0));
+  if (!keys.length) return [];
+  return keys.map((k) => [k, k.slice(6)]).concat([["sum", "sum = dT/dt"]]);
+}
+
+function sumOfPowers(data, curves) {
+  const keys = curves.map(([k]) => k).filter((k) => k !== "sum");
+  return data.t.map((_, i) => keys.reduce((s, k) => s + data[k][i], 0));
+}
+
+function tick(v) {
+  if (v === 0) return "0";
+  const a = Math.abs(v);
+  return a >= 1e4 || a < 1e-3 ? v.toExponential(2) : v.toPrecision(4);
+}
