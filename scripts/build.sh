@@ -13,3 +13,5 @@ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release \
   { cat "$build/configure.log"; exit 1; }
 cmake --build "$build" -j2 "$@" >"$build/build.log" 2>&1 || { tail -60 "$build/build.log"; exit 1; }
 echo "build: ok in $build (log: $build/build.log)"
+# The browser twin into $build/web (when emscripten is installed).
+bash "$KANE_SIM_SOURCE_DIR/scripts/build_web.sh"

@@ -29,7 +29,14 @@ PACKAGES=(
   python3-ipykernel
   # sweeps on a cluster (rosrun kane_sim sweep --scheduler): Dask distributed
   python3-distributed
+  # the browser twin: emscripten compiles the ROS-free core to WebAssembly (scripts/build_web.sh;
+  # dpkg-dev for apt-get source, which fetches yaml-cpp's source); headless Chromium, its driver
+  # and Selenium run the page's tests
+  emscripten dpkg-dev chromium chromium-driver python3-selenium
 )
+# npm bundles the page's bag reader at build time. Debian's npm, unless a Node.js from elsewhere
+# (NodeSource's, which conflicts with Debian's npm package) already brings an npm command.
+command -v npm >/dev/null || PACKAGES+=(npm)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -87,6 +87,7 @@ set_tests_properties(throwaway_load_build PROPERTIES LABELS slow TIMEOUT 1800)
 # analyze, and SymPy's KanesMethod with auxiliary speeds for the reaction forces.
 add_test(NAME python_module COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
   --ignore=${PROJECT_SOURCE_DIR}/test/python/identify
+  --ignore=${PROJECT_SOURCE_DIR}/test/python/browser
   --ignore=${PROJECT_SOURCE_DIR}/test/python/cluster ${PROJECT_SOURCE_DIR}/test/python)
 set_tests_properties(python_module PROPERTIES TIMEOUT 300
   ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
@@ -99,6 +100,11 @@ set_tests_properties(python_identify PROPERTIES TIMEOUT 300
 add_test(NAME python_cluster COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
   ${PROJECT_SOURCE_DIR}/test/python/cluster)
 set_tests_properties(python_cluster PROPERTIES TIMEOUT 300
+  ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
+# The browser twin (built by scripts/build_web.sh) in headless Chromium, against simulate.
+add_test(NAME browser COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
+  ${PROJECT_SOURCE_DIR}/test/python/browser)
+set_tests_properties(browser PROPERTIES TIMEOUT 300 COST 50
   ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
 add_test(NAME layers COMMAND /usr/bin/python3 ${tools_dir}/layers_test.py ${PROJECT_SOURCE_DIR})
 add_test(NAME doc_links
@@ -126,3 +132,10 @@ set_tests_properties(python_identify PROPERTIES COST 100)
 set_tests_properties(rviz_smoke python_identify PROPERTIES RESOURCE_LOCK one_heavy_core)
 set_tests_properties(python_cluster PROPERTIES COST 30)
 set_tests_properties(python_module PROPERTIES COST 13)
+
+# The browser's entry points, natively (web/CMakeLists.txt compiles the same files to
+# WebAssembly; test/python/browser drives them in headless Chromium).
+kane_sim_unit_test(test_web_layer test/web/test_web_layer.cpp)
+if(TARGET test_web_layer)
+  target_link_libraries(test_web_layer kane_sim_web)
+endif()

@@ -499,8 +499,8 @@ YAML::Node loadYamlFile(const std::string& path) {
 YAML::Node loadYamlText(const std::string& text, const std::string& name) {
   if (text.size() > kMaxConfigBytes)
     throw ConfigError("file", "'" + name + "' is " + std::to_string(text.size()) +
-                                  " bytes; a config is at most " +
-                                  std::to_string(kMaxConfigBytes) + " bytes");
+                                  " bytes; a config is at most " + std::to_string(kMaxConfigBytes) +
+                                  " bytes");
   std::istringstream in(text);
   return parseYamlDocument(in, name);
 }

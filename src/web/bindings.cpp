@@ -81,10 +81,9 @@ std::vector<double> numbers(const val& array) {
 val runCase(std::string yaml, std::string name, double duration, std::string torque_kind,
             std::string torque_text, val torque_table, double output_rate) {
   try {
-    const kane_sim::web::CaseTable t =
-        kane_sim::web::runCase(yaml, name, duration,
-                               torqueProfile(torque_kind, torque_text, numbers(torque_table)),
-                               output_rate);
+    const kane_sim::web::CaseTable t = kane_sim::web::runCase(
+        yaml, name, duration, torqueProfile(torque_kind, torque_text, numbers(torque_table)),
+        output_rate);
     val out = val::object();
     out.set("error", std::string());
     out.set("columns", stringArray(t.columns));
@@ -129,7 +128,9 @@ class Session {
   std::string setParameter(std::string name, double value) {
     return session_ ? session_->setParameter(name, value) : "no session";
   }
-  std::string setMode(std::string mode) { return session_ ? session_->setMode(mode) : "no session"; }
+  std::string setMode(std::string mode) {
+    return session_ ? session_->setMode(mode) : "no session";
+  }
   val row() const { return session_ ? floatArray(session_->row()) : val::null(); }
   double time() const { return session_ ? session_->time() : 0.0; }
   double physicsRate() const { return session_ ? session_->config().simulation.physics_rate : 0; }
@@ -140,7 +141,9 @@ class Session {
   val events() { return session_ ? stringArray(session_->takeEvents()) : val::array(); }
   // The drawing: [{link, polygon: Float64Array x0,y0,x1,y1..., color: [r,g,b]}], and the link
   // origins {name: [x, y]}; now, or at the joint values of a bag's joint_states.
-  val drawing() const { return session_ ? drawingAt(session_->outlines(), session_->origins()) : val::null(); }
+  val drawing() const {
+    return session_ ? drawingAt(session_->outlines(), session_->origins()) : val::null();
+  }
   val drawingAtJoints(val joint_positions) const {
     const std::vector<double> positions = numbers(joint_positions);
     if (!session_ || positions.size() != kane_sim::kNumJoints) return val::null();

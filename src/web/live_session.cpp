@@ -50,11 +50,12 @@ std::vector<double> LiveSession::advance(double seconds, double value, long samp
   commands.update(*driver_);
   std::vector<double> rows;
   const std::vector<CsvColumn>& columns = csvColumns();
-  runProfile(*driver_, commands, steps, sample_every, nullptr, [](const SimDriver&) {},
-             [&](const SimDriver& d) {
-               const Snapshot snapshot = d.snapshot();
-               for (const CsvColumn& c : columns) rows.push_back(c.value(snapshot));
-             });
+  runProfile(
+      *driver_, commands, steps, sample_every, nullptr, [](const SimDriver&) {},
+      [&](const SimDriver& d) {
+        const Snapshot snapshot = d.snapshot();
+        for (const CsvColumn& c : columns) rows.push_back(c.value(snapshot));
+      });
   return rows;
 }
 

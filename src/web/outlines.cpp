@@ -13,7 +13,8 @@ namespace {
 // composing parent -> child (fixed joints at their origin, moving ones at their value).
 std::map<std::string, Eigen::Isometry3d> linkPoses(const RobotDescription& robot,
                                                    const JointValues& joints) {
-  std::map<std::string, Eigen::Isometry3d> pose{{robot.frames.mechanism, Eigen::Isometry3d::Identity()}};
+  std::map<std::string, Eigen::Isometry3d> pose{
+      {robot.frames.mechanism, Eigen::Isometry3d::Identity()}};
   std::vector<JointPose> all = fixedJointPoses(robot);
   const std::vector<JointPose> moving = movingJointPoses(robot, joints);
   all.insert(all.end(), moving.begin(), moving.end());

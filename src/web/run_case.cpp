@@ -21,8 +21,8 @@ CaseTable runCase(const std::string& yaml_text, const std::string& config_name, 
   LoadedConfig loaded = loadSimulationConfig(loadYamlText(yaml_text, config_name));
   table.warnings = loaded.warnings;
   const Config& config = loaded.config;
-  const OutputGrid grid = outputGrid(config.simulation.physics_rate, duration, output_rate,
-                                     "duration", "outputRate");
+  const OutputGrid grid =
+      outputGrid(config.simulation.physics_rate, duration, output_rate, "duration", "outputRate");
   if (grid.rows + 1 > kMaxCaseRows)
     throw std::invalid_argument("duration x outputRate gives " + std::to_string(grid.rows + 1) +
                                 " rows; one run returns at most " + std::to_string(kMaxCaseRows) +

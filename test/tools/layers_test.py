@@ -36,6 +36,15 @@ def commands(text, name):
 
 def main():
     cmake = open(os.path.join(ROOT, "CMakeLists.txt")).read()
+    # Source lists kept in variables (cmake/ros_free_sources.cmake, shared with the WebAssembly
+    # build) are expanded where a target names them.
+    variables = {}
+    for name in sorted(os.listdir(os.path.join(ROOT, "cmake"))):
+        if name.endswith(".cmake"):
+            for args in commands(open(os.path.join(ROOT, "cmake", name)).read(), "set"):
+                variables[args[0]] = args[1:]
+    cmake = re.sub(r"\$\{(\w+)\}", lambda m: " ".join(variables.get(m.group(1), [m.group(0)])),
+                   cmake)
     files = {}  # target -> its source files and listed headers
     libraries = {args[0] for args in commands(cmake, "add_library")} - {"kane_sim_warnings"}
     for args in commands(cmake, "add_library") + commands(cmake, "add_executable"):

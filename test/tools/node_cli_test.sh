@@ -143,7 +143,8 @@ tab_completion() {
   libexec=$(catkin_find --first-only --without-underlays --libexec kane_sim 2>/dev/null)
   find -L "$pkg" $libexec -type f -perm /111 ! -regex ".*/[.][^./].*" -printf '%f\n' | sort >"$work/tab"
   printf '%s\n' analyze bag_summary config_info crank_marker demo_supervisor identify kane_sim_node \
-    lockstep_controller loop_bag node_tests pd_controller plot_bag simulate sweep teleop_key | sort >"$work/want"
+    lockstep_controller loop_bag node_tests pd_controller plot_bag simulate sweep teleop_key web |
+    sort >"$work/want"
   diff "$work/want" "$work/tab" >"$work/diff" || { echo "     expected < > offered:"; sed 's/^/     /' "$work/diff"; return 1; }
 }
 check "rosrun kane_sim <TAB> offers the user's tools, each once" tab_completion

@@ -178,6 +178,8 @@ function buildParameters(schema) {
     range.step = "any";
     range.value = p.value;
     range.setAttribute("aria-label", p.name);
+    // The value in force (after a refusal: the one kept).
+    const now = (schema = page.schema) => schema.parameters.find((q) => q.name === p.name).value;
     const number = document.createElement("input");
     number.type = "number";
     number.step = "any";
@@ -185,14 +187,18 @@ function buildParameters(schema) {
     number.dataset.parameter = p.name;
     const apply = async (text) => {
       const value = Number(text);
-      const reply = await page.live.call("setParameter", { name: p.name, value: text.trim() === "" ? NaN : value });
-      if (reply.error) {
-        message("error", `${p.key}: ${reply.error}`);
-        const now = reply.schema.parameters.find((q) => q.name === p.name).value;
-        range.value = now;
-        number.value = now;
+      if (text.trim() === "" || (Number.isNaN(value) && text.trim().toLowerCase() !== "nan")) {
+        message("error", `${p.key}: '${text}' is not a number; keeping ${now()}`);
+        range.value = number.value = now();
         return;
       }
+      const reply = await page.live.call("setParameter", { name: p.name, value });
+      if (reply.error) {
+        message("error", `${p.key}: ${reply.error}`);
+        range.value = number.value = now(reply.schema);
+        return;
+      }
+      page.schema = reply.schema;
       page.yaml = reply.yaml;
       $("config").value = reply.yaml;
       range.value = value;
@@ -318,7 +324,9 @@ async function shareLink() {
   const state = { config: page.yaml, duration: $("run-duration").value, outputRate: $("run-rate").value,
                   torqueKind: $("run-torque-kind").value, torqueText: $("run-torque-text").value,
                   command: Number($("command-value").value) || 0, mode: $("mode").value };
-  const url = `${location.origin}${location.pathname}#run=${await encodeShare(state)}`;
+  const hash = `#run=${await encodeShare(state)}`;
+  const url = `${location.origin}${location.pathname}${hash}`;
+  page.sharedHash = hash;  // this page's own link: no reload
   history.replaceState(null, "", url);
   try {
     await navigator.clipboard.writeText(url);
@@ -501,6 +509,11 @@ async function start() {
   status("ready");
 }
 
+// A share link pasted into this tab's address bar: open it as a fresh page would.
+window.addEventListener("hashchange", () => {
+  if (location.hash.startsWith("#run=") && location.hash !== page.sharedHash) location.reload();
+});
+
 const ready = start();
 window.kaneSim = {
   ready,
@@ -517,5 +530,12 @@ window.kaneSim = {
   },
   shareLink: async () => { await ready; return shareLink(); },
   live: () => ({ running: page.running, rows: page.liveData.t.length }),
+  // what the replay shows: {label, states, last: [t, q1, q2]}, or null when live
+  shown: () => {
+    if (!page.replay) return null;
+    const { data, states } = page.replay.recording;
+    const n = data.t.length - 1;
+    return { label: page.replay.label, states, last: [data.t[n], data.q1[n], data.q2[n]] };
+  },
 };
 ready.catch((e) => { status("failed"); message("error", e.message); });

@@ -12,6 +12,33 @@ export class RecordingError extends Error {}
 
 const seconds = (time) => time.sec + time.nsec * 1e-9;
 
+// The bag header record's index_pos (rosbag format 2.0: after the magic line, a record of
+// header_len, fields "name=value" each with its length, data_len, data): where the index starts.
+// A file cut before it is truncated; 0 is a recording that never finished (no index written).
+function checkIndex(bytes) {
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  let at = 13;
+  if (bytes.length < at + 4) throw new RecordingError("the bag is truncated: it ends inside its header record");
+  const headerLength = view.getUint32(at, true);
+  at += 4;
+  const end = at + headerLength;
+  if (end > bytes.length) throw new RecordingError("the bag is truncated: it ends inside its header record");
+  let index = null;
+  while (at + 4 <= end) {
+    const length = view.getUint32(at, true);
+    const field = bytes.subarray(at + 4, at + 4 + length);
+    const eq = field.indexOf(61);  // '='
+    if (eq > 0 && new TextDecoder().decode(field.subarray(0, eq)) === "index_pos" && length - eq - 1 === 8)
+      index = Number(view.getBigUint64(at + 4 + eq + 1, true));
+    at += 4 + length;
+  }
+  if (index === null) throw new RecordingError("the bag is corrupt: its header record has no index position");
+  if (index === 0)
+    throw new RecordingError("the bag has no index (its recording did not finish): rosbag reindex FILE.bag repairs it");
+  if (index >= bytes.length)
+    throw new RecordingError(`the bag is truncated: the file ends at byte ${bytes.length}, before its index at byte ${index} (copied while being recorded, or cut short)`);
+}
+
 // -> {kind: "bag", states, t0, t1, data: {t, column...}, joints: {t, positions: [[4]...]}, notes}
 export async function readBag(buffer, schema) {
   if (buffer.byteLength > MAX_FILE_BYTES)
@@ -20,6 +47,7 @@ export async function readBag(buffer, schema) {
   const header = new TextDecoder().decode(bytes.subarray(0, 13));
   if (header !== "#ROSBAG V2.0\n")
     throw new RecordingError("not a ROS 1 bag (version 2.0): it does not start with '#ROSBAG V2.0'");
+  checkIndex(bytes);
   const bag = new Bag({
     read: async (offset, length) => {
       if (offset + length > bytes.length) throw new RecordingError("the bag is truncated (a record runs past the end of the file): was it copied while being recorded? rosbag reindex repairs an unindexed bag");
@@ -30,7 +58,7 @@ export async function readBag(buffer, schema) {
   try {
     await bag.open();
   } catch (e) {
-    throw new RecordingError(`the bag cannot be opened: ${e.message}${/index|truncated/i.test(e.message) ? "" : " (an unfinished recording? rosbag reindex repairs one)"}`);
+    throw new RecordingError(`the bag is corrupt: ${e.message}`);
   }
   const byType = (type) => [...bag.connections.values()].filter((c) => c.type === type);
   const jointConnections = byType("sensor_msgs/JointState");

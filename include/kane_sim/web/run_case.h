@@ -16,8 +16,8 @@ namespace kane_sim {
 namespace web {
 
 struct CaseTable {
-  std::vector<std::string> columns;  // simulate's CSV header
-  std::vector<double> values;        // the rows, one after the other: rows() x columns.size()
+  std::vector<std::string> columns;   // simulate's CSV header
+  std::vector<double> values;         // the rows, one after the other: rows() x columns.size()
   std::vector<std::string> warnings;  // the loader's (unknown keys) and the driver's events
   std::string refused;                // a refused step: why (the rows before it are kept)
   bool stopped = false;               // `stop` was set: the rows until then
@@ -30,7 +30,8 @@ constexpr long kMaxCaseRows = 600000;
 
 // Throws ConfigError for a config the loader or the start-up check refuses (what() as simulate
 // prints it after the file's name; `config_name` stands where simulate names the file), and
-// std::invalid_argument naming "duration" or "outputRate" for a grid outputGrid refuses. No profile: 0 N m, or a servo's initial setpoint, as simulate.
+// std::invalid_argument naming "duration" or "outputRate" for a grid outputGrid refuses. No
+// profile: 0 N m, or a servo's initial setpoint, as simulate.
 CaseTable runCase(const std::string& yaml_text, const std::string& config_name, double duration,
                   const std::optional<TorqueProfile>& profile, double output_rate,
                   const std::atomic<bool>* stop = nullptr);
