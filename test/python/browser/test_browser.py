@@ -206,7 +206,10 @@ def test_the_page_draws_the_mechanism_and_its_plots(page):
     area = np.asarray(image.crop((int(plots["x"]), int(plots["y"]),
                                   int(plots["x"] + plots["width"]),
                                   int(plots["y"] + min(plots["height"], 700)))))
-    assert area.std() > 20  # curves and axes, not a blank panel
+    # Curves, not blank panels: the first two plot colours (q1's blue, u2's orange) drawn.
+    for rgb in ((0x1f, 0x77, 0xb4), (0xff, 0x7f, 0x0e)):
+        drawn = np.sum(np.all(np.abs(area[..., :3].astype(int) - rgb) < 40, axis=-1))
+        assert drawn > 200, (rgb, drawn)  # measured 807 and 536; the legend text alone ~50
 
 
 def test_the_parameter_panel_refuses_with_the_loaders_words(page):
