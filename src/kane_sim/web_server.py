@@ -34,11 +34,11 @@ def _candidates(script_path):
 
 def find_web_dir(given=None, script_path=__file__):
     """The folder to serve: `given`, else the first built one of the usual places."""
-    places = [given] if given else list(_candidates(script_path))
+    places = [given] if given is not None else list(_candidates(script_path))
     for place in places:
         if all(os.path.isfile(os.path.join(place, name)) for name in NEEDED):
             return os.path.abspath(place)
-    if given:
+    if given is not None:
         missing = [n for n in NEEDED if not os.path.isfile(os.path.join(given, n))]
         raise WebDirError("--dir %s is not a built page (missing %s): bash scripts/build.sh builds "
                           "one when emscripten is installed" % (given, ", ".join(missing)))
