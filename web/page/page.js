@@ -469,16 +469,15 @@ function wire() {
   $("replay-play").onclick = playReplay;
   $("replay-close").onclick = closeReplay;
   $("open-file").onchange = (e) => { if (e.target.files[0]) openFile(e.target.files[0]); e.target.value = ""; };
+  // Anywhere on the page takes a dropped file (the drop zone's events bubble up to the body).
   const drop = $("drop");
-  for (const target of [drop, document.body]) {
-    target.addEventListener("dragover", (e) => { e.preventDefault(); drop.classList.add("over"); });
-    target.addEventListener("dragleave", () => drop.classList.remove("over"));
-    target.addEventListener("drop", (e) => {
-      e.preventDefault();
-      drop.classList.remove("over");
-      if (e.dataTransfer.files[0]) openFile(e.dataTransfer.files[0]);
-    });
-  }
+  document.body.addEventListener("dragover", (e) => { e.preventDefault(); drop.classList.add("over"); });
+  document.body.addEventListener("dragleave", () => drop.classList.remove("over"));
+  document.body.addEventListener("drop", (e) => {
+    e.preventDefault();
+    drop.classList.remove("over");
+    if (e.dataTransfer.files[0]) openFile(e.dataTransfer.files[0]);
+  });
 }
 
 async function start() {

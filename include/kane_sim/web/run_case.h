@@ -24,9 +24,10 @@ struct CaseTable {
   size_t rows() const { return columns.empty() ? 0 : values.size() / columns.size(); }
 };
 
-// The most rows one call returns (~2 KB each in JavaScript): 10 minutes at 1 kHz, or an hour at
-// 100 Hz. A run past it is refused before it starts (std::invalid_argument naming outputRate).
-constexpr long kMaxCaseRows = 600000;
+// The most rows one call returns: about 1 KB each in the page (a Float64Array copy, the rows as
+// arrays and the plots' columns), so at most ~200 MB: an hour at 50 Hz, 200 s at 1 kHz. A run
+// past it is refused before it starts (std::invalid_argument naming outputRate).
+constexpr long kMaxCaseRows = 200000;
 
 // Throws ConfigError for a config the loader or the start-up check refuses (what() as simulate
 // prints it after the file's name; `config_name` stands where simulate names the file), and

@@ -247,3 +247,38 @@ def test_a_long_run_stops_and_the_page_stays_live(page):
     page.driver.find_element("id", "run-stop").click()
     assert page.call("return window.__run") == "rejected: stopped by the Stop button"
     assert page.call("return window.kaneSim.live()")["running"]
+
+
+def drop_file(page, name, data):
+    """A file dropped on the page, as a user drags one from the file manager."""
+    page.driver.execute_script(
+        "const bytes = Uint8Array.from(atob(arguments[1]), (c) => c.charCodeAt(0));"
+        "const files = new DataTransfer(); files.items.add(new File([bytes], arguments[0]));"
+        "document.getElementById('drop').dispatchEvent(new DragEvent('drop', "
+        "{dataTransfer: files, bubbles: true, cancelable: true}));",
+        name, __import__("base64").b64encode(data).decode())
+    return page.call("return new Promise((resolve) => { const poll = () => { const s = "
+                     "window.kaneSim.shown(); const m = document.getElementById('messages')"
+                     ".textContent; if (s || m) resolve({shown: s, messages: m}); "
+                     "else setTimeout(poll, 100); }; poll(); })")
+
+
+def test_a_dropped_csv_and_bag_replay(page, tmp_path):
+    csv = run_tool("simulate", "--duration", "3", "--torque-sine", "1,0.5").stdout
+    rows = [l.split(",") for l in csv.splitlines()[1:]]
+    out = drop_file(page, "run.csv", csv.encode())
+    assert out["shown"]["states"] == len(rows) == 301, out
+    assert out["shown"]["last"] == [float(v) for v in rows[-1][:3]]
+    out = drop_file(page, "run.bag", open(make_bag(tmp_path), "rb").read())
+    assert out["shown"]["label"] == "run.bag" and out["shown"]["states"] > 0, out
+    # The time slider poses the mechanism at the chosen instant.
+    page.driver.execute_script("const s = document.getElementById('replay-time'); "
+                               "s.value = 10; s.dispatchEvent(new Event('input'))")
+    label = page.call("return new Promise((r) => setTimeout(() => "
+                      "r(document.getElementById('replay-label').textContent), 300))")
+    assert label.startswith("run.bag: 11 / "), label
+
+
+def test_a_dropped_file_that_is_neither_is_named(page):
+    out = drop_file(page, "notes.csv", b"time,angle\n0,1\n")
+    assert out["shown"] is None and out["messages"].count("no 't' column") == 1, out
