@@ -76,11 +76,17 @@ std::string LiveSession::setMode(const std::string& mode) {
   try {
     setConfigValue(tree, "command", "mode", YAML::Node(mode));
     const LoadedConfig loaded = loadSimulationConfig(tree);
-    const State state = driver_->snapshot().state;
+    // The new driver takes the old one's whole memory (sim time, the ledger, the command in
+    // force): the motion and its plots go on; only the drive changes. The new mode's servo
+    // starts from the old setpoint (the page sends the crank's angle at once).
+    const DriverCheckpoint memory = driver_->checkpoint();
     rebuild(loaded.config);
     tree_ = tree;
-    const auto status = driver_->setState(state);
-    (void)status;  // the state ran in the same mechanism: set_state's checks pass
+    try {
+      driver_->restore(memory);
+    } catch (const std::exception&) {  // cannot happen for a mode change; the state at least
+      driver_->setState(memory.simulator.state);
+    }
   } catch (const ConfigError& e) {
     return e.what();
   }

@@ -141,9 +141,17 @@ TEST(LiveSession, ParametersChangeAsTheNodesDoOrAreRefusedWithTheLoadersWords) {
   EXPECT_NE(session.setParameter("no_such_thing", 1.0).find("not a reconfigurable"),
             std::string::npos);
   EXPECT_NE(session.setParameter("spring_stiffness", std::nan("")), "");
+  const std::vector<double> before = session.row();
   EXPECT_EQ(session.setMode("position"), "");
   EXPECT_EQ(session.config().command.mode, CommandMode::kPosition);
-  EXPECT_NEAR(session.time(), 0.0, 1e-12);  // a new driver at the same state
+  // A new driver that goes on: the same time, state and ledger (the columns up to the ledger's).
+  EXPECT_EQ(session.time(), 0.2);
+  const std::vector<double> after = session.row();
+  for (const char* name : {"t", "q1", "q2", "u1", "u2", "motor_work", "dissipated_energy"}) {
+    size_t i = 0;
+    while (csvColumns()[i].name != name) ++i;
+    EXPECT_EQ(after[i], before[i]) << name;
+  }
   EXPECT_NE(session.setMode("sideways").find("command.mode"), std::string::npos);
 }
 

@@ -78,6 +78,7 @@ function columnIndex(name) { return page.schema.columns.findIndex((c) => c.name 
 
 function onState(state) {
   if (!page.schema) return;  // the first frame of a session arrives before open() answers
+  page.liveTime = state.time;
   if (state.error) message("error", state.error);
   for (const event of state.events) message("warning", event);
   if (state.error && !state.running) setRunning(false);  // a refused step paused the worker
@@ -86,7 +87,7 @@ function onState(state) {
   if (page.replay) return;  // a recording is on show: the live mechanism runs on unseen
   const torque = state.row ? state.row[columnIndex("applied_torque")] : 0;
   page.view.draw(state.drawing, torque, page.torqueLimit, `t = ${state.time.toFixed(3)} s`);
-  $("clock").textContent = `t = ${state.time.toFixed(2)} s`;
+  $("clock").textContent = `t = ${state.time.toFixed(3)} s`;  // one physics step shows
   const now = performance.now();
   if (now - page.lastPlot > 100) {
     page.lastPlot = now;
@@ -160,6 +161,23 @@ function setCommand(value) {
   control({ command: value });
 }
 
+function sliderScale(p) {
+  const lo = Math.max(p.min, 0), hi = p.max;
+  if (p.value > 0) {
+    const a = Math.log10(Math.max(p.value / 100, lo > 0 ? lo : p.value / 100));
+    const b = Math.log10(Math.min(p.value * 100, hi));
+    return {
+      toSlider: (v) => (v > 0 ? Math.round(1000 * (Math.log10(v) - a) / (b - a)) : 0),
+      fromSlider: (x) => Number((10 ** (a + (x / 1000) * (b - a))).toPrecision(3)),
+    };
+  }
+  const top = Math.min(hi, 10);
+  return {
+    toSlider: (v) => Math.round(1000 * v / top),
+    fromSlider: (x) => Number(((x / 1000) * top).toPrecision(3)),
+  };
+}
+
 function buildParameters(schema) {
   const box = $("parameters");
   box.textContent = "";
@@ -171,40 +189,46 @@ function buildParameters(schema) {
     const name = document.createElement("span");
     name.className = "name";
     name.textContent = `${p.symbol || p.name}${p.unit ? " [" + p.unit + "]" : ""}`;
+    // The slider spans what one would try (the schema's bounds cover every legal value, up to
+    // 1e7 N/m): two decades either side of a positive value, logarithmic; 0 to 10 (within the
+    // bounds) for a value that starts at 0. The text field takes any value the loader accepts.
+    const scale = sliderScale(p);
     const range = document.createElement("input");
     range.type = "range";
-    range.min = p.min;
-    range.max = p.max;
-    range.step = "any";
-    range.value = p.value;
+    range.min = 0;
+    range.max = 1000;
+    range.step = 1;
+    range.value = scale.toSlider(p.value);
     range.setAttribute("aria-label", p.name);
     // The value in force (after a refusal: the one kept).
     const now = (schema = page.schema) => schema.parameters.find((q) => q.name === p.name).value;
     const number = document.createElement("input");
-    number.type = "number";
-    number.step = "any";
+    number.type = "text";
+    number.inputMode = "decimal";
     number.value = p.value;
     number.dataset.parameter = p.name;
     const apply = async (text) => {
       const value = Number(text);
       if (text.trim() === "" || (Number.isNaN(value) && text.trim().toLowerCase() !== "nan")) {
         message("error", `${p.key}: '${text}' is not a number; keeping ${now()}`);
-        range.value = number.value = now();
+        range.value = scale.toSlider(now());
+        number.value = now();
         return;
       }
       const reply = await page.live.call("setParameter", { name: p.name, value });
       if (reply.error) {
         message("error", `${p.key}: ${reply.error}`);
-        range.value = number.value = now(reply.schema);
+        range.value = scale.toSlider(now(reply.schema));
+        number.value = now(reply.schema);
         return;
       }
       page.schema = reply.schema;
       page.yaml = reply.yaml;
       $("config").value = reply.yaml;
-      range.value = value;
+      range.value = scale.toSlider(value);
       number.value = value;
     };
-    range.addEventListener("change", () => apply(range.value));
+    range.addEventListener("change", () => apply(String(scale.fromSlider(Number(range.value)))));
     number.addEventListener("change", () => apply(number.value));
     row.append(name, range, number);
     box.appendChild(row);
@@ -215,25 +239,47 @@ function buildParameters(schema) {
 
 // torque: undefined | number | {constant|step|sine: text} | [[t, torque], ...]
 function torqueSpec(torque) {
+  const shapes = `one of a number, {constant: NM}, {step: "T,BEFORE,AFTER"}, {sine: "AMP,FREQ[,OFFSET]"} or [[t, torque], ...]`;
   if (torque === undefined || torque === null) return { kind: "none", text: "", table: [] };
-  if (typeof torque === "number") return { kind: "constant", text: String(torque), table: [] };
-  if (typeof torque === "string") return { kind: "constant", text: torque, table: [] };
+  if (typeof torque === "number" || typeof torque === "string")
+    return { kind: "constant", text: String(numberArgument("torque", torque)).trim(), table: [] };
   if (Array.isArray(torque)) {
     const flat = [];
     for (const pair of torque) {
       if (!Array.isArray(pair) || pair.length !== 2)
-        throw new Error("torque: a table is a list of [t, torque] pairs");
-      flat.push(Number(pair[0]), Number(pair[1]));
+        throw new Error(`torque: a table is a list of [t, torque] pairs, got ${JSON.stringify(pair)}`);
+      flat.push(numberArgument("torque table's t", pair[0]), numberArgument("torque table's torque", pair[1]));
     }
     return { kind: "table", text: "", table: flat };
   }
-  const kinds = Object.keys(torque);
+  const kinds = typeof torque === "object" ? Object.keys(torque) : [];
   if (kinds.length !== 1 || !["constant", "step", "sine"].includes(kinds[0]))
-    throw new Error(`torque: one of {constant: NM}, {step: "T,BEFORE,AFTER"}, {sine: "AMP,FREQ[,OFFSET]"}, a number or [[t, torque], ...]; got ${JSON.stringify(torque)}`);
-  return { kind: kinds[0], text: String(torque[kinds[0]]), table: [] };
+    throw new Error(`torque must be ${shapes}; got ${JSON.stringify(torque)}`);
+  const text = torque[kinds[0]];
+  if (typeof text !== "string" && typeof text !== "number")
+    throw new Error(`torque: {${kinds[0]}: ...} takes simulate's text, got ${JSON.stringify(text)}`);
+  if (kinds[0] === "constant") return { kind: "constant", text: String(numberArgument("torque", text)), table: [] };
+  return { kind: kinds[0], text: String(text), table: [] };
 }
 
-async function run({ config, duration = 10, torque, outputRate = 100 } = {}) {
+// A number given as a number or as its text (the panel's fields): anything else is refused by
+// name, never coerced (Number("") is 0, Number(true) is 1, Number("0x10") is 16).
+const NUMBER_TEXT = /^\s*[-+]?((\d+\.?\d*|\.\d+)([eE][-+]?\d+)?|Infinity|NaN)\s*$/;
+function numberArgument(name, value) {
+  if (typeof value === "number") return value;
+  if (typeof value === "string" && NUMBER_TEXT.test(value)) return Number(value);
+  throw new Error(`${name} must be a number, got ${JSON.stringify(value) ?? String(value)}`);
+}
+
+async function run(options) {
+  if (options === undefined || options === null) options = {};
+  if (typeof options !== "object" || Array.isArray(options))
+    throw new Error(`kaneSim.run takes one object {config, duration, torque, outputRate}, got ${JSON.stringify(options)}`);
+  const { config, torque } = options;
+  const duration = numberArgument("duration", options.duration === undefined ? 10 : options.duration);
+  const outputRate = numberArgument("outputRate", options.outputRate === undefined ? 100 : options.outputRate);
+  if (config !== undefined && config !== null && typeof config !== "string")
+    throw new Error(`config must be YAML text, got ${typeof config}`);
   const spec = torqueSpec(torque);
   const yaml = config === undefined || config === null ? page.yaml : String(config);
   const name = config === undefined || config === null ? page.configName : "the given config";
@@ -242,8 +288,7 @@ async function run({ config, duration = 10, torque, outputRate = 100 } = {}) {
   page.runWorker = worker;
   $("run-stop").disabled = false;
   try {
-    const out = await worker.call("run", { yaml, name, duration: Number(duration), torque: spec,
-                                           outputRate: Number(outputRate) });
+    const out = await worker.call("run", { yaml, name, duration, torque: spec, outputRate });
     if (out.error) throw new Error(out.error);
     const width = out.columns.length;
     const rows = [];
@@ -314,10 +359,33 @@ async function encodeShare(state) {
 }
 
 async function decodeShare(text) {
-  const binary = atob(text.replace(/-/g, "+").replace(/_/g, "/"));
-  const bytes = Uint8Array.from(binary, (c) => c.charCodeAt(0));
-  const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate-raw"));
-  return JSON.parse(await new Response(stream).text());
+  if (!/^[A-Za-z0-9_-]+$/.test(text)) throw new Error("it holds characters a share link never has");
+  let bytes;
+  try {
+    const binary = atob(text.replace(/-/g, "+").replace(/_/g, "/"));
+    bytes = Uint8Array.from(binary, (c) => c.charCodeAt(0));
+  } catch (e) {
+    throw new Error("it is not a kane_sim share link (not base64url)");
+  }
+  try {
+    const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate-raw"));
+    return JSON.parse(await new Response(stream).text());
+  } catch (e) {
+    throw new Error("it is not a kane_sim share link, or was cut short (its data do not unpack)");
+  }
+}
+
+// What a share link must hold; anything else is named, and the page opens with its defaults.
+function checkShare(state) {
+  const fail = (what) => { throw new Error(`it holds ${what}`); };
+  if (typeof state !== "object" || state === null || Array.isArray(state)) fail("no run");
+  if (typeof state.config !== "string") fail("no config text");
+  for (const key of ["duration", "outputRate", "torqueText"])
+    if (typeof state[key] !== "string" && typeof state[key] !== "number") fail(`no ${key}`);
+  if (!["none", "constant", "step", "sine"].includes(state.torqueKind))
+    fail(`an unknown torque kind ${JSON.stringify(state.torqueKind)}`);
+  if (typeof state.command !== "number" || !isFinite(state.command)) state.command = 0;
+  return state;
 }
 
 async function shareLink() {
@@ -355,21 +423,21 @@ async function drawReplay(index) {
   if (!r) return;
   r.index = index;
   const rec = r.recording;
+  // t on the plots' axis: a bag's stamps less its offset (sim time beside a mechanism state).
   let drawing, t;
   if (rec.joints) {
-    t = rec.joints.t[index];
+    t = rec.joints.t[index] - rec.timeOffset;
     drawing = (await page.live.call("drawingAtJoints", { positions: rec.joints.positions[index] })).drawing;
   } else {
     t = rec.data.t[index];
     drawing = (await page.live.call("drawingAtQ", { q1: rec.data.q1[index], q2: rec.data.q2[index] })).drawing;
   }
   if (page.replay !== r) return;
-  const plotT = rec.joints && rec.kind === "bag" && !rec.data.sensor_t ? t - rec.joints.t[0] : t;
   const torqueColumn = rec.data.applied_torque;
-  const k = nearest(rec.data.t, plotT);
+  const k = nearest(rec.data.t, t);
   page.view.draw(drawing, torqueColumn ? torqueColumn[k] : 0, page.torqueLimit, `${r.label}: t = ${t.toFixed(3)} s`);
   $("replay-label").textContent = `${r.label}: ${index + 1} / ${Number($("replay-time").max) + 1}`;
-  page.plots.draw(rec.data, null, plotT);
+  page.plots.draw(rec.data, null, t);
 }
 
 function nearest(ts, t) {
@@ -487,22 +555,30 @@ async function start() {
   if (!response.ok) throw new Error(`${DEFAULT_NAME} not served (${response.status})`);
   let yaml = await response.text();
   let shared = null;
-  const match = /#run=([A-Za-z0-9_-]+)/.exec(location.hash);
-  if (match) {
+  if (location.hash.startsWith("#run=")) {
     try {
-      shared = await decodeShare(match[1]);
-      yaml = String(shared.config);
+      shared = checkShare(await decodeShare(location.hash.slice(5)));
     } catch (e) {
-      message("error", `the share link cannot be read (${e.message}): the default config is loaded`);
+      message("error", `the share link cannot be opened: ${e.message}; the default config is loaded`);
     }
   }
-  const error = await openConfig(yaml, shared ? "the shared config" : DEFAULT_NAME);
-  if (error) throw new Error(error);
+  if (shared) {
+    const error = await openConfig(shared.config, "the shared config");
+    if (error) {
+      message("error", `the share link's config is refused: ${error}; the default config is loaded`);
+      shared = null;
+    }
+  }
+  if (!shared) {
+    const error = await openConfig(yaml, DEFAULT_NAME);
+    if (error) throw new Error(error);
+  }
   if (shared) {
     $("run-duration").value = shared.duration;
     $("run-rate").value = shared.outputRate;
     $("run-torque-kind").value = shared.torqueKind;
     $("run-torque-text").value = shared.torqueText;
+    setCommand(shared.command);
     await runFromPanel();
   }
   status("ready");
@@ -528,7 +604,7 @@ window.kaneSim = {
     return { states: r.states, t0: r.t0, t1: r.t1 };
   },
   shareLink: async () => { await ready; return shareLink(); },
-  live: () => ({ running: page.running, rows: page.liveData.t.length }),
+  live: () => ({ running: page.running, rows: page.liveData.t.length, time: page.liveTime }),
   // what the replay shows: {label, states, last: [t, q1, q2]}, or null when live
   shown: () => {
     if (!page.replay) return null;

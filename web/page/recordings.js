@@ -37,6 +37,7 @@ function checkIndex(bytes) {
     throw new RecordingError("the bag has no index (its recording did not finish): rosbag reindex FILE.bag repairs it");
   if (index >= bytes.length)
     throw new RecordingError(`the bag is truncated: the file ends at byte ${bytes.length}, before its index at byte ${index} (copied while being recorded, or cut short)`);
+  return index;
 }
 
 // -> {kind: "bag", states, t0, t1, data: {t, column...}, joints: {t, positions: [[4]...]}, notes}
@@ -47,7 +48,7 @@ export async function readBag(buffer, schema) {
   const header = new TextDecoder().decode(bytes.subarray(0, 13));
   if (header !== "#ROSBAG V2.0\n")
     throw new RecordingError("not a ROS 1 bag (version 2.0): it does not start with '#ROSBAG V2.0'");
-  checkIndex(bytes);
+  const indexAt = checkIndex(bytes);
   const bag = new Bag({
     read: async (offset, length) => {
       if (offset + length > bytes.length) throw new RecordingError("the bag is truncated (a record runs past the end of the file): was it copied while being recorded? rosbag reindex repairs an unindexed bag");
@@ -58,7 +59,7 @@ export async function readBag(buffer, schema) {
   try {
     await bag.open();
   } catch (e) {
-    throw new RecordingError(`the bag is corrupt: ${e.message}`);
+    throw new RecordingError(`the bag is corrupt or cut short: its index (bytes ${indexAt} to ${bytes.length}) cannot be read (${e.message})`);
   }
   const byType = (type) => [...bag.connections.values()].filter((c) => c.type === type);
   const jointConnections = byType("sensor_msgs/JointState");
@@ -76,8 +77,10 @@ export async function readBag(buffer, schema) {
     readers.set(c.conn, new MessageReader(parseMessageDefinition(c.messageDefinition)));
   const joints = { t: [], positions: [], names: null };
   const state = { t: [] };
-  const fields = schema.columns.filter((c) => c.message_field);
+  // Every column a /mechanism_state field carries (t is its sim_time), as plot_bag reads them.
+  const fields = schema.columns.filter((c) => c.message_field && c.name !== "t");
   for (const c of fields) state[c.name] = [];
+  let stampMinusSimTime = null;  // the node's and simulate's stamps are sim time + an offset
   let skipped = 0, unstamped = 0;
   const topics = [jointTopic, stateTopic].filter(Boolean);
   try {
@@ -95,7 +98,9 @@ export async function readBag(buffer, schema) {
         joints.t.push(stamp);
         joints.positions.push(positions);
       } else if (state.t.length < MAX_STATES) {
-        state.t.push(message.sim_time !== undefined ? message.sim_time : stamp);
+        const simTime = message.sim_time !== undefined ? message.sim_time : stamp;
+        if (stampMinusSimTime === null) stampMinusSimTime = stamp - simTime;
+        state.t.push(simTime);
         for (const c of fields) {
           const v = message[c.message_field.replace(/\[\d+\]$/, "")];
           const value = c.message_index >= 0 ? (v ? v[c.message_index] : NaN) : v;
@@ -117,25 +122,31 @@ export async function readBag(buffer, schema) {
   const notes = [];
   if (skipped) notes.push(`kept the first ${MAX_STATES} joint_states messages of ${MAX_STATES + skipped}`);
   if (unstamped) notes.push(`${unstamped} messages had no header stamp: placed at the bag's receive times`);
-  let data;
+  // The plots' time axis: sim time beside a mechanism state (its stamps less the offset between
+  // them), else the joint_states' stamps from the first.
+  let data, timeOffset;
   if (state.t.length) {
     data = state;
-    data.ledger_drift = data.energy_balance ? data.energy_balance.map((v) => v - data.energy_balance[0]) : undefined;
+    timeOffset = stampMinusSimTime;
+    if (data.energy_balance) data.ledger_drift = data.energy_balance.map((v) => v - data.energy_balance[0]);
     if (joints.t.length) {
-      // Stamps are sim time in the node's and simulate's bags (sim_time beside them).
-      data.sensor_t = joints.t;
+      data.sensor_t = joints.t.map((t) => t - timeOffset);
       data.sensor_q1 = joints.positions.map((p) => p[0]);
     }
   } else {
-    const t0 = joints.t[0];
-    data = { t: joints.t.map((t) => t - t0), q1: joints.positions.map((p) => p[0]),
+    timeOffset = joints.t[0];
+    data = { t: joints.t.map((t) => t - timeOffset), q1: joints.positions.map((p) => p[0]),
              q2: joints.positions.map((p) => p[3]) };
     notes.push("joint_states only: the positions are plotted; energies and powers need /mechanism_state");
   }
-  const times = joints.t.length ? joints.t : state.t;
+  const times = joints.t.length ? joints.t : state.t.map((t) => t + timeOffset);
   return { kind: "bag", states: joints.t.length, t0: times[0], t1: times[times.length - 1],
-           data, joints, topics: { joints: jointTopic, state: stateTopic }, notes };
+           data, joints: joints.t.length ? joints : null, timeOffset,
+           topics: { joints: jointTopic, state: stateTopic }, notes };
 }
+
+// A number as simulate writes one (std::to_chars: digits, a point, an exponent), or nan / inf.
+const NUMBER = /^[-+]?((\d+\.?\d*|\.\d+)([eE][-+]?\d+)?|nan|inf)$/i;
 
 // A simulate CSV -> the same shape (no joint_states: the replay poses the mechanism from q1, q2).
 export function readCsv(text) {
@@ -150,9 +161,14 @@ export function readCsv(text) {
     if (cells.length !== header.length)
       throw new RecordingError(`CSV line ${i + 1} has ${cells.length} values; the header has ${header.length}`);
     cells.forEach((cell, j) => {
-      const v = Number(cell);
-      if (cell.trim() === "" || (Number.isNaN(v) && cell.trim() !== "nan"))
+      const text = cell.trim();
+      if (!NUMBER.test(text))
         throw new RecordingError(`CSV line ${i + 1}, column ${header[j]}: '${cell}' is not a number`);
+      const v = /nan/i.test(text) ? NaN : /inf/i.test(text) ? (text.startsWith("-") ? -Infinity : Infinity) : Number(text);
+      if (!Number.isFinite(v) && ["t", "q1", "q2"].includes(header[j]))
+        throw new RecordingError(`CSV line ${i + 1}, column ${header[j]}: '${cell}' is not finite; the replay needs t, q1 and q2`);
+      if (header[j] === "t" && data.t.length && v < data.t[data.t.length - 1])
+        throw new RecordingError(`CSV line ${i + 1}: t = ${v} s comes before the row above (t = ${data.t[data.t.length - 1]} s)`);
       data[header[j]].push(v);
     });
   }

@@ -115,6 +115,11 @@ self.onmessage = async (event) => {
     const result = await handlers[method](args || {});
     post("reply", { id, result });
   } catch (e) {
-    post("reply", { id, result: { error: String(e && e.message ? e.message : e) } });
+    // A config nested thousands deep exhausts the browser's JavaScript stack (emscripten's C++
+    // exceptions unwind through JavaScript) before yaml-cpp's own depth limit says so.
+    const text = e instanceof RangeError && /call stack/i.test(e.message)
+      ? `${(args && args.name) || "the config"}: config file: '${(args && args.name) || "the config"}' is nested too deeply (a config needs two levels: section, key)`
+      : String(e && e.message ? e.message : e);
+    post("reply", { id, result: { error: text } });
   }
 };

@@ -45,7 +45,8 @@ class LiveSession {
   // loader's refusal (nothing changed).
   std::string setParameter(const std::string& name, double value);
   // command.mode "effort" | "position" | "velocity": the driver rebuilt from the config with that
-  // mode, at the current state. "" when accepted, else the refusal.
+  // mode, going on from the old one's state, sim time and ledger. "" when accepted, else the
+  // refusal (nothing changed).
   std::string setMode(const std::string& mode);
 
   std::vector<double> row() const;  // simulate's CSV row of this instant

@@ -82,3 +82,14 @@ def page(browser, page_url):
     yield p
     errors = p.console_errors()
     assert not errors, "console errors: %s" % errors
+
+
+@pytest.fixture(scope="module")
+def shared_page(browser, page_url):
+    """One page for a module's many runs (the one-truth matrix): kaneSim.run starts a fresh
+    worker each call, so the runs share nothing but the page."""
+    browser.get_log("browser")
+    p = Page(browser, page_url)
+    yield p
+    errors = p.console_errors()
+    assert not errors, "console errors: %s" % errors

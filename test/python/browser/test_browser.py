@@ -16,7 +16,8 @@ from PIL import Image
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from conftest import config_path, run_tool, tool  # noqa: E402 (the Python tests' helpers)
-from page_fixtures import RESULTS, Page, browser, page, page_url  # noqa: E402,F401 (fixtures)
+from page_fixtures import (RESULTS, Page, browser, page, page_url,  # noqa: E402,F401
+                           shared_page)
 from test_one_truth import MODES, SINE, case_config  # noqa: E402 (the one-truth matrix)
 
 MUSL = "/usr/share/emscripten/system/lib/libc/musl"
@@ -65,7 +66,9 @@ CASES = list(itertools.product(MODES, (False, True), (False, True), (False, True
 
 
 @pytest.mark.parametrize("mode,profile,sensors,contact", CASES)
-def test_a_run_is_simulates_run(page, tmp_path, musl_math, mode, profile, sensors, contact):
+def test_a_run_is_simulates_run(shared_page, tmp_path, musl_math, mode, profile, sensors,
+                                contact):
+    page = shared_page
     cfg = case_config(tmp_path, mode, sensors, contact)
     torque = {"sine": "%r,%r,%r" % SINE[mode]} if profile else None
     flags = ["--torque-sine", torque["sine"]] if profile else []
@@ -109,7 +112,8 @@ HOSTILE_CONFIGS = {
 
 
 @pytest.mark.parametrize("label", sorted(HOSTILE_CONFIGS))
-def test_a_bad_config_is_refused_with_simulates_words(page, tmp_path, label):
+def test_a_bad_config_is_refused_with_simulates_words(shared_page, tmp_path, label):
+    page = shared_page
     base = yaml.safe_load(open(config_path()))
     text = HOSTILE_CONFIGS[label]
     patch = None
@@ -134,8 +138,15 @@ def test_a_bad_config_is_refused_with_simulates_words(page, tmp_path, label):
     ("{torque: {sideways: 1}}", "torque"), ("{torque: [[0, 1], [1]]}", "torque"),
     ("{torque: [[0, 1], [-1, 2]]}", "torque"), ("{torque: '1e999'}", "torque"),
     ("{torque: NaN}", "torque"), ("{torque: [[0, NaN]]}", "torque"),
+    # Never coerced: Number("") is 0, Number(true) 1, Number("0x10") 16 (simulate refuses 0x10).
+    ("{duration: ''}", "duration"), ("{duration: null}", "duration"), ("{duration: true}", "duration"),
+    ("{duration: [2]}", "duration"), ("{outputRate: null}", "outputRate"),
+    ("{torque: '0x10'}", "torque"), ("{torque: {sine: {a: 1}}}", "torque"), ("5", "kaneSim.run"),
+    ("'str'", "kaneSim.run"), ("{config: 5}", "config"),
+    ("{config: '['.repeat(1000) + ']'.repeat(1000)}", "nested too deeply"),
 ])
-def test_bad_run_arguments_are_refused_by_name(page, options, named):
+def test_bad_run_arguments_are_refused_by_name(shared_page, options, named):
+    page = shared_page
     out = page.call("return window.kaneSim.run(%s)" % options)
     assert "rejected" in out and named in out["rejected"], out
 
@@ -171,6 +182,23 @@ def test_a_bag_opens_with_every_joint_state(page, tmp_path, config):
     assert out["t0"] == pytest.approx(stamps[0]) and out["t1"] == pytest.approx(stamps[-1])
     shown = page.call("return window.kaneSim.shown()")
     assert shown["states"] == len(stamps)
+    # The plots' time is sim time, one t per row: the last row is the run's last (t = 2 s).
+    final = run_tool("simulate", "--config", tmp_path / "sensors.yaml" if config == "sensors.yaml"
+                     else config_path(), "--duration", "2", "--torque-sine", "1,0.5").stdout
+    last = [float(v) for v in final.splitlines()[-1].split(",")[:3]]
+    assert shown["last"] == last
+
+
+def test_a_bag_of_mechanism_states_only_replays(page, tmp_path):
+    path = make_bag(tmp_path)
+    only = str(tmp_path / "states.bag")
+    with rosbag.Bag(path) as bag, rosbag.Bag(only, "w") as out:
+        for topic, message, stamp in bag.read_messages(["/mechanism_state"]):
+            out.write(topic, message, stamp)
+    out = open_bag(page, open(only, "rb").read())
+    assert out["states"] == 0 and out["topics"]["state"] == "/mechanism_state", out
+    shown = page.call("return window.kaneSim.shown()")
+    assert shown["last"][0] == 2.0 and all(np.isfinite(shown["last"])), shown
 
 
 @pytest.mark.parametrize("label,cut,words", [
@@ -178,6 +206,7 @@ def test_a_bag_opens_with_every_joint_state(page, tmp_path, config):
     ("zeros", lambda b: bytes(1 << 20), "not a ROS 1 bag"),
     ("empty", lambda b: b"", "not a ROS 1 bag"),
     ("a CSV", lambda b: b"t,q1\n0,1\n", "not a ROS 1 bag"),
+    ("cut in its index", lambda b: b[:-2000], "cut short"),
 ])
 def test_a_bad_bag_gets_a_clear_message(page, tmp_path, label, cut, words):
     data = cut(open(make_bag(tmp_path), "rb").read())
@@ -282,3 +311,55 @@ def test_a_dropped_csv_and_bag_replay(page, tmp_path):
 def test_a_dropped_file_that_is_neither_is_named(page):
     out = drop_file(page, "notes.csv", b"time,angle\n0,1\n")
     assert out["shown"] is None and out["messages"].count("no 't' column") == 1, out
+
+
+@pytest.mark.parametrize("text,words", [
+    ("t,q1,q2\n0,nan,nan\n1,nan,nan\n", "not finite"),
+    ("t,q1,q2\n0,Infinity,1\n", "not a number"), ("t,q1,q2\n0,0x1,1\n", "not a number"),
+    ("t,q1,q2\n1,0,0\n0,0,0\n", "comes before"), ("t,q1,q2\n0,1\n", "has 2 values"),
+    ("t,q1,q2\n", "no rows"), ("", "no rows"),
+])
+def test_a_csv_that_cannot_be_replayed_is_named(page, text, words):
+    out = page.call("return window.kaneSim.openCsv(args[0])", text)
+    assert "rejected" in out and words in out["rejected"], out
+
+
+def share_url(page_url, state):
+    import base64
+    import json
+    import zlib
+    packer = zlib.compressobj(wbits=-15)
+    packed = packer.compress(json.dumps(state).encode()) + packer.flush()
+    return page_url + "#run=" + base64.urlsafe_b64encode(packed).decode().rstrip("=")
+
+
+@pytest.mark.parametrize("fragment,words", [
+    ("AAAAbbbbCCCC", "not a kane_sim share link"), ("@@@!!!", "characters a share link never"),
+    (None, "config is refused"), ({"config": 5}, "no config text"), (5, "no run"),
+])
+def test_a_bad_share_link_opens_the_defaults_and_says_why(browser, page_url, fragment, words):
+    if fragment is None:  # a config the loader refuses
+        cfg = yaml.safe_load(open(config_path()))
+        cfg["mechanism"]["rod_mass"] = -1
+        url = share_url(page_url, {"config": yaml.safe_dump(cfg), "duration": "1",
+                                   "outputRate": "100", "torqueKind": "none", "torqueText": ""})
+    elif isinstance(fragment, str):
+        url = page_url + "#run=" + fragment
+    else:
+        url = share_url(page_url, fragment)
+    browser.get_log("browser")
+    page = Page(browser, url)  # ready: the page runs on the defaults
+    messages = page.call("return document.getElementById('messages').textContent")
+    assert words in messages and "the default config is loaded" in messages, messages
+    assert page.call("return window.kaneSim.live()")["running"]
+    assert not page.console_errors()
+
+
+def test_switching_the_drive_goes_on_from_the_same_instant(page):
+    page.call("return new Promise((r) => setTimeout(r, 800))")
+    before = page.call("return window.kaneSim.live()")
+    page.driver.execute_script("const m = document.getElementById('mode'); m.value = 'position';"
+                               "m.dispatchEvent(new Event('change'))")
+    after = page.call("return new Promise((r) => setTimeout(() => r(window.kaneSim.live()), 500))")
+    assert after["time"] > before["time"] > 0.3, (before, after)
+    assert after["rows"] > before["rows"]  # the plots go on, not restarted
