@@ -1,10 +1,10 @@
 #include "kane_sim/sim/csv_format.h"
 
-#include "kane_sim/format_number.h"
-
 #include <charconv>
 #include <map>
 #include <sstream>
+
+#include "kane_sim/format_number.h"
 
 namespace kane_sim {
 
@@ -25,25 +25,20 @@ std::vector<CsvColumn> makeColumns() {
       column("q2", "state", "q", 1, [](const Snapshot& s) { return s.state.q2; }),
       column("u1", "state", "u", 0, [](const Snapshot& s) { return s.state.u1; }),
       column("u2", "state", "u", 1, [](const Snapshot& s) { return s.state.u2; }),
-      column(
-          "total_energy", "energy", "total_energy", -1,
-          [](const Snapshot& s) { return s.energy.total(); }, "energy"),
+      column("total_energy", "energy", "total_energy", -1,
+             [](const Snapshot& s) { return s.energy.total(); }, "energy"),
       column("u1dot", "equations", "u_dot", 0, [](const Snapshot& s) { return s.u_dot[0]; }),
       column("u2dot", "equations", "u_dot", 1, [](const Snapshot& s) { return s.u_dot[1]; }),
-      column(
-          "applied_torque", "command", "applied_torque", -1,
-          [](const Snapshot& s) { return s.torque; }, "torque"),
+      column("applied_torque", "command", "applied_torque", -1,
+             [](const Snapshot& s) { return s.torque; }, "torque"),
       column("motor_work", "ledger", "motor_work", -1,
              [](const Snapshot& s) { return s.motor_work; }),
-      column(
-          "kinetic_energy", "energy", "kinetic_energy", -1,
-          [](const Snapshot& s) { return s.energy.kinetic; }, "kinetic"),
-      column(
-          "gravitational_energy", "energy", "gravitational_energy", -1,
-          [](const Snapshot& s) { return s.energy.gravitational; }, "gravitational"),
-      column(
-          "spring_energy", "energy", "spring_energy", -1,
-          [](const Snapshot& s) { return s.energy.spring; }, "spring"),
+      column("kinetic_energy", "energy", "kinetic_energy", -1,
+             [](const Snapshot& s) { return s.energy.kinetic; }, "kinetic"),
+      column("gravitational_energy", "energy", "gravitational_energy", -1,
+             [](const Snapshot& s) { return s.energy.gravitational; }, "gravitational"),
+      column("spring_energy", "energy", "spring_energy", -1,
+             [](const Snapshot& s) { return s.energy.spring; }, "spring"),
       column("energy_minus_work", "derived", "", -1,
              [](const Snapshot& s) { return s.energy.total() - s.motor_work; }),
       column("F1", "equations", "active_forces", 0,
@@ -60,44 +55,45 @@ std::vector<CsvColumn> makeColumns() {
   };
   const auto loadPowerColumn = [&](int n, std::string formerly) {
     const std::string load = kLoadInfo[n].name;
-    return CsvColumn{"power_" + load,    "power", load, "load_powers", n, loadPower(n),
-                     std::move(formerly)};
+    return CsvColumn{"power_" + load, "power", load,       "load_powers",
+                     n,               loadPower(n), std::move(formerly)};
   };
   const int motor = static_cast<int>(LoadName::kMotor);
   c.push_back(loadPowerColumn(motor, "motor_power"));
-  c.insert(
-      c.end(),
-      {
-          column("dissipated_energy", "ledger", "dissipated_energy", -1,
-                 [](const Snapshot& s) { return s.dissipated_energy; }),
-          column("energy_balance", "ledger", "energy_balance", -1,
-                 [](const Snapshot& s) { return s.energyBalance(); }),
-          column("commanded_torque", "command", "commanded_torque", -1,
-                 [](const Snapshot& s) { return s.command.commanded; }),
-          column("contact_impacts", "contact", "contact_impacts", -1,
-                 [](const Snapshot& s) { return static_cast<double>(s.contact_impacts); }),
-          // Reaction forces (Kane's method with auxiliary speeds), frame (0) [N].
-          column("pin_o_x", "reaction", "pin_o_force", 0,
-                 [](const Snapshot& s) { return s.constraint_forces.pin_o.x(); }),
-          column("pin_o_y", "reaction", "pin_o_force", 1,
-                 [](const Snapshot& s) { return s.constraint_forces.pin_o.y(); }),
-          column("pin_a_x", "reaction", "pin_a_force", 0,
-                 [](const Snapshot& s) { return s.constraint_forces.pin_a.x(); }),
-          column("pin_a_y", "reaction", "pin_a_force", 1,
-                 [](const Snapshot& s) { return s.constraint_forces.pin_a.y(); }),
-          column("pin_b_x", "reaction", "pin_b_force", 0,
-                 [](const Snapshot& s) { return s.constraint_forces.pin_b.x(); }),
-          column("pin_b_y", "reaction", "pin_b_force", 1,
-                 [](const Snapshot& s) { return s.constraint_forces.pin_b.y(); }),
-          column(
-              "rail_force_slider3", "reaction", "rail_force_slider3", -1,
-              [](const Snapshot& s) { return s.constraint_forces.rail_slider3; }, "rail_slider3"),
-          column(
-              "rail_force_slider4", "reaction", "rail_force_slider4", -1,
-              [](const Snapshot& s) { return s.constraint_forces.rail_slider4; }, "rail_slider4"),
-          column("spring_force", "reaction", "spring_force", -1,
-                 [](const Snapshot& s) { return s.constraint_forces.spring; }),
-      });
+  c.insert(c.end(),
+           {
+               column("dissipated_energy", "ledger", "dissipated_energy", -1,
+                      [](const Snapshot& s) { return s.dissipated_energy; }),
+               column("energy_balance", "ledger", "energy_balance", -1,
+                      [](const Snapshot& s) { return s.energyBalance(); }),
+               column("commanded_torque", "command", "commanded_torque", -1,
+                      [](const Snapshot& s) { return s.command.commanded; }),
+               column("contact_impacts", "contact", "contact_impacts", -1,
+                      [](const Snapshot& s) { return static_cast<double>(s.contact_impacts); }),
+               // Reaction forces (Kane's method with auxiliary speeds), frame (0) [N].
+               column("pin_o_x", "reaction", "pin_o_force", 0,
+                      [](const Snapshot& s) { return s.constraint_forces.pin_o.x(); }),
+               column("pin_o_y", "reaction", "pin_o_force", 1,
+                      [](const Snapshot& s) { return s.constraint_forces.pin_o.y(); }),
+               column("pin_a_x", "reaction", "pin_a_force", 0,
+                      [](const Snapshot& s) { return s.constraint_forces.pin_a.x(); }),
+               column("pin_a_y", "reaction", "pin_a_force", 1,
+                      [](const Snapshot& s) { return s.constraint_forces.pin_a.y(); }),
+               column("pin_b_x", "reaction", "pin_b_force", 0,
+                      [](const Snapshot& s) { return s.constraint_forces.pin_b.x(); }),
+               column("pin_b_y", "reaction", "pin_b_force", 1,
+                      [](const Snapshot& s) { return s.constraint_forces.pin_b.y(); }),
+               column(
+                   "rail_force_slider3", "reaction", "rail_force_slider3", -1,
+                   [](const Snapshot& s) { return s.constraint_forces.rail_slider3; },
+                   "rail_slider3"),
+               column(
+                   "rail_force_slider4", "reaction", "rail_force_slider4", -1,
+                   [](const Snapshot& s) { return s.constraint_forces.rail_slider4; },
+                   "rail_slider4"),
+               column("spring_force", "reaction", "spring_force", -1,
+                      [](const Snapshot& s) { return s.constraint_forces.spring; }),
+           });
   for (int n = 0; n < kNumLoadNames; ++n)
     if (n != motor) c.push_back(loadPowerColumn(n, ""));
   // Each body's kinetic energy [J] (Σ = T): the message's body_kinetic_energy array.
@@ -111,28 +107,27 @@ std::vector<CsvColumn> makeColumns() {
   // real_time_factor (the node's pacing, not the mechanism's) and load_names (the powers' keys).
   // Counts and flags as numbers (a bool as 0 or 1).
   const auto count = [](std::uint64_t n) { return static_cast<double>(n); };
-  c.insert(
-      c.end(),
-      {
-          column("F1_star", "equations", "inertia_forces", 0,
-                 [](const Snapshot& s) { return s.inertia_forces[0]; }),
-          column("F2_star", "equations", "inertia_forces", 1,
-                 [](const Snapshot& s) { return s.inertia_forces[1]; }),
-          column("parameter_energy", "ledger", "parameter_energy", -1,
-                 [](const Snapshot& s) { return s.parameter_energy; }),
-          column("parameter_changes", "events", "parameter_changes", -1,
-                 [count](const Snapshot& s) { return count(s.parameter_changes); }),
-          column("slider_separation", "geometry", "slider_separation", -1,
-                 [](const Snapshot& s) { return s.slider_separation; }),
-          column("slider_crossings", "contact", "slider_crossings", -1,
-                 [count](const Snapshot& s) { return count(s.slider_crossings); }),
-          column("resting_contact", "flags", "resting_contact", -1,
-                 [](const Snapshot& s) { return s.resting_contact ? 1.0 : 0.0; }),
-          column("contact_force", "contact", "contact_force", -1,
-                 [](const Snapshot& s) { return s.contact_force; }),
-          column("reactions_determinate", "flags", "reactions_determinate", -1,
-                 [](const Snapshot& s) { return s.constraint_forces.determinate ? 1.0 : 0.0; }),
-      });
+  c.insert(c.end(),
+           {
+               column("F1_star", "equations", "inertia_forces", 0,
+                      [](const Snapshot& s) { return s.inertia_forces[0]; }),
+               column("F2_star", "equations", "inertia_forces", 1,
+                      [](const Snapshot& s) { return s.inertia_forces[1]; }),
+               column("parameter_energy", "ledger", "parameter_energy", -1,
+                      [](const Snapshot& s) { return s.parameter_energy; }),
+               column("parameter_changes", "events", "parameter_changes", -1,
+                      [count](const Snapshot& s) { return count(s.parameter_changes); }),
+               column("slider_separation", "geometry", "slider_separation", -1,
+                      [](const Snapshot& s) { return s.slider_separation; }),
+               column("slider_crossings", "contact", "slider_crossings", -1,
+                      [count](const Snapshot& s) { return count(s.slider_crossings); }),
+               column("resting_contact", "flags", "resting_contact", -1,
+                      [](const Snapshot& s) { return s.resting_contact ? 1.0 : 0.0; }),
+               column("contact_force", "contact", "contact_force", -1,
+                      [](const Snapshot& s) { return s.contact_force; }),
+               column("reactions_determinate", "flags", "reactions_determinate", -1,
+                      [](const Snapshot& s) { return s.constraint_forces.determinate ? 1.0 : 0.0; }),
+           });
   return c;
 }
 
