@@ -433,6 +433,7 @@ async function drawReplay(index) {
     drawing = (await page.live.call("drawingAtQ", { q1: rec.data.q1[index], q2: rec.data.q2[index] })).drawing;
   }
   if (page.replay !== r) return;
+  r.t = t;
   const torqueColumn = rec.data.applied_torque;
   const k = nearest(rec.data.t, t);
   page.view.draw(drawing, torqueColumn ? torqueColumn[k] : 0, page.torqueLimit, `${r.label}: t = ${t.toFixed(3)} s`);
@@ -605,12 +606,14 @@ window.kaneSim = {
   },
   shareLink: async () => { await ready; return shareLink(); },
   live: () => ({ running: page.running, rows: page.liveData.t.length, time: page.liveTime }),
-  // what the replay shows: {label, states, last: [t, q1, q2]}, or null when live
+  // what the replay shows: {label, states, last: [t, q1, q2], at: the slider's time on the
+  // plots' axis}, or null when live
   shown: () => {
     if (!page.replay) return null;
     const { data, states } = page.replay.recording;
     const n = data.t.length - 1;
-    return { label: page.replay.label, states, last: [data.t[n], data.q1[n], data.q2[n]] };
+    return { label: page.replay.label, states, last: [data.t[n], data.q1[n], data.q2[n]],
+             at: page.replay.t };
   },
 };
 ready.catch((e) => { status("failed"); message("error", e.message); });

@@ -80,7 +80,9 @@ export async function readBag(buffer, schema) {
   // Every column a /mechanism_state field carries (t is its sim_time), as plot_bag reads them.
   const fields = schema.columns.filter((c) => c.message_field && c.name !== "t");
   for (const c of fields) state[c.name] = [];
-  let stampMinusSimTime = null;  // the node's and simulate's stamps are sim time + an offset
+  // The node's and simulate's stamps are sim time plus an offset (wall time's start, or 1e9 s);
+  // a node started paused stamps its first states before the clock runs: the median holds.
+  const stampMinusSimTime = [];
   let skipped = 0, unstamped = 0;
   const topics = [jointTopic, stateTopic].filter(Boolean);
   try {
@@ -99,7 +101,7 @@ export async function readBag(buffer, schema) {
         joints.positions.push(positions);
       } else if (state.t.length < MAX_STATES) {
         const simTime = message.sim_time !== undefined ? message.sim_time : stamp;
-        if (stampMinusSimTime === null) stampMinusSimTime = stamp - simTime;
+        stampMinusSimTime.push(stamp - simTime);
         state.t.push(simTime);
         for (const c of fields) {
           const v = message[c.message_field.replace(/\[\d+\]$/, "")];
@@ -127,7 +129,7 @@ export async function readBag(buffer, schema) {
   let data, timeOffset;
   if (state.t.length) {
     data = state;
-    timeOffset = stampMinusSimTime;
+    timeOffset = stampMinusSimTime.sort((a, b) => a - b)[stampMinusSimTime.length >> 1];
     if (data.energy_balance) data.ledger_drift = data.energy_balance.map((v) => v - data.energy_balance[0]);
     if (joints.t.length) {
       data.sensor_t = joints.t.map((t) => t - timeOffset);

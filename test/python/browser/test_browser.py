@@ -363,3 +363,20 @@ def test_switching_the_drive_goes_on_from_the_same_instant(page):
     after = page.call("return new Promise((r) => setTimeout(() => r(window.kaneSim.live()), 500))")
     assert after["time"] > before["time"] > 0.3, (before, after)
     assert after["rows"] > before["rows"]  # the plots go on, not restarted
+
+
+def test_a_bag_of_a_node_started_paused_keeps_its_joint_states_on_sim_time(page, tmp_path):
+    """A node started paused stamps its first state before its clock runs (the demo's bags): the
+    joint_states stay on the states' sim time, not shifted by that first stamp."""
+    import rospy
+    path, shifted = make_bag(tmp_path), str(tmp_path / "paused.bag")
+    with rosbag.Bag(path) as bag, rosbag.Bag(shifted, "w") as out:
+        first = True
+        for topic, message, stamp in bag.read_messages():
+            if topic == "/mechanism_state" and first:
+                message.header.stamp -= rospy.Duration(0.3)
+                first = False
+            out.write(topic, message, stamp)
+    open_bag(page, open(shifted, "rb").read())
+    shown = page.call("return window.kaneSim.shown()")
+    assert shown["at"] == pytest.approx(0.0, abs=1e-9), shown
