@@ -7,7 +7,8 @@ command mode (effort, velocity, position), with and without a profile, sensors o
 the physics options off and on (contact, the five dampers: the joints' and the spring's, and
 the four joints' Coulomb friction). All run the one driver, so they agree bit for bit; a door that
 applies a different command stream (a servo driven to setpoint 0 because no profile was given,
-say) shows up as a different final state. A new option or door joins this matrix."""
+say) shows up as a different final state. A new option or door joins this matrix: the browser's
+kaneSim.run runs it in test/python/browser (every row, against simulate with the browser's libm)."""
 import itertools
 
 import numpy as np
