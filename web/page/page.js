@@ -4,46 +4,14 @@
 import { MechanismView } from "./drawing.js";
 import { Plots } from "./plots.js";
 import { readBag, readCsv, RecordingError } from "./recordings.js";
+import { numberArgument, torqueSpec } from "./run_arguments.js";
+import { checkShare, decodeShare, encodeShare } from "./share_link.js";
+import { sliderScale } from "./slider_scale.js";
+import { WorkerClient } from "./worker_client.js";
 
 const $ = (id) => document.getElementById(id);
 const LIVE_WINDOW = 20;  // [s] of sim time the live plots keep
 const DEFAULT_NAME = "mechanism.yaml";
-
-// A worker answering {id, method, args} with {type: "reply", id, result}; other messages (the
-// live session's frames) go to onState.
-class WorkerClient {
-  constructor(onState) {
-    this.worker = new Worker(new URL("./sim_worker.js", import.meta.url), { type: "module" });
-    this.pending = new Map();
-    this.next = 1;
-    this.worker.onmessage = (e) => {
-      if (e.data.type === "reply") {
-        const { resolve } = this.pending.get(e.data.id);
-        this.pending.delete(e.data.id);
-        resolve(e.data.result);
-      } else if (onState) {
-        onState(e.data);
-      }
-    };
-    this.worker.onerror = (e) => {
-      e.preventDefault();
-      for (const { reject } of this.pending.values()) reject(new Error(`the physics worker failed: ${e.message}`));
-      this.pending.clear();
-    };
-  }
-  call(method, args) {
-    return new Promise((resolve, reject) => {
-      const id = this.next++;
-      this.pending.set(id, { resolve, reject });
-      this.worker.postMessage({ id, method, args });
-    });
-  }
-  terminate(reason) {
-    this.worker.terminate();
-    for (const { reject } of this.pending.values()) reject(new Error(reason));
-    this.pending.clear();
-  }
-}
 
 const page = {
   yaml: "",
@@ -161,23 +129,6 @@ function setCommand(value) {
   control({ command: value });
 }
 
-function sliderScale(p) {
-  const lo = Math.max(p.min, 0), hi = p.max;
-  if (p.value > 0) {
-    const a = Math.log10(Math.max(p.value / 100, lo > 0 ? lo : p.value / 100));
-    const b = Math.log10(Math.min(p.value * 100, hi));
-    return {
-      toSlider: (v) => (v > 0 ? Math.round(1000 * (Math.log10(v) - a) / (b - a)) : 0),
-      fromSlider: (x) => Number((10 ** (a + (x / 1000) * (b - a))).toPrecision(3)),
-    };
-  }
-  const top = Math.min(hi, 10);
-  return {
-    toSlider: (v) => Math.round(1000 * v / top),
-    fromSlider: (x) => Number(((x / 1000) * top).toPrecision(3)),
-  };
-}
-
 function buildParameters(schema) {
   const box = $("parameters");
   box.textContent = "";
@@ -236,40 +187,6 @@ function buildParameters(schema) {
 }
 
 // ---- offline runs (kaneSim.run) ---------------------------------------------------------------
-
-// torque: undefined | number | {constant|step|sine: text} | [[t, torque], ...]
-function torqueSpec(torque) {
-  const shapes = `one of a number, {constant: NM}, {step: "T,BEFORE,AFTER"}, {sine: "AMP,FREQ[,OFFSET]"} or [[t, torque], ...]`;
-  if (torque === undefined || torque === null) return { kind: "none", text: "", table: [] };
-  if (typeof torque === "number" || typeof torque === "string")
-    return { kind: "constant", text: String(numberArgument("torque", torque)).trim(), table: [] };
-  if (Array.isArray(torque)) {
-    const flat = [];
-    for (const pair of torque) {
-      if (!Array.isArray(pair) || pair.length !== 2)
-        throw new Error(`torque: a table is a list of [t, torque] pairs, got ${JSON.stringify(pair)}`);
-      flat.push(numberArgument("torque table's t", pair[0]), numberArgument("torque table's torque", pair[1]));
-    }
-    return { kind: "table", text: "", table: flat };
-  }
-  const kinds = typeof torque === "object" ? Object.keys(torque) : [];
-  if (kinds.length !== 1 || !["constant", "step", "sine"].includes(kinds[0]))
-    throw new Error(`torque must be ${shapes}; got ${JSON.stringify(torque)}`);
-  const text = torque[kinds[0]];
-  if (typeof text !== "string" && typeof text !== "number")
-    throw new Error(`torque: {${kinds[0]}: ...} takes simulate's text, got ${JSON.stringify(text)}`);
-  if (kinds[0] === "constant") return { kind: "constant", text: String(numberArgument("torque", text)), table: [] };
-  return { kind: kinds[0], text: String(text), table: [] };
-}
-
-// A number given as a number or as its text (the panel's fields): anything else is refused by
-// name, never coerced (Number("") is 0, Number(true) is 1, Number("0x10") is 16).
-const NUMBER_TEXT = /^\s*[-+]?((\d+\.?\d*|\.\d+)([eE][-+]?\d+)?|Infinity|NaN)\s*$/;
-function numberArgument(name, value) {
-  if (typeof value === "number") return value;
-  if (typeof value === "string" && NUMBER_TEXT.test(value)) return Number(value);
-  throw new Error(`${name} must be a number, got ${JSON.stringify(value) ?? String(value)}`);
-}
 
 async function run(options) {
   if (options === undefined || options === null) options = {};
@@ -348,45 +265,6 @@ async function downloadCsv() {
 }
 
 // ---- share links ------------------------------------------------------------------------------
-
-async function encodeShare(state) {
-  const bytes = new TextEncoder().encode(JSON.stringify(state));
-  const stream = new Blob([bytes]).stream().pipeThrough(new CompressionStream("deflate-raw"));
-  const packed = new Uint8Array(await new Response(stream).arrayBuffer());
-  let binary = "";
-  for (const b of packed) binary += String.fromCharCode(b);
-  return btoa(binary).replace(/\+/g, "-").replace(/\//g, "_").replace(/=+$/, "");
-}
-
-async function decodeShare(text) {
-  if (!/^[A-Za-z0-9_-]+$/.test(text)) throw new Error("it holds characters a share link never has");
-  let bytes;
-  try {
-    const binary = atob(text.replace(/-/g, "+").replace(/_/g, "/"));
-    bytes = Uint8Array.from(binary, (c) => c.charCodeAt(0));
-  } catch (e) {
-    throw new Error("it is not a kane_sim share link (not base64url)");
-  }
-  try {
-    const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate-raw"));
-    return JSON.parse(await new Response(stream).text());
-  } catch (e) {
-    throw new Error("it is not a kane_sim share link, or was cut short (its data do not unpack)");
-  }
-}
-
-// What a share link must hold; anything else is named, and the page opens with its defaults.
-function checkShare(state) {
-  const fail = (what) => { throw new Error(`it holds ${what}`); };
-  if (typeof state !== "object" || state === null || Array.isArray(state)) fail("no run");
-  if (typeof state.config !== "string") fail("no config text");
-  for (const key of ["duration", "outputRate", "torqueText"])
-    if (typeof state[key] !== "string" && typeof state[key] !== "number") fail(`no ${key}`);
-  if (!["none", "constant", "step", "sine"].includes(state.torqueKind))
-    fail(`an unknown torque kind ${JSON.stringify(state.torqueKind)}`);
-  if (typeof state.command !== "number" || !isFinite(state.command)) state.command = 0;
-  return state;
-}
 
 async function shareLink() {
   const state = { config: page.yaml, duration: $("run-duration").value, outputRate: $("run-rate").value,
