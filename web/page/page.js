@@ -249,18 +249,26 @@ async function runFromPanel() {
   }
 }
 
-async function downloadCsv() {
-  if (!page.lastRun) return;
+// The last run as simulate's CSV (every number as simulate writes it, by the module's writer).
+async function lastRunCsv() {
+  if (!page.lastRun) throw new Error("no run yet: kaneSim.run or the Run button makes one");
   const worker = new WorkerClient(null);
   try {
-    const { text } = await worker.call("csvText", { values: page.lastRun.values });
+    return (await worker.call("csvText", { values: page.lastRun.values })).text;
+  } finally {
+    worker.terminate("done");
+  }
+}
+
+async function downloadCsv() {
+  if (!page.lastRun) return;
+  const text = await lastRunCsv();
+  {
     const a = document.createElement("a");
     a.href = URL.createObjectURL(new Blob([text], { type: "text/csv" }));
     a.download = "kane_sim_run.csv";
     a.click();
     setTimeout(() => URL.revokeObjectURL(a.href), 10000);
-  } finally {
-    worker.terminate("done");
   }
 }
 
@@ -483,6 +491,8 @@ window.kaneSim = {
     return { states: r.states, t0: r.t0, t1: r.t1 };
   },
   shareLink: async () => { await ready; return shareLink(); },
+  // the last run as simulate's CSV text (what Download CSV saves)
+  csv: async () => { await ready; return lastRunCsv(); },
   live: () => ({ running: page.running, rows: page.liveData.t.length, time: page.liveTime }),
   // what the replay shows: {label, states, last: [t, q1, q2], at: the slider's time on the
   // plots' axis}, or null when live

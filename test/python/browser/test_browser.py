@@ -380,3 +380,13 @@ def test_a_bag_of_a_node_started_paused_keeps_its_joint_states_on_sim_time(page,
     open_bag(page, open(shifted, "rb").read())
     shown = page.call("return window.kaneSim.shown()")
     assert shown["at"] == pytest.approx(0.0, abs=1e-9), shown
+
+
+def test_the_downloaded_csv_is_simulates_csv(page, musl_math):
+    """Download CSV's text, byte for byte simulate's (with the browser's libm)."""
+    page.call("return window.kaneSim.run({duration: 2, torque: {sine: '1,0.5'}, outputRate: 50})")
+    text = page.call("return window.kaneSim.csv()")
+    r = subprocess.run([tool("simulate"), "--config", config_path(), "--duration", "2",
+                        "--output-rate", "50", "--torque-sine", "1,0.5"], capture_output=True,
+                       text=True, env=dict(os.environ, LD_PRELOAD=musl_math), timeout=60)
+    assert r.returncode == 0 and text == r.stdout
