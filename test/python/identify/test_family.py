@@ -19,12 +19,13 @@ import rigs  # noqa: E402
 from conftest import tool  # noqa: E402
 
 
-# Five regimes of the family, each a different rig (masses and k x[0.5, 2], dampers, friction
-# and the rod's inertia drawn), sensors and rate, seeds 100 to 104 in turn: measured errors of
-# the masses and k 1.7 %, 0.11 %, 0.23 %, 0.005 % and 0.54 % at the worst (bench/
-# identify_family.py). The sixth, a multisine with a bias, is the long recording's below.
+# Four regimes of the family, each a different rig (masses and k x[0.5, 2], dampers, friction
+# and the rod's inertia drawn), sensors and rate, seeds 100 to 104: measured errors of the
+# masses and k 1.7 %, 0.11 %, 0.23 % and 0.54 % at the worst (bench/identify_family.py). The
+# biased multisine is the long recording's below; the --excite profile is test_identify.py's
+# (its rig at seed 103: 0.005 %, 12 s of fitting this suite leaves to the bench).
 @pytest.mark.parametrize("seed, regime", [(100, "oscillation"), (101, "full_turns"),
-                                          (102, "prbs"), (103, "excite"), (104, "servo")])
+                                          (102, "prbs"), (104, "servo")])
 def test_rigs_of_the_family_are_fitted(seed, regime):
     rig = rigs.draw(seed, regime=regime, duration=30)
     fit = ki.identify(rigs.record(rig), None, holdout=0)
