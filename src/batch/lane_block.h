@@ -10,9 +10,8 @@
 #include <cmath>
 #include <cstring>
 
-#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
-
 #include "kane_sim/batch/lanes.h"
+#include "kane_sim/model/rk4_step.h"
 #include "kane_sim/model/slider_geometry.h"
 
 namespace kane_sim {
@@ -32,7 +31,7 @@ struct LaneBlock {
   const std::atomic<bool>* stop;
   void (*on_sample)(void*, std::size_t, const LaneState&);
   void* sample_context;
-  bool vector_trig;          // SIMD lanes: the vector sincos instead of libm's per lane
+  bool vector_trig;          // SIMD lanes: xsimd's sincos instead of the equations' own
   std::size_t first, count;  // lanes first .. first + count - 1, count <= the width
   LaneOutcome* out;          // count of them
 };
@@ -42,6 +41,13 @@ void runLaneBlockScalar(const LaneBlock& block);
 void runLaneBlockSse2(const LaneBlock& block);
 void runLaneBlockAvx2(const LaneBlock& block);
 void runLaneBlockAvx512(const LaneBlock& block);
+// And the equations' functions on `count` values, that set's width at a time (padded with 0).
+using LaneMathRun = void (*)(const double* x, std::size_t count, double* sines, double* cosines,
+                             double* tanhs);
+void laneMathScalar(const double* x, std::size_t count, double* s, double* c, double* t);
+void laneMathSse2(const double* x, std::size_t count, double* s, double* c, double* t);
+void laneMathAvx2(const double* x, std::size_t count, double* s, double* c, double* t);
+void laneMathAvx512(const double* x, std::size_t count, double* s, double* c, double* t);
 
 // What the loop needs of its number type, for double (bool masks) and batches (batch_bool).
 template <class B>
@@ -64,6 +70,27 @@ struct Lanes<double> {
   static bool fromBools(const bool* in) { return in[0]; }
 };
 
+// The equations' functions through MathOf (generated::Math's shape) on number type B.
+template <class B, class MathOf>
+void runLaneMathOf(const double* x, std::size_t count, double* sines, double* cosines,
+                   double* tanhs) {
+  constexpr std::size_t W = Lanes<B>::width;
+  alignas(64) double in[W], s[W], c[W], t[W];
+  for (std::size_t first = 0; first < count; first += W) {
+    for (std::size_t j = 0; j < W; ++j) in[j] = first + j < count ? x[first + j] : 0.0;
+    B sine, cosine;
+    MathOf::sinCos(Lanes<B>::load(in), &sine, &cosine);
+    Lanes<B>::store(sine, s);
+    Lanes<B>::store(cosine, c);
+    Lanes<B>::store(MathOf::tanh(Lanes<B>::load(in)), t);
+    for (std::size_t j = 0; j < W && first + j < count; ++j) {
+      sines[first + j] = s[j];
+      cosines[first + j] = c[j];
+      tanhs[first + j] = t[j];
+    }
+  }
+}
+
 namespace {
 
 // x' = f(x) at the held torque: q' = u, u' (generated), W' = M_m u1, D' (the resistances'
@@ -73,7 +100,7 @@ struct LaneEquations {
   const generated::ConstantsOf<B>* constants;
   B torque;
   generated::RatesVariant variant;
-  void operator()(const std::array<B, 6>& x, std::array<B, 6>& dxdt, double /*t*/) const {
+  void operator()(const std::array<B, 6>& x, std::array<B, 6>& dxdt) const {
     const generated::RatesOf<B> r =
         generated::ratesFor<B, MathOf>(variant, *constants, x[0], x[1], x[2], x[3], torque);
     dxdt = {x[2], x[3], r.u1_dot, r.u2_dot, torque * x[2], r.dissipated_power};
@@ -121,7 +148,6 @@ void runLaneBlockOf(const LaneBlock& block) {
   Mask running = L::fromBools(flags);
   B crossings(0.0), max_q1(0.0), max_q2(0.0), ran(0.0);  // ran: each lane's steps taken
   const B h(block.step);
-  boost::numeric::odeint::runge_kutta4<std::array<B, 6>> rk4;
   long until_sample = block.steps_per_sample;
   bool stopped = false;
   for (long i = 0; i < block.steps; ++i) {
@@ -134,7 +160,7 @@ void runLaneBlockOf(const LaneBlock& block) {
     const B torque = L::select(command < lower, lower, L::select(limit < command, limit, command));
     const LaneEquations<B, MathOf> equations{&constants, torque, block.variant};
     std::array<B, 6> trial = x;
-    rk4.do_step(equations, trial, 0.0, block.step);
+    rk4Step(equations, trial, block.step);
     // The Simulator's checks: finite and within 1e100, the crank under 1 rad in the step.
     Mask ok = L::abs(trial[2]) * h <= B(1.0);
     for (int k = 0; k < 6; ++k) ok = L::both(ok, L::abs(trial[k]) <= B(1e100));

@@ -14,13 +14,14 @@ struct ArchEntry {
   const char* name;
   unsigned width;
   void (*run)(const LaneBlock&);
+  LaneMathRun math;
 };
 
 constexpr ArchEntry kArchs[] = {
-    {LaneArch::kScalar, "scalar", 1, runLaneBlockScalar},
-    {LaneArch::kSse2, "sse2", 2, runLaneBlockSse2},
-    {LaneArch::kAvx2, "avx2", 4, runLaneBlockAvx2},
-    {LaneArch::kAvx512, "avx512", 8, runLaneBlockAvx512},
+    {LaneArch::kScalar, "scalar", 1, runLaneBlockScalar, laneMathScalar},
+    {LaneArch::kSse2, "sse2", 2, runLaneBlockSse2, laneMathSse2},
+    {LaneArch::kAvx2, "avx2", 4, runLaneBlockAvx2, laneMathAvx2},
+    {LaneArch::kAvx512, "avx512", 8, runLaneBlockAvx512, laneMathAvx512},
 };
 
 const ArchEntry& entry(LaneArch arch) { return kArchs[static_cast<int>(arch)]; }
@@ -43,6 +44,18 @@ bool laneArchAvailable(LaneArch arch) {
       return cpu.avx512f;
   }
   return false;
+}
+
+LaneMathValues laneMathFunctions(LaneArch arch, const std::vector<double>& values) {
+  if (!laneArchAvailable(arch))
+    throw std::invalid_argument(std::string("this CPU has no ") + laneArchName(arch));
+  LaneMathValues out;
+  out.sines.resize(values.size());
+  out.cosines.resize(values.size());
+  out.tanhs.resize(values.size());
+  entry(arch).math(values.data(), values.size(), out.sines.data(), out.cosines.data(),
+                   out.tanhs.data());
+  return out;
 }
 
 LaneArch bestLaneArch() {

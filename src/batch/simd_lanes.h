@@ -3,6 +3,7 @@
 #ifndef KANE_SIM_SRC_BATCH_SIMD_LANES_H
 #define KANE_SIM_SRC_BATCH_SIMD_LANES_H
 
+#include <sleef.h>
 #include <xsimd/xsimd.hpp>
 
 #include "lane_block.h"
@@ -28,35 +29,25 @@ struct Lanes<xsimd::batch<double, A>> {
   static Mask fromBools(const bool* in) { return Mask::load_unaligned(in); }
 };
 
-// tanh of W lanes, bit for bit libm's, one call per lane: friction's law (LoadLaw::kCoulomb) on
-// every path, so that lanes with friction keep the single run's bits (vector sin/cos or not).
-template <class B>
-B libmTanh(const B& x) {
-  alignas(64) double values[B::size];
-  x.store_aligned(values);
-  for (std::size_t j = 0; j < B::size; ++j) values[j] = std::tanh(values[j]);
-  return B::load_aligned(values);
-}
-
-// sin and cos of W lanes, bit for bit libm's: one call per lane (what makes SIMD lanes equal the
-// single run's bits; about half of a lane's time, doc/guide/batches.md).
-template <class B>
-struct LibmMath {
-  static B tanh(const B& x) { return libmTanh(x); }
+// The equations' functions (model/math_functions.h) on W lanes: the vector forms of the same
+// SLEEF functions, which return the scalar form's bits in every lane. `Vector` names them for
+// one instruction set (lanes_<arch>.cpp): sincos(register) -> {sines, cosines}, tanh(register).
+template <class B, class Vector>
+struct DeterministicMath {
+  static B tanh(const B& x) { return B(Vector::tanh(x)); }
   static void sinCos(const B& x, B* s, B* c) {
-    alignas(64) double in[B::size], sines[B::size], cosines[B::size];
-    x.store_aligned(in);
-    for (std::size_t j = 0; j < B::size; ++j) __builtin_sincos(in[j], &sines[j], &cosines[j]);
-    *s = B::load_aligned(sines);
-    *c = B::load_aligned(cosines);
+    const auto both = Vector::sincos(x);
+    *s = B(both.x);
+    *c = B(both.y);
   }
 };
 
-// xsimd's vector sincos (Cody-Waite reduction, polynomials): faster, within an ulp or two of
-// libm's but not its bits; sensitive motion grows the difference (measured: batches.md).
-template <class B>
+// xsimd's vector sincos (Cody-Waite reduction, polynomials, with FMA where the CPU has it):
+// within an ulp or two of the deterministic functions but not their bits; sensitive motion grows
+// the difference (measured: batches.md). tanh stays the deterministic one.
+template <class B, class Vector>
 struct VectorMath {
-  static B tanh(const B& x) { return libmTanh(x); }
+  static B tanh(const B& x) { return B(Vector::tanh(x)); }
   static void sinCos(const B& x, B* s, B* c) {
     const auto both = xsimd::sincos(x);
     *s = both.first;
@@ -64,14 +55,14 @@ struct VectorMath {
   }
 };
 
-// One instruction set's block: libm's sin and cos per lane unless asked for the vector ones.
-template <class A>
+// One instruction set's block: the deterministic functions unless asked for xsimd's sincos.
+template <class A, class Vector>
 void runSimdLaneBlock(const LaneBlock& block) {
   using B = xsimd::batch<double, A>;
   if (block.vector_trig)
-    runLaneBlockOf<B, VectorMath<B>>(block);
+    runLaneBlockOf<B, VectorMath<B, Vector>>(block);
   else
-    runLaneBlockOf<B, LibmMath<B>>(block);
+    runLaneBlockOf<B, DeterministicMath<B, Vector>>(block);
 }
 
 }  // namespace kane_sim

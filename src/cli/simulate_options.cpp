@@ -46,8 +46,9 @@ po::options_description describeOptions() {
       "                              (every case alone); rk4 effort-mode cases without contact\n"
       "                              or motor line step W per instruction, the rest alone;\n"
       "                              every lane equals its single run bit for bit\n"
-      "  --vector-trig               lanes on a vector sin/cos: ~1.8x faster, equal to the\n"
-      "                              single runs only to rounding grown by the motion\n\n"
+      "  --vector-trig               lanes on xsimd's vector sin/cos (no faster than the default\n"
+      "                              since it is vector-wide too), equal to the single runs\n"
+      "                              only to rounding grown by the motion\n\n"
       "Replay (a bag recorded from kane_sim_node with its ~input_log and mechanism_state):\n"
       "  --replay BAG [--tolerance X]  feed the bag's inputs to the driver at their physics\n"
       "                              ticks; print the largest difference from the bag's states;\n"
@@ -81,7 +82,7 @@ po::options_description describeOptions() {
       "sweep-file", po::value<std::string>(), "CSV of parameter sets")(
       "jobs", po::value<long long>(), "sweep threads, 1 to 4 per core (default: one per core)")(
       "simd", po::value<std::string>(), "sweep lanes: auto | avx512 | avx2 | sse2 | scalar | off")(
-      "vector-trig", "sweep lanes on a vector sin/cos (faster, not the single runs' bits)");
+      "vector-trig", "sweep lanes on xsimd's vector sin/cos (not the single runs' bits)");
   return desc;
 }
 

@@ -385,7 +385,7 @@ def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0
     single run does. duration: [0, 1e7] s. jobs: threads, 0 = one per core, at most 4 per core.
     simd: "auto" (the CPU's widest SIMD lanes), "avx512", "avx2", "sse2", "scalar" or "off"
     (every case alone), as simulate's --simd: the same rows either way; vector_trig: lanes with
-    a vector sin/cos, as --vector-trig (faster, not the single runs' bits).
+    xsimd's vector sin/cos, as --vector-trig (not the single runs' bits).
 
     client: a Dask distributed Client, or a scheduler's address ("tcp://HOST:PORT"): the cases
     run there in chunks of `chunk` per task (kane_sim.cluster), the same rows in case order; a

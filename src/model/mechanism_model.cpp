@@ -1,5 +1,6 @@
 #include "kane_sim/model/mechanism_model.h"
 
+#include "kane_sim/model/math_functions.h"
 #include "kane_sim/model/power_flow.h"
 
 #include <algorithm>
@@ -31,7 +32,9 @@ MechanismGeometry geometryFromTrig(double L, double q1, double c, double s, doub
 }  // namespace
 
 MechanismGeometry mechanismGeometry(double rod_half_length, double q1, double q2) {
-  return geometryFromTrig(rod_half_length, q1, std::cos(q1), std::sin(q1), q2);
+  double s, c;
+  math::sinCos(q1, &s, &c);  // the equations' own sin and cos (model/math_functions.h)
+  return geometryFromTrig(rod_half_length, q1, c, s, q2);
 }
 
 MechanismModel::MechanismModel(const MechanismParameters& parameters, double spring_rest_length)
@@ -49,7 +52,7 @@ double MechanismModel::resistance(const LoadInfo& load, double rate) const {
     case LoadLaw::kViscous:  // c v
       return c * rate;
     case LoadLaw::kCoulomb:  // F_c tanh(v / v_s); none at all when off, whatever v_s
-      return c == 0.0 ? 0.0 : c * std::tanh(rate / constants_.friction_velocity_scale);
+      return c == 0.0 ? 0.0 : c * math::tanh(rate / constants_.friction_velocity_scale);
     case LoadLaw::kNone:
       break;
   }
@@ -59,8 +62,8 @@ double MechanismModel::resistance(const LoadInfo& load, double rate) const {
 MechanismKinematics MechanismModel::kinematics(const State& x) const {
   const MechanismParameters& p = parameters_;
   const double L = p.rod_half_length;  // L
-  const double c = std::cos(x.q1);
-  const double s = std::sin(x.q1);
+  double s, c;
+  math::sinCos(x.q1, &s, &c);
   const double u1_sq = x.u1 * x.u1;
 
   MechanismKinematics k;

@@ -10,6 +10,7 @@
 
 #include <boost/numeric/odeint.hpp>
 
+#include "kane_sim/model/rk4_step.h"
 #include "kane_sim/sim/simulator.h"
 
 namespace kane_sim {
@@ -57,8 +58,11 @@ bool isFinite(const OdeState& x) {
 // finite for any accepted parameters; beyond them a state is a runaway, not a mechanism.
 constexpr double kMaxMagnitude = 1e100;
 
-bool withinScale(const OdeState& x) {
-  return std::all_of(x.begin(), x.end(), [](double v) { return std::abs(v) <= kMaxMagnitude; });
+inline bool withinScale(const OdeState& x) {
+  // Every component at once (no early exit: a plain loop GCC unrolls, std::all_of it called).
+  bool within = true;
+  for (double v : x) within &= std::abs(v) <= kMaxMagnitude;
+  return within;
 }
 
 constexpr int kMaxSubstepsPerTick = Simulator::kMaxSubstepsPerTick;
@@ -111,19 +115,17 @@ class Simulator::Integrator {
   }
 
  private:
-  // odeint's four stages with the equations flattened into one body, on a local copy of the
-  // state: the caller's state is then read once and written once instead of at every stage
-  // (GCC keeps the stepper out of the large stepWith; this way the whole simulate process is
-  // ~4 % faster, bench/simulate_perf.sh).
+  // The four stages (model/rk4_step.h) with the equations flattened into one body, on a local
+  // copy of the state: the caller's state is then read once and written once instead of at
+  // every stage (GCC keeps the stepper out of the large stepWith).
   template <class System>
   __attribute__((flatten)) void rk4Step(const System& system, OdeState& x, double t, double dt) {
     OdeState local = x;
-    rk4_.do_step(system, local, t, dt);
+    kane_sim::rk4Step([&](const OdeState& at, OdeState& dxdt) { system(at, dxdt, t); }, local, dt);
     x = local;
   }
 
   IntegratorType type_;
-  odeint::runge_kutta4<OdeState> rk4_;
   Dopri5 dopri5_;
   double dopri5_substep_ = 1e-3;
 };

@@ -232,9 +232,8 @@ Status Simulator::checkState(const State& x) const {
   // next step refused).
   OdeState trial = toOdeState(x);
   withEquations([&](const auto& equations) {
-    odeint::runge_kutta4<OdeState>().do_step(
-        EquationsOfMotion<std::decay_t<decltype(equations)>>{&equations, torque_}, trial, 0.0,
-        step_size_);
+    const EquationsOfMotion<std::decay_t<decltype(equations)>> motion{&equations, torque_};
+    rk4Step([&](const OdeState& at, OdeState& dxdt) { motion(at, dxdt, 0.0); }, trial, step_size_);
     return 0;
   });
   if (!withinScale(trial) || !(std::abs(trial[2]) * step_size_ <= kMaxCrankTurnPerStep))

@@ -3,8 +3,9 @@
 // W mechanisms per instruction, the widest this CPU runs chosen at run time. Each lane does
 // what a single Simulator does with rk4, free motion (no contact), no motor line, and a held
 // torque each step: the same stages in the same order, the same step checks, the same slider
-// crossing test, and libm's sin and cos per lane: every lane is that Simulator's arithmetic bit
-// for bit (LaneRun::vector_trig trades that for speed: doc/guide/batches.md measures both).
+// crossing test, and the same sin, cos and tanh (model/math_functions.h, whose vector forms
+// return the scalar form's bits): every lane is that Simulator's arithmetic bit for bit
+// (LaneRun::vector_trig takes xsimd's sin/cos instead: doc/guide/batches.md measures both).
 // A lane whose step the Simulator would refuse is flagged, not explained: rerun that case there.
 #ifndef KANE_SIM_BATCH_LANES_H
 #define KANE_SIM_BATCH_LANES_H
@@ -55,8 +56,8 @@ struct LaneRun {
   // A lane stops after the step in which its sliders cross (the crossing counted, that state
   // kept), as a refused step stops it: a batched simulator's termination.
   bool stop_at_crossing = false;
-  // SIMD lanes: xsimd's vector sin and cos instead of libm's per lane. Faster; no longer the
-  // single run's bits (rounding differences, grown by sensitive motion: doc/guide/batches.md).
+  // SIMD lanes: xsimd's vector sin and cos instead of the equations' own. No longer the single
+  // run's bits (rounding differences, grown by sensitive motion: doc/guide/batches.md).
   bool vector_trig = false;
   long steps_per_sample = 100;
   const std::atomic<bool>* stop = nullptr;  // checked every 256 steps
@@ -79,6 +80,14 @@ struct LaneOutcome {
 // Runs every lane of `run` for run.command.size() steps (run.held_steps with lane_command) on
 // `arch` (laneArchAvailable).
 std::vector<LaneOutcome> runLanes(const LaneRun& run, LaneArch arch);
+
+// The equations' functions (model/math_functions.h) as the lanes of `arch` compute them: sin,
+// cos and tanh of values[0 .. count-1], `arch`'s width at a time (test_sweep holds every width
+// to the scalar form, bit for bit).
+struct LaneMathValues {
+  std::vector<double> sines, cosines, tanhs;
+};
+LaneMathValues laneMathFunctions(LaneArch arch, const std::vector<double>& values);
 
 }  // namespace kane_sim
 

@@ -5,7 +5,7 @@
 #ifndef KANE_SIM_MODEL_GENERATED_EQUATIONS_H
 #define KANE_SIM_MODEL_GENERATED_EQUATIONS_H
 
-#include <cmath>
+#include "kane_sim/model/math_functions.h"
 
 namespace kane_sim {
 namespace generated {
@@ -129,24 +129,16 @@ struct RatesOf {
 };
 using Rates = RatesOf<double>;
 
-// The math the equations call, one policy (every path uses the same functions): sin q1 and
-// cos q1 in one call (libm's sincos for double: GCC and Clang fuse std::sin and std::cos of
-// one argument only sometimes once inlined into an integrator's stages) and tanh (libm's),
-// for the laws that call it. A SIMD batch type passes its own as the functions' MathOf
-// (libm's per lane, the single run's bits, or a vector sincos).
+// The math the equations call: sin q1 and cos q1 in one call, and tanh for the laws that
+// call it; for double the one implementation every path uses (model/math_functions.h).
+// A SIMD batch type passes its own as the functions' MathOf (the same functions' vector
+// forms, src/batch/simd_lanes.h).
 template <class Real>
 struct Math;
 template <>
 struct Math<double> {
-  static void sinCos(double x, double* s, double* c) {
-#if defined(__GNUC__) && !defined(__clang__)
-    __builtin_sincos(x, s, c);
-#else  // Clang (emscripten's WebAssembly build): musl's sin and cos share sincos's kernels
-    *s = std::sin(x);
-    *c = std::cos(x);
-#endif
-  }
-  static double tanh(double x) { return std::tanh(x); }
+  static void sinCos(double x, double* s, double* c) { math::sinCos(x, s, c); }
+  static double tanh(double x) { return math::tanh(x); }
 };
 
 // Which variant a set of constants needs: each leaves out the terms of the laws after it in

@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "kane_sim/model/math_functions.h"
+
 namespace kane_sim {
 
 // x_B = 4 L cos q1 [m]: slider 3 on the rail, where rod 2's end B is (the loop's closure).
@@ -13,7 +15,7 @@ inline double slider3Position(double rod_half_length, double cos_q1) {
 }
 // x_C - x_B [m] without the rest of the geometry (one cosine): the simulator's per-step checks.
 inline double sliderSeparation(double rod_half_length, double q1, double q2) {
-  return q2 - slider3Position(rod_half_length, std::cos(q1));
+  return q2 - slider3Position(rod_half_length, math::cos(q1));
 }
 
 // x_C - x_B >= threshold. x_C - x_B = q2 - 4L cos q1 lies within q2 -+ 4L: those bounds settle

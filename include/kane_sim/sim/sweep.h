@@ -91,8 +91,8 @@ struct SweepSettings {
   // "off" (every case alone, through the driver). runSweep throws std::invalid_argument naming
   // a value that is none of these or an instruction set the CPU lacks.
   std::string simd = "auto";
-  // Lanes on xsimd's vector sin and cos instead of libm's per lane: faster, no longer the single
-  // run's bits (batch/lanes.h).
+  // Lanes on xsimd's vector sin and cos instead of the equations' own (model/math_functions.h):
+  // no longer the single run's bits, and no faster since those are vector-wide too (batch/lanes.h).
   bool vector_trig = false;
   // Set (from a signal handler, say) to stop: running cases end unfinished, no new one starts.
   const std::atomic<bool>* stop = nullptr;
