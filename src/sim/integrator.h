@@ -25,9 +25,10 @@ struct EquationsOfMotion {
   const Equations* equations;
   double torque;
 
-  void operator()(const OdeState& x, OdeState& dxdt, double /*t*/) const {
+  void operator()(const OdeState& x, OdeState& dxdt) const {
     dxdt = equations->stateDerivative(fromOdeState(x), torque);
   }
+  void operator()(const OdeState& x, OdeState& dxdt, double /*t*/) const { (*this)(x, dxdt); }
 };
 
 // Resting contact: the same equations with the sliders held together at the gap, the
@@ -39,7 +40,8 @@ struct RestingContactMotion {
   const Equations* equations;
   double torque;
 
-  void operator()(const OdeState& x, OdeState& dxdt, double /*t*/) const {
+  void operator()(const OdeState& x, OdeState& dxdt, double /*t*/) const { (*this)(x, dxdt); }
+  void operator()(const OdeState& x, OdeState& dxdt) const {
     const State held = model->onContact(fromOdeState(x));
     dxdt = equations->stateDerivative(held, torque);  // free u', and W', D' on the contact
     const RestingContact contact =
@@ -88,7 +90,7 @@ class Simulator::Integrator {
   const char* advance(const System& system, OdeState& x, double t, double dt,
                       bool reuse_last_derivative) {
     if (type_ == IntegratorType::kRk4) {
-      rk4Step(system, x, t, dt);
+      rk4Step(system, x, dt);
       return nullptr;
     }
     // dopri5 reuses the derivative at the end of its last step (first same as last); that is
@@ -119,9 +121,9 @@ class Simulator::Integrator {
   // copy of the state: the caller's state is then read once and written once instead of at
   // every stage (GCC keeps the stepper out of the large stepWith).
   template <class System>
-  __attribute__((flatten)) void rk4Step(const System& system, OdeState& x, double t, double dt) {
+  __attribute__((flatten)) void rk4Step(const System& system, OdeState& x, double dt) {
     OdeState local = x;
-    kane_sim::rk4Step([&](const OdeState& at, OdeState& dxdt) { system(at, dxdt, t); }, local, dt);
+    kane_sim::rk4Step(system, local, dt);
     x = local;
   }
 

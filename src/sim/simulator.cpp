@@ -232,8 +232,8 @@ Status Simulator::checkState(const State& x) const {
   // next step refused).
   OdeState trial = toOdeState(x);
   withEquations([&](const auto& equations) {
-    const EquationsOfMotion<std::decay_t<decltype(equations)>> motion{&equations, torque_};
-    rk4Step([&](const OdeState& at, OdeState& dxdt) { motion(at, dxdt, 0.0); }, trial, step_size_);
+    rk4Step(EquationsOfMotion<std::decay_t<decltype(equations)>>{&equations, torque_}, trial,
+            step_size_);
     return 0;
   });
   if (!withinScale(trial) || !(std::abs(trial[2]) * step_size_ <= kMaxCrankTurnPerStep))

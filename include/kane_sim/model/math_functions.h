@@ -45,12 +45,6 @@ static inline void sinCos(double x, double* s, double* c) {
 #endif
 }
 
-static inline double sin(double x) {
-  double s, c;
-  sinCos(x, &s, &c);
-  return s;
-}
-
 static inline double cos(double x) {
   double s, c;
   sinCos(x, &s, &c);
