@@ -54,10 +54,16 @@ def cluster(tmp_path_factory):
     address = json.load(open(scheduler_file))["address"]
     yield scheduler_file, address, client, folder
     client.close()
-    for p in procs:
+    # Workers first, then the scheduler (a worker whose scheduler is gone first may retry the
+    # connection instead of exiting); one that outlives 30 s of SIGTERM (seen on a loaded
+    # 2-core machine) is killed: the teardown ends either way.
+    for p in reversed(procs):
         os.killpg(p.pid, signal.SIGTERM)
-    for p in procs:
-        p.wait(timeout=30)
+        try:
+            p.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.wait(timeout=30)
 
 
 def rows_without_wall_time(path):
