@@ -3,8 +3,12 @@ starts, effort mode, a torque per mechanism every call), at 10 physics steps per
 (a learning loop's step), on the CPU's widest SIMD lanes with libm's sin/cos (every lane the
 single run's bits) and with the vector sin/cos, on one thread and two, and on the drivers (simd
 off) for scale; the fixed cost of a call (n = 64, one step); rollout (T = 100 actions at
-once); and building 10^5 and 10^6 mechanisms with distinct rod masses and k. Each figure the best of three 1 s windows; the machine printed first.
-Usage: /usr/bin/python3 bench/batch_simulator.py [N]   (N = 4096)"""
+once); and building 10^5 and 10^6 mechanisms with distinct rod masses and k. Each figure the
+best of twenty 0.1 s windows taken in turn across the rows; the machine printed first; a call's
+fixed cost fitted from one and ten steps a call.
+Usage: /usr/bin/python3 bench/batch_simulator.py [N]   (N = 4096; KANE_SIM_BENCH_BUILDS=0 skips
+the 10^5 and 10^6 builds, 1 keeps only 10^5)"""
+import os
 import platform
 import sys
 import time
@@ -24,22 +28,38 @@ def machine():
                                               ", ".join(arches))
 
 
-def rate(n, steps_per_call, **settings):
-    rng = np.random.default_rng(0)
-    params = {"mechanism.rod_mass": rng.uniform(0.8, 1.2, n),
-              "initial_state.q1": rng.uniform(-1.0, 1.0, n)}
-    torques = rng.uniform(-2.0, 2.0, (64, n))
-    batch = kane_sim.BatchSimulator(n, params=params, **settings)
-    best, call = 0.0, 0.0
-    for _ in range(3):
+class Case:
+    """One row: a batch of n random mechanisms stepped `steps_per_call` physics steps a call."""
+
+    def __init__(self, n, steps_per_call, **settings):
+        rng = np.random.default_rng(0)
+        params = {"mechanism.rod_mass": rng.uniform(0.8, 1.2, n),
+                  "initial_state.q1": rng.uniform(-1.0, 1.0, n)}
+        self.torques = rng.uniform(-2.0, 2.0, (64, n))
+        self.batch = kane_sim.BatchSimulator(n, params=params, **settings)
+        self.n, self.steps, self.settings = n, steps_per_call, settings
+        self.best_call = float("inf")  # seconds a call, the best window's
+        self.calls = 0
+
+    def window(self, seconds=0.1):
         calls, start = 0, time.perf_counter()
-        while time.perf_counter() - start < 1.0:
-            batch.step(torques[calls % 64], steps_per_call)
+        while time.perf_counter() - start < seconds:
+            self.batch.step(self.torques[self.calls % 64], self.steps)
+            self.calls += 1
             calls += 1
-        elapsed = time.perf_counter() - start
-        if n * steps_per_call * calls / elapsed > best:
-            best, call = n * steps_per_call * calls / elapsed, elapsed / calls
-    return batch.path, best / 1e6, call * 1e6
+        self.best_call = min(self.best_call, (time.perf_counter() - start) / calls)
+
+    def rate(self):  # M mechanism-steps a second
+        return self.n * self.steps / self.best_call / 1e6
+
+
+def measure(cases, rounds=20):
+    """Windows of 0.1 s taken in turn, case after case, `rounds` times; each case keeps its
+    best: a shared machine's slow moments land on every case alike, and the best is the
+    machine's own speed."""
+    for _ in range(rounds):
+        for case in cases:
+            case.window()
 
 
 def rollout_rate(n, horizon=100, **settings):
@@ -74,21 +94,30 @@ def build_randomised(n):
 def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 4096
     print("machine: %s" % machine())
+    cases = [Case(n, 10, simd="off", threads=1),
+             Case(n, 10, threads=1), Case(n, 10, threads=2),
+             Case(n, 1, threads=1), Case(n, 1, threads=2),
+             Case(n, 10, vector_trig=True, threads=1), Case(n, 10, vector_trig=True, threads=2),
+             Case(64, 1, threads=1), Case(256, 1, threads=1)]
+    measure(cases)
     print("| n | path | threads | physics steps per call | M mechanism-steps/s | us per call |")
     print("|---|---|---|---|---|---|")
-    for size, steps, settings in (
-            (n, 10, {"simd": "off", "threads": 1}),
-            (n, 10, {"threads": 1}), (n, 10, {"threads": 2}),
-            (n, 1, {"threads": 1}), (n, 1, {"threads": 2}),
-            (n, 10, {"vector_trig": True, "threads": 1}),
-            (n, 10, {"vector_trig": True, "threads": 2}),
-            (64, 1, {"threads": 1})):
-        path, m, call = rate(size, steps, **settings)
-        print("| %d | %s | %d | %d | %.1f | %.1f |" % (size, path, settings["threads"], steps, m,
-                                                        call))
+    for c in cases:
+        print("| %d | %s | %d | %d | %.1f | %.1f |" % (c.n, c.batch.path, c.settings["threads"],
+                                                        c.steps, c.rate(), c.best_call * 1e6))
+    # A call's fixed cost, from one and ten steps a call (the same batch, interleaved windows):
+    # call(s) = fixed + s * step.
+    for one, ten in ((cases[3], cases[1]), (cases[4], cases[2])):
+        step = (ten.best_call - one.best_call) / 9
+        fixed = one.best_call - step
+        print("n = %d, %d thread(s): a call's fixed cost %.1f us (%.1f ns a mechanism), a "
+              "physics step %.1f ns a mechanism" % (n, one.settings["threads"], fixed * 1e6,
+                                                    fixed / n * 1e9, step / n * 1e9))
+    print("two threads / one: %.2fx at ten steps a call, %.2fx at one"
+          % (cases[2].rate() / cases[1].rate(), cases[4].rate() / cases[3].rate()))
     print("rollout, T = 100, one physics step each, 2 threads: %.1f M mechanism-steps/s"
           % rollout_rate(n, threads=2))
-    for size in (10 ** 5, 10 ** 6):
+    for size in (10 ** 5, 10 ** 6)[:int(os.environ.get("KANE_SIM_BENCH_BUILDS", "2"))]:
         seconds, per = build_randomised(size)
         print("domain randomisation, %d mechanisms with distinct rod masses and k: built in "
               "%.2f s, %.0f bytes a mechanism (peak memory growth)" % (size, seconds, per))

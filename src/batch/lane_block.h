@@ -19,6 +19,9 @@ namespace kane_sim {
 // One call's lanes, as raw pointers (see above).
 struct LaneBlock {
   const generated::Constants* constants;
+  // When not null: this block's constants, torque limits and reaches as W-wide columns, in that
+  // order (LaneRun::packed), read in place of constants' and torque_limit's.
+  const double* packed;
   const double* torque_limit;
   const LaneState* start;
   generated::RatesVariant variant;
@@ -58,6 +61,9 @@ struct Lanes<double> {
   static constexpr std::size_t width = 1;
   using Mask = bool;
   static double load(const double* p) { return *p; }
+  static double fromValues(const double* v) { return v[0]; }
+  static double loadUnaligned(const double* p) { return *p; }
+  static double strided(const double* p, std::size_t) { return *p; }
   static void store(double v, double* p) { *p = v; }
   static double select(bool m, double a, double b) { return m ? a : b; }
   static bool both(bool a, bool b) { return a && b; }
@@ -67,7 +73,6 @@ struct Lanes<double> {
   static double abs(double v) { return std::abs(v); }
   static double max(double a, double b) { return a < b ? b : a; }  // std::max's order
   static void toBools(bool m, bool* out) { out[0] = m; }
-  static bool fromBools(const bool* in) { return in[0]; }
 };
 
 // The equations' functions through MathOf (generated::Math's shape) on number type B.
@@ -116,36 +121,63 @@ void runLaneBlockOf(const LaneBlock& block) {
   constexpr int kConstants = sizeof(generated::Constants) / sizeof(double);
   static_assert(sizeof(generated::ConstantsOf<B>) == kConstants * sizeof(B),
                 "ConstantsOf is kConstants numbers, nothing else");
-  alignas(64) double lane[W];
   // Lane j of the block; the lanes past `count` repeat the last real one (their results dropped).
   const auto index = [&block](std::size_t j) {
     return block.first + (j < block.count ? j : block.count - 1);
   };
+  // One number of each lane into a register, not through memory: W scalar stores read back as
+  // one vector stall store forwarding (~12 cycles each; a call of one step gathers ~30 of them).
   const auto gather = [&](auto value_of) {
+    double lane[W];
     for (std::size_t j = 0; j < W; ++j) lane[j] = value_of(index(j));
-    return L::load(lane);
+    return L::fromValues(lane);
+  };
+  // A condition per lane, the same way: 1 or 0 gathered, compared.
+  const auto gatherMask = [&](auto holds) {
+    return gather([&](std::size_t i) { return holds(i) ? 1.0 : 0.0; }) != B(0.0);
   };
   generated::ConstantsOf<B> constants;
   B* constant = reinterpret_cast<B*>(&constants);
-  for (int f = 0; f < kConstants; ++f)
-    constant[f] = gather(
-        [&](std::size_t i) { return reinterpret_cast<const double*>(&block.constants[i])[f]; });
-  const B limit = gather([&](std::size_t i) { return block.torque_limit[i]; });
+  B limit, reach;  // reach: |x_B| <= 4L
+  if (block.packed) {
+    for (int f = 0; f < kConstants; ++f) constant[f] = L::loadUnaligned(block.packed + f * W);
+    limit = L::loadUnaligned(block.packed + kConstants * W);
+    reach = L::loadUnaligned(block.packed + (kConstants + 1) * W);
+  } else {
+    for (int f = 0; f < kConstants; ++f)
+      constant[f] = gather(
+          [&](std::size_t i) { return reinterpret_cast<const double*>(&block.constants[i])[f]; });
+    limit = gather([&](std::size_t i) { return block.torque_limit[i]; });
+    reach = gather(
+        [&](std::size_t i) { return slider3Position(block.constants[i].rod_half_length, 1.0); });
+  }
   const B lower = -limit;
-  const B held =
-      gather([&](std::size_t i) { return block.lane_command ? block.lane_command[i] : 0.0; });
-  const B reach = gather([&](std::size_t i) {  // |x_B| <= 4L
-    return slider3Position(block.constants[i].rod_half_length, 1.0);
-  });
+  // x_C - x_B >= 0 in each lane (sliderSeparationAtLeast's test): bounds first, the cosine only
+  // for lanes they leave open.
+  const auto apartAt = [&](const B& q1, const B& q2) {
+    const Mask apart = q2 - reach >= B(0.0);
+    const Mask open = L::negate(L::either(apart, q2 + reach < B(0.0)));
+    if (!L::any(open)) return apart;
+    alignas(64) double crank[W], slider[W];
+    L::store(q1, crank);
+    L::store(q2, slider);
+    return gatherMask([&](std::size_t i) {
+      const std::size_t j = i - block.first;
+      return sliderSeparationAtLeast(block.constants[i].rod_half_length, crank[j], slider[j], 0.0);
+    });
+  };
   std::array<B, 6> x;
-  for (int k = 0; k < 6; ++k) x[k] = gather([&](std::size_t i) { return block.start[i][k]; });
+  B held(0.0);
+  if (block.count == W) {  // a full block: each number straight from its place
+    for (int k = 0; k < 6; ++k) x[k] = L::strided(&block.start[block.first][k], 6);
+    if (block.lane_command) held = L::loadUnaligned(block.lane_command + block.first);
+  } else {
+    for (int k = 0; k < 6; ++k) x[k] = gather([&](std::size_t i) { return block.start[i][k]; });
+    if (block.lane_command) held = gather([&](std::size_t i) { return block.lane_command[i]; });
+  }
+  Mask below = apartAt(x[0], x[1]);
+  Mask running = B(0.0) == B(0.0);  // every lane
   bool flags[W];
-  for (std::size_t j = 0; j < W; ++j)
-    flags[j] = sliderSeparationAtLeast(block.constants[index(j)].rod_half_length,
-                                       block.start[index(j)][0], block.start[index(j)][1], 0.0);
-  Mask below = L::fromBools(flags);
-  for (std::size_t j = 0; j < W; ++j) flags[j] = true;
-  Mask running = L::fromBools(flags);
   B crossings(0.0), max_q1(0.0), max_q2(0.0), ran(0.0);  // ran: each lane's steps taken
   const B h(block.step);
   long until_sample = block.steps_per_sample;
@@ -167,19 +199,8 @@ void runLaneBlockOf(const LaneBlock& block) {
     ok = L::both(ok, running);
     running = ok;
     for (int k = 0; k < 6; ++k) x[k] = L::select(ok, trial[k], x[k]);
-    // The crossing counter: bounds first, the cosine only for lanes they leave open.
-    const Mask apart = x[1] - reach >= B(0.0);
-    const Mask open = L::negate(L::either(apart, x[1] + reach < B(0.0)));
-    Mask now_below = apart;
-    if (L::any(open)) {
-      alignas(64) double q1[W], q2[W];
-      L::store(x[0], q1);
-      L::store(x[1], q2);
-      for (std::size_t j = 0; j < W; ++j)
-        flags[j] =
-            sliderSeparationAtLeast(block.constants[index(j)].rod_half_length, q1[j], q2[j], 0.0);
-      now_below = L::fromBools(flags);
-    }
+    // The crossing counter.
+    const Mask now_below = apartAt(x[0], x[1]);
     const Mask flipped = L::both(
         ok, L::either(L::both(now_below, L::negate(below)), L::both(below, L::negate(now_below))));
     ran = L::select(ok, ran + B(1.0), ran);

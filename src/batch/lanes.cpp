@@ -1,4 +1,5 @@
 // Choosing the instruction set at run time and cutting the lanes into blocks of its width.
+#include <algorithm>
 #include <stdexcept>
 
 #include <xsimd/config/xsimd_cpuid.hpp>
@@ -77,17 +78,52 @@ LaneArch parseLaneArch(const std::string& name) {
                               "' is not one of auto, avx512, avx2, sse2, scalar, off");
 }
 
+namespace {
+// LaneRun::packed: per block of `width` lanes, each constant's column, then the torque limits'
+// and the reaches' (|x_B| <= 4L).
+constexpr size_t kPackedColumns = sizeof(generated::Constants) / sizeof(double) + 2;
+size_t packedSize(size_t lanes, size_t width) {
+  return (lanes + width - 1) / width * width * kPackedColumns;
+}
+}  // namespace
+
+void packLanes(LaneRun& run, LaneArch arch) {
+  const size_t n = run.constants.size(), width = entry(arch).width;
+  if (run.torque_limit.size() != n)
+    throw std::invalid_argument("packLanes: constants and torque_limit differ in length");
+  run.packed.assign(packedSize(n, width), 0.0);
+  run.packed_width = static_cast<unsigned>(width);
+  constexpr size_t kConstants = kPackedColumns - 2;
+  for (size_t first = 0; first < n; first += width) {
+    double* block = run.packed.data() + first * kPackedColumns;
+    for (size_t j = 0; j < width; ++j) {
+      const size_t i = std::min(first + j, n - 1);  // as the block's padding lanes
+      const double* constants = reinterpret_cast<const double*>(&run.constants[i]);
+      for (size_t f = 0; f < kConstants; ++f) block[f * width + j] = constants[f];
+      block[kConstants * width + j] = run.torque_limit[i];
+      block[(kConstants + 1) * width + j] = slider3Position(run.constants[i].rod_half_length, 1.0);
+    }
+  }
+}
+
 std::vector<LaneOutcome> runLanes(const LaneRun& run, LaneArch arch) {
+  std::vector<LaneOutcome> out(run.start.size());
+  runLanes(run, arch, out.data());
+  return out;
+}
+
+void runLanes(const LaneRun& run, LaneArch arch, LaneOutcome* out) {
   const size_t n = run.constants.size();
   if (run.torque_limit.size() != n || run.start.size() != n)
     throw std::invalid_argument("runLanes: constants, torque_limit and start differ in length");
   const bool per_lane = !run.lane_command.empty();
   if (per_lane && run.lane_command.size() != n)
     throw std::invalid_argument("runLanes: lane_command must hold one torque per lane");
-  std::vector<LaneOutcome> out(n);
   const ArchEntry& e = entry(arch);
+  const bool packed = run.packed_width == e.width && run.packed.size() == packedSize(n, e.width);
   for (size_t first = 0; first < n; first += e.width) {
     LaneBlock block{run.constants.data(),
+                    packed ? run.packed.data() + first * kPackedColumns : nullptr,
                     run.torque_limit.data(),
                     run.start.data(),
                     run.variant,
@@ -103,10 +139,9 @@ std::vector<LaneOutcome> runLanes(const LaneRun& run, LaneArch arch) {
                     run.vector_trig,
                     first,
                     std::min<size_t>(e.width, n - first),
-                    out.data() + first};
+                    out + first};
     e.run(block);
   }
-  return out;
 }
 
 }  // namespace kane_sim

@@ -1,5 +1,6 @@
 // kane_sim._core.BatchSimulator: the C++ BatchSimulator (sim/batch_simulator.h) with NumPy
 // arrays in and out; a step releases the GIL (its threads and lanes run without Python).
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -63,11 +64,7 @@ std::vector<bool> maskOf(const BatchSimulator& batch, const Mask& mask, const ch
 Array states(const BatchSimulator& batch) {
   const py::ssize_t n = static_cast<py::ssize_t>(batch.size());
   Array out({n, py::ssize_t{4}});
-  double* o = out.mutable_data();
-  for (std::size_t i = 0; i < batch.size(); ++i) {
-    const State x = batch.state(i);
-    o[4 * i] = x.q1, o[4 * i + 1] = x.q2, o[4 * i + 2] = x.u1, o[4 * i + 3] = x.u2;
-  }
+  batch.states(out.mutable_data());
   return out;
 }
 
@@ -211,12 +208,11 @@ void bindBatch(py::module_& m) {
                                       "] = " + formatNumber(actions.data()[k]) + " is not finite");
             Array out({n, horizon + 1, py::ssize_t{4}});
             double* o = out.mutable_data();
+            std::vector<double> now(4 * static_cast<std::size_t>(n));
             const auto record = [&](py::ssize_t t) {
-              for (py::ssize_t i = 0; i < n; ++i) {
-                const State x = b.state(static_cast<std::size_t>(i));
-                double* row = o + (i * (horizon + 1) + t) * 4;
-                row[0] = x.q1, row[1] = x.q2, row[2] = x.u1, row[3] = x.u2;
-              }
+              b.states(now.data());
+              for (py::ssize_t i = 0; i < n; ++i)
+                std::copy_n(now.data() + 4 * i, 4, o + (i * (horizon + 1) + t) * 4);
             };
             record(0);
             runBatchWork(

@@ -40,7 +40,10 @@ std::string whyDrivers(const std::vector<Config>& configs, const BatchSettings& 
 }  // namespace
 
 BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings& settings)
-    : configs_(std::move(configs)), settings_(settings), lanes_(configs_.size()) {
+    : configs_(std::move(configs)),
+      settings_(settings),
+      lanes_(configs_.size()),
+      terminated_(configs_.size(), 0) {
   if (configs_.empty()) throw std::invalid_argument("a batch needs at least one mechanism");
   if (settings_.threads < 1)
     throw std::invalid_argument("threads must be 1 or more, got " +
@@ -61,7 +64,9 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
   path_ = std::string(laneArchName(arch_)) + " lanes" +
           (settings_.vector_trig ? " (vector sin/cos)" : "");
   // Lanes of one equations variant run together (the single Simulator picks it per config);
-  // each variant's lanes are cut into one chunk per thread, whole blocks of the width each.
+  // each variant's lanes are cut into chunks of whole blocks of the width: one with one thread,
+  // else four per thread, taken by whichever thread is free (a thread that wakes late leaves its
+  // share to the others instead of holding the call up).
   const std::size_t width = laneWidth(arch_);
   // Each mechanism's constants once: its variant and its lane's numbers.
   std::vector<generated::Constants> constants(size());
@@ -76,9 +81,9 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
       if (variants[i] == variant) members.push_back(i);
     if (members.empty()) continue;
     const std::size_t blocks = (members.size() + width - 1) / width;
-    const std::size_t per_chunk =
-        width * ((blocks + static_cast<std::size_t>(settings_.threads) - 1) /
-                 static_cast<std::size_t>(settings_.threads));
+    const std::size_t pieces =
+        settings_.threads == 1 ? 1 : 4 * static_cast<std::size_t>(settings_.threads);
+    const std::size_t per_chunk = width * ((blocks + pieces - 1) / pieces);
     for (std::size_t first = 0; first < members.size(); first += per_chunk) {
       Chunk chunk;
       chunk.members.assign(
@@ -95,8 +100,15 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
         run.constants.push_back(constants[i]);
         run.torque_limit.push_back(c.command.torque_limit);
       }
+      packLanes(run, arch_);  // the constants never change: laid out once for every call
       run.start.resize(chunk.members.size());
       run.lane_command.resize(chunk.members.size());
+      chunk.ticks.assign(chunk.members.size(), 0);
+      chunk.outcomes.resize(chunk.members.size());
+      for (std::size_t k = 0; k < chunk.members.size(); ++k) {
+        lanes_[chunk.members[k]].chunk = chunks_.size();
+        lanes_[chunk.members[k]].slot = k;
+      }
       chunks_.push_back(std::move(chunk));
     }
   }
@@ -108,15 +120,15 @@ BatchSimulator::~BatchSimulator() = default;
 
 void BatchSimulator::buildDriver(std::size_t lane, const Config& config) {
   Lane& l = lanes_[lane];
-  l.driver = std::make_unique<SimDriver>(config, [&l](const SimEvent& e) {
+  l.driver = std::make_unique<SimDriver>(config, [this, lane](const SimEvent& e) {
     // What ends a lane: its first refused step, its sliders crossing.
-    if (l.terminated) return;
+    if (terminated_[lane]) return;
     if (e.kind == SimEvent::Kind::kStepRefused || e.kind == SimEvent::Kind::kFirstSliderCrossing) {
-      l.terminated = true;
-      l.reason = "t = " + timeText(e.time) + " s: " + e.message;
+      terminated_[lane] = 1;
+      lanes_[lane].reason = "t = " + timeText(e.time) + " s: " + e.message;
     }
   });
-  l.terminated = false;
+  terminated_[lane] = 0;
   l.reason.clear();
   l.reading = l.driver->simulator().joints();
 }
@@ -173,7 +185,7 @@ void BatchSimulator::stepDrivers(const double* actions, long steps, std::size_t 
     const TorqueProfile held = TorqueProfile::constant(actions[i]);
     ProfileCommands commands(held, configs_[i].command.timeout);
     commands.update(d);
-    for (long s = 0; s < steps && !l.terminated; ++s) {
+    for (long s = 0; s < steps && !terminated_[i]; ++s) {
       if (stop_ && stop_->load(std::memory_order_relaxed)) return;
       d.step();
       commands.update(d);
@@ -188,33 +200,33 @@ void BatchSimulator::stepLanes(const double* actions, long steps, std::size_t ch
   // Running lanes only: a terminated lane keeps its state (it is run, its result dropped).
   for (std::size_t k = 0; k < chunk.members.size(); ++k) {
     const std::size_t i = chunk.members[k];
-    run.start[k] = lanes_[i].x;
     run.lane_command[k] = stepping(i) ? actions[i] : 0.0;
   }
   run.held_steps = steps;
-  const std::vector<LaneOutcome> outcomes = runLanes(run, arch_);
+  runLanes(run, arch_, chunk.outcomes.data());
   for (std::size_t k = 0; k < chunk.members.size(); ++k) {
     const std::size_t i = chunk.members[k];
-    Lane& l = lanes_[i];
     if (!stepping(i)) continue;
-    const LaneOutcome& o = outcomes[k];
-    l.x = o.state;
-    l.ticks += static_cast<std::uint64_t>(o.steps);
+    const LaneOutcome& o = chunk.outcomes[k];
+    run.start[k] = o.state;
+    chunk.ticks[k] += static_cast<std::uint64_t>(o.steps);
     if (!o.refused && o.slider_crossings == 0) continue;  // the common case: no text to make
-    const std::string at = "t = " + timeText(static_cast<double>(l.ticks) * step_size_) + " s: ";
+    Lane& l = lanes_[i];
+    const std::string at =
+        "t = " + timeText(static_cast<double>(chunk.ticks[k]) * step_size_) + " s: ";
     if (o.refused) {
       // The Simulator's checks refused the next step (its message needs its own loop: say what
       // it checks, and where the lane stopped).
       const double torque = std::clamp(actions[i], -configs_[i].command.torque_limit,
                                        configs_[i].command.torque_limit);
-      l.terminated = true;
+      terminated_[i] = 1;
       l.reason = at +
                  "the step was refused (it would go non-finite or beyond 1e100, or turn the "
                  "crank more than 1 rad) from " +
-                 Simulator::stateText(fromOdeState(l.x)) + " with M_m = " + num(torque) +
+                 Simulator::stateText(fromOdeState(run.start[k])) + " with M_m = " + num(torque) +
                  " N m; the last good state is kept";
     } else if (o.slider_crossings > 0) {
-      l.terminated = true;
+      terminated_[i] = 1;
       l.reason = at + kSliderCrossingReport;
     }
   }
@@ -227,15 +239,19 @@ void BatchSimulator::reset(const std::vector<bool>& mask) {
 
 void BatchSimulator::resetLane(std::size_t i) {
   Lane& l = lanes_[i];
-  l.terminated = false;
+  terminated_[i] = 0;
   l.reason.clear();
   if (l.driver) {
     l.driver->reset();
     l.reading = l.driver->simulator().joints();
   } else {
     const State& x0 = configs_[i].initial_state;
-    l.x = {x0.q1, x0.q2, x0.u1, x0.u2, 0.0, 0.0};
+    laneState(i) = {x0.q1, x0.q2, x0.u1, x0.u2, 0.0, 0.0};
   }
+}
+
+OdeState& BatchSimulator::laneState(std::size_t lane) {
+  return chunks_[lanes_[lane].chunk].run.start[lanes_[lane].slot];
 }
 
 Status BatchSimulator::checkState(std::size_t i, const State& x) const {
@@ -256,9 +272,9 @@ Status BatchSimulator::setState(std::size_t i, const State& x) {
   } else {
     const Status status = checkState(i, x);
     if (!status.ok) return status;
-    l.x = {x.q1, x.q2, x.u1, x.u2, 0.0, 0.0};
+    laneState(i) = {x.q1, x.q2, x.u1, x.u2, 0.0, 0.0};
   }
-  l.terminated = false;
+  terminated_[i] = 0;
   l.reason.clear();
   return {};
 }
@@ -269,7 +285,7 @@ void BatchSimulator::reseed(const std::vector<bool>& mask,
     if (!mask[i]) continue;
     configs_[i].sensors.seed = static_cast<int>(seeds[i]);  // Python keeps it <= 2^31 - 1
     if (on_lanes_) {  // no sensors on lanes: a fresh start, its clock at 0
-      lanes_[i].ticks = 0;
+      chunks_[lanes_[i].chunk].ticks[lanes_[i].slot] = 0;
       resetLane(i);
     } else {
       buildDriver(i, configs_[i]);
@@ -279,12 +295,28 @@ void BatchSimulator::reseed(const std::vector<bool>& mask,
 
 State BatchSimulator::state(std::size_t lane) const {
   const Lane& l = lanes_[lane];
-  return l.driver ? l.driver->simulator().state() : fromOdeState(l.x);
+  return l.driver ? l.driver->simulator().state()
+                  : fromOdeState(chunks_[l.chunk].run.start[l.slot]);
+}
+
+void BatchSimulator::states(double* out) const {
+  const auto put = [out](std::size_t lane, const State& x) {
+    double* row = out + 4 * lane;
+    row[0] = x.q1, row[1] = x.q2, row[2] = x.u1, row[3] = x.u2;
+  };
+  if (!on_lanes_) {
+    for (std::size_t i = 0; i < size(); ++i) put(i, lanes_[i].driver->simulator().state());
+    return;
+  }
+  for (const Chunk& chunk : chunks_)
+    for (std::size_t k = 0; k < chunk.members.size(); ++k)
+      put(chunk.members[k], fromOdeState(chunk.run.start[k]));
 }
 
 double BatchSimulator::time(std::size_t lane) const {
   const Lane& l = lanes_[lane];
-  return l.driver ? l.driver->time() : static_cast<double>(l.ticks) * step_size_;
+  return l.driver ? l.driver->time()
+                  : static_cast<double>(chunks_[l.chunk].ticks[l.slot]) * step_size_;
 }
 
 }  // namespace kane_sim

@@ -1,14 +1,14 @@
-// A pool of threads that wait between calls (condition variables), for many short calls.
+// A pool of threads that spin briefly, then wait (condition variables), between many short calls.
 #include "kane_sim/sim/worker_pool.h"
 
 #include <system_error>
 
 namespace kane_sim {
 
-WorkerPool::WorkerPool(unsigned workers) {
+WorkerPool::WorkerPool(unsigned workers, std::chrono::microseconds spin) : spin_(spin) {
   for (unsigned j = 1; j < workers; ++j) {
     try {
-      threads_.emplace_back([this, j] { serve(j); });
+      threads_.emplace_back([this] { serve(); });
     } catch (const std::system_error&) {
       break;  // a smaller pool: every item is still done, by the threads there are
     }
@@ -20,32 +20,41 @@ WorkerPool::~WorkerPool() {
     std::lock_guard<std::mutex> lock(mutex_);
     quitting_ = true;
   }
+  generation_.fetch_add(1);  // ends a spin
   wake_.notify_all();
   for (std::thread& t : threads_) t.join();
 }
 
-void WorkerPool::runShare(unsigned worker) {
+void WorkerPool::runShare() {
   try {
-    for (std::size_t k = worker; k < count_; k += size()) (*work_)(k);
+    for (std::size_t k = next_.fetch_add(1); k < count_; k = next_.fetch_add(1)) (*work_)(k);
   } catch (...) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!failure_) failure_ = std::current_exception();
+    next_.store(count_);  // the items not yet taken are not started
   }
 }
 
-void WorkerPool::serve(unsigned worker) {
-  std::uint64_t seen = 0;
+void WorkerPool::serve() {
+  std::uint64_t seen = generation_.load();
   for (;;) {
+    const auto until = std::chrono::steady_clock::now() + spin_;
+    while (generation_.load(std::memory_order_acquire) == seen &&
+           std::chrono::steady_clock::now() < until) {
+      std::this_thread::yield();
+    }
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [&] { return quitting_ || generation_ != seen; });
+      wake_.wait(lock, [&] { return quitting_ || generation_.load() != seen; });
       if (quitting_) return;
-      seen = generation_;
+      seen = generation_.load();
+      if (!open_) continue;  // woke after that call ended: nothing of it left to take
+      ++joined_;
     }
-    runShare(worker);
+    runShare();
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      --busy_;
+      --joined_;
     }
     finished_.notify_one();
   }
@@ -61,15 +70,17 @@ void WorkerPool::forEach(std::size_t count, const std::function<void(std::size_t
     count_ = count;
     work_ = &work;
     failure_ = nullptr;
-    busy_ = static_cast<unsigned>(threads_.size());
-    ++generation_;
+    next_.store(0);
+    open_ = true;
+    generation_.fetch_add(1, std::memory_order_release);
   }
   wake_.notify_all();
-  runShare(0);
+  runShare();
   std::exception_ptr failure;
   {
     std::unique_lock<std::mutex> lock(mutex_);
-    finished_.wait(lock, [&] { return busy_ == 0; });
+    open_ = false;  // every item is taken: a helper waking now has nothing to join
+    finished_.wait(lock, [&] { return joined_ == 0; });
     work_ = nullptr;
     failure = failure_;
   }

@@ -9,6 +9,7 @@
 #include <random>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -20,6 +21,7 @@
 #include "kane_sim/sim/simulator.h"
 #include "kane_sim/sim/state_rates.h"
 #include "kane_sim/sim/sweep.h"
+#include "kane_sim/sim/worker_pool.h"
 #include "test_helpers.h"
 
 namespace kane_sim {
@@ -379,6 +381,35 @@ TEST(Parallel, EveryItemOnceAndAWorkersExceptionReachesTheCaller) {
                                     }),
                std::runtime_error);
   EXPECT_EQ(finished, 3);
+}
+
+// The BatchSimulator's pool: every item once in call after call (helpers spinning, sleeping,
+// or waking after the call ended), whatever the size; an exception reaches the caller and the
+// pool keeps working; destroyed at once after a call (a helper still spinning).
+TEST(WorkerPool, EveryItemOnceCallAfterCallAndAnExceptionReachesTheCaller) {
+  using std::chrono::microseconds;
+  for (unsigned workers : {0u, 1u, 2u, 5u}) {
+    for (microseconds spin : {microseconds(0), microseconds(100)}) {
+      kane_sim::WorkerPool pool(workers, spin);
+      EXPECT_EQ(pool.size(), std::max(workers, 1u));
+      for (int call = 0; call < 2000; ++call) {
+        const std::size_t count = static_cast<std::size_t>(call % 19);
+        std::vector<std::atomic<int>> seen(count);
+        pool.forEach(count, [&](std::size_t k) { ++seen[k]; });
+        for (std::size_t k = 0; k < count; ++k)
+          ASSERT_EQ(seen[k], 1) << workers << " " << call << " " << k;
+        if (call % 500 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      }
+      EXPECT_THROW(pool.forEach(64,
+                                [&](std::size_t k) {
+                                  if (k == 3) throw std::runtime_error("item 3");
+                                }),
+                   std::runtime_error);
+      std::vector<std::atomic<int>> after(40);
+      pool.forEach(after.size(), [&](std::size_t k) { ++after[k]; });
+      for (auto& a : after) EXPECT_EQ(a, 1);
+    }
+  }
 }
 
 // Batched rates are the single state's rates, bit for bit, on one thread and across the cores.

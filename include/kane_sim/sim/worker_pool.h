@@ -4,6 +4,8 @@
 #ifndef KANE_SIM_SIM_WORKER_POOL_H
 #define KANE_SIM_SIM_WORKER_POOL_H
 
+#include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
@@ -19,27 +21,35 @@ class WorkerPool {
  public:
   // `workers` in all, this (the calling) thread being worker 0: workers - 1 threads start here
   // and wait. A thread the system refuses (a process or memory limit) leaves a smaller pool,
-  // never a failure: size() says how many there are.
-  explicit WorkerPool(unsigned workers);
+  // never a failure: size() says how many there are. After a call a helper spins (yielding)
+  // for `spin` before it sleeps: a loop's next call, microseconds later, finds it awake
+  // (measured, n = 4096 at one step a call on two AVX2 cores: 27 M mechanism-steps/s without,
+  // 29 M with 30-300 us). The spinning costs at most `spin` of one core per call.
+  explicit WorkerPool(unsigned workers,
+                      std::chrono::microseconds spin = std::chrono::microseconds(50));
   ~WorkerPool();
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
 
   unsigned size() const { return static_cast<unsigned>(threads_.size()) + 1; }
 
-  // work(k) for k = 0 .. count - 1, worker j taking k = j, j + size(), ... (as parallelFor);
-  // returns when all are done. The first exception a worker throws is rethrown here once every
-  // worker has finished. One call at a time.
+  // work(k) for each k = 0 .. count - 1 once, each taken by the next free worker (this thread
+  // included): a helper that wakes late costs the items it does not take, never the call's
+  // wait. Returns when all are done. The first exception a worker throws is rethrown here once
+  // every worker has finished its item. One call at a time.
   void forEach(std::size_t count, const std::function<void(std::size_t)>& work);
 
  private:
-  void serve(unsigned worker);
-  void runShare(unsigned worker);
+  void serve();
+  void runShare();
 
+  const std::chrono::microseconds spin_;
   std::mutex mutex_;
   std::condition_variable wake_, finished_;
-  std::uint64_t generation_ = 0;  // one per forEach: a worker runs each generation once
-  unsigned busy_ = 0;             // helper threads still working on this generation
+  std::atomic<std::uint64_t> generation_{0};  // one per forEach
+  std::atomic<std::size_t> next_{0};          // the next item to take
+  bool open_ = false;                         // a forEach is under way and helpers may join it
+  unsigned joined_ = 0;                       // helpers working on this forEach's items
   bool quitting_ = false;
   std::size_t count_ = 0;
   const std::function<void(std::size_t)>* work_ = nullptr;
