@@ -22,3 +22,13 @@ for jobs in 1 2; do
     printf "| --simd %s | %s | %.3f | %.2f |\n" "$mode" "$jobs" "$t" "$(echo "$t / $single" | bc -l)"
   done
 done
+# Short cases are mostly set-up (each case's config and its start-up check): 20 000 cases of one
+# physics step and of 100, one thread, whole processes; a case's set-up is the one-step sweep's
+# time per case (its one step, its CSV row and the process's start included: an upper bound).
+grid=(--sweep mechanism.spring_stiffness=100:400:200 --sweep mechanism.rod_mass=0.5:2:100)
+for duration in 0.001 0.1; do
+  t=$(best_of_three "$simulate" --config "$config" --duration "$duration" "${drive[@]}" \
+    "${grid[@]}" --jobs 1 --csv "$work/short.csv")
+  printf "20 000 cases of %s s, one thread: %.3f s, %.1f us a case\n" "$duration" "$t" \
+    "$(echo "$t * 1000000 / 20000" | bc -l)"
+done

@@ -57,6 +57,7 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
   for (const Config& c : configs_) sensors_ = sensors_ || c.sensors.enabled;
   if (!on_lanes_) {
     path_ = "drivers (" + why + ")";
+    readings_.resize(size());
     for (std::size_t i = 0; i < size(); ++i) buildDriver(i, configs_[i]);
     return;
   }
@@ -130,7 +131,7 @@ void BatchSimulator::buildDriver(std::size_t lane, const Config& config) {
   });
   terminated_[lane] = 0;
   l.reason.clear();
-  l.reading = l.driver->simulator().joints();
+  readings_[lane] = l.driver->simulator().joints();
 }
 
 template <class F>
@@ -189,7 +190,7 @@ void BatchSimulator::stepDrivers(const double* actions, long steps, std::size_t 
       if (stop_ && stop_->load(std::memory_order_relaxed)) return;
       d.step();
       commands.update(d);
-      while (d.takeSensorReading(&reading)) l.reading = reading.joints;
+      while (d.takeSensorReading(&reading)) readings_[i] = reading.joints;
     }
   }
 }
@@ -243,7 +244,7 @@ void BatchSimulator::resetLane(std::size_t i) {
   l.reason.clear();
   if (l.driver) {
     l.driver->reset();
-    l.reading = l.driver->simulator().joints();
+    readings_[i] = l.driver->simulator().joints();
   } else {
     const State& x0 = configs_[i].initial_state;
     laneState(i) = {x0.q1, x0.q2, x0.u1, x0.u2, 0.0, 0.0};
@@ -268,7 +269,7 @@ Status BatchSimulator::setState(std::size_t i, const State& x) {
   if (l.driver) {
     const Status status = l.driver->setState(x);
     if (!status.ok) return status;
-    l.reading = l.driver->simulator().joints();
+    readings_[i] = l.driver->simulator().joints();
   } else {
     const Status status = checkState(i, x);
     if (!status.ok) return status;

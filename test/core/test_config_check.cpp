@@ -1,10 +1,14 @@
 // What the loader cannot judge from the values alone (sim/config_check.h): an initial state the
 // simulator cannot start from, and with rk4 a mechanism too stiff for the physics rate. Each error
 // names the key and says what to change.
+#include <algorithm>
+#include <cmath>
+#include <random>
 #include <utility>
 
 #include <gtest/gtest.h>
 
+#include "kane_sim/analysis/stability.h"
 #include "kane_sim/sim/config_check.h"
 #include "test_helpers.h"
 
@@ -135,6 +139,49 @@ TEST(ConfigCheck, StiffMechanismIsFineWithDopri5OrAFastEnoughRate) {
   root["simulation"]["physics_rate"] = 20000;
   root["simulation"]["publish_rate"] = 100;
   EXPECT_NO_THROW(loadSimulationConfig(root));
+}
+
+// The check's shortcut (ratesWithin: a cheap upper bound of each sampled rate, the eigenvalues
+// only where it does not settle) gives the scan's own answer, max(stiffest, initial) h <= limit,
+// over a family of random mechanisms (masses, k over seven decades, dampers, friction and its
+// velocity scale, moving starts) with the step a hair either side of each one's boundary and
+// well inside it. A bound below a true rate would pass the step just beyond the boundary.
+TEST(ConfigCheck, TheShortcutGivesTheScansAnswerEitherSideOfEveryBoundary) {
+  std::mt19937 rng(11);
+  const auto uniform = [&rng](double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng);
+  };
+  const Config base = loadConfig(defaultYaml()).config;
+  int settled_inside = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    Config c = base;
+    MechanismParameters& m = c.mechanism;
+    m.rod_mass *= uniform(0.5, 2.0);
+    m.slider3_mass *= uniform(0.5, 2.0);
+    m.slider4_mass *= uniform(0.5, 2.0);
+    m.spring_stiffness = std::pow(10.0, uniform(0.0, 7.0));
+    if (trial % 2) m.damping.slider4 = uniform(0.0, 50.0);
+    if (trial % 3 == 0) m.damping.crank = uniform(0.0, 5.0);
+    if (trial % 4 == 1) {
+      m.friction.slider3 = uniform(0.0, 5.0);
+      m.friction.velocity_scale = std::pow(10.0, uniform(-4.0, -1.0));
+    }
+    c.initial_state.q1 = uniform(-3.0, 3.0);
+    c.initial_state.u1 = uniform(-20.0, 20.0);
+    const MechanismModel model = mechanismModel(c);
+    const double scan = stiffestConfiguration(model, c.initial_state).rate;
+    const double exact = std::max(scan, fastestRate(model, c.initial_state, 0.0));
+    ASSERT_TRUE(std::isfinite(exact)) << trial;
+    for (double factor : {1.0 - 1e-9, 1.0 + 1e-9, 0.5, 0.1, 2.0}) {
+      const double h = kRk4StabilityLimit / exact * factor;
+      EXPECT_EQ(ratesWithin(model, c.initial_state, h, kRk4StabilityLimit),
+                exact * h <= kRk4StabilityLimit)
+          << "trial " << trial << " factor " << factor << " rate " << exact;
+    }
+    settled_inside +=
+        ratesWithin(model, c.initial_state, 0.1 * kRk4StabilityLimit / exact, kRk4StabilityLimit);
+  }
+  EXPECT_EQ(settled_inside, 300);
 }
 
 TEST(ConfigCheck, TheShippedConfigsCanBeSimulated) {

@@ -31,6 +31,11 @@ struct StiffestConfiguration {
 // the crank as fast as the start's energy lets it be there. A torque adds energy, so a driven
 // motion can go beyond this; the simulator refuses a step rk4 cannot resolve.
 StiffestConfiguration stiffestConfiguration(const MechanismModel& model, const State& start);
+// Whether rate * step <= limit for fastestRate(model, start, 0) and every rate
+// stiffestConfiguration samples (false when one is not finite): their answer, without their
+// eigenvalues where a cheap upper bound already settles a state (a config's check: ~90 -> ~23
+// us a mechanism, measured).
+bool ratesWithin(const MechanismModel& model, const State& start, double step, double limit);
 
 }  // namespace kane_sim
 

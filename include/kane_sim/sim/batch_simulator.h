@@ -74,7 +74,11 @@ class BatchSimulator {
   // With sensors: the last reading that reached the lane's joint_states (the true joints at
   // the start until the first arrives): positions and velocities of crank, coupler, slider 3,
   // slider 4.
-  const JointValues& reading(std::size_t lane) const { return lanes_[lane].reading; }
+  // (The lanes path has no sensors: its reading stays the empty one.)
+  const JointValues& reading(std::size_t lane) const {
+    static const JointValues kNone{};
+    return readings_.empty() ? kNone : readings_[lane];
+  }
   bool sensorsEnabled() const { return sensors_; }
 
  private:
@@ -84,7 +88,6 @@ class BatchSimulator {
   struct Lane {
     std::size_t chunk = 0, slot = 0;  // the lanes path: the lane is chunks_[chunk]'s slot-th
     std::string reason;
-    JointValues reading;
     std::unique_ptr<SimDriver> driver;  // the drivers path
   };
   void buildDriver(std::size_t lane, const Config& config);
@@ -102,6 +105,7 @@ class BatchSimulator {
   BatchSettings settings_;
   std::vector<Lane> lanes_;
   std::vector<char> terminated_;  // per lane: its first refused step or crossing has ended it
+  std::vector<JointValues> readings_;  // the drivers path: per lane, as reading() says
   bool on_lanes_ = false;
   bool sensors_ = false;
   LaneArch arch_ = LaneArch::kScalar;
