@@ -211,8 +211,8 @@ void bindBatch(py::module_& m) {
             std::vector<double> now(4 * static_cast<std::size_t>(n));
             const auto record = [&](py::ssize_t t) {
               b.states(now.data());
-              for (py::ssize_t i = 0; i < n; ++i)
-                std::copy_n(now.data() + 4 * i, 4, o + (i * (horizon + 1) + t) * 4);
+              for (py::ssize_t i = 0; i < n; ++i)  // four stores (std::copy_n: a memmove call)
+                for (int k = 0; k < 4; ++k) o[(i * (horizon + 1) + t) * 4 + k] = now[4 * i + k];
             };
             record(0);
             runBatchWork(
