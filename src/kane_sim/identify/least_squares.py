@@ -132,8 +132,9 @@ def _energy_system(base, names, prepared):
 
 def _estimate(base, names, y, b, groups, states, check=None, torque_rms=1.0):
     """theta (base values where kept), covariance, kept names, messages, condition, residual RMS
-    (per equation group), the estimates a kept value moves (_entangled). check: (y, b) of the
-    same rows integrated by another rule, or None."""
+    (per equation group), the estimates a kept value moves (_entangled), and those of the kept
+    names the quadrature check kept (an effect within the integration error: the output error
+    may still tell them). check: (y, b) of the same rows integrated by another rule, or None."""
     base_theta = np.array([_base_theta(base, n) for n in names])
     free = list(range(len(names)))
     kept, messages = [], []
@@ -173,8 +174,9 @@ def _estimate(base, names, y, b, groups, states, check=None, torque_rms=1.0):
         kept.append(names[j])
         free.remove(j)
         _keep_rank_deficient(names, y, free, kept, messages, reasons)
+    quadrature = [names[j] for j in last_estimate]
     if not free:
-        return theta, cov, kept, messages, float("inf"), nan, []
+        return theta, cov, kept, messages, float("inf"), nan, [], quadrature
     wres = (b_free - a @ theta_free) * weights
     # Filtered data's errors are correlated over the filter's window: widen the errors by the
     # residual's integrated autocorrelation (per equation, the larger).
@@ -188,7 +190,7 @@ def _estimate(base, names, y, b, groups, states, check=None, torque_rms=1.0):
     aw = a * weights[:, None]
     s = np.linalg.svd(aw / np.linalg.norm(aw, axis=0), compute_uv=False)
     entangled = _entangled(names, y, free, theta, base_theta, last_estimate, messages)
-    return theta, cov, kept, messages, float(s[0] / s[-1]), rms, entangled
+    return theta, cov, kept, messages, float(s[0] / s[-1]), rms, entangled, quadrature
 
 
 def _entangled(names, y, free, theta, base_theta, last_estimate, messages):

@@ -106,6 +106,10 @@ class Identification:
                              self.refined["evaluations"]) + self.refined["position_rms"]
                             + self.refined["noise"]
                             + ("" if self.refined["converged"] else ": NOT converged",)))
+            if self.refined.get("refit"):
+                lines.append("fitted by the output error alone (their effect on the energy "
+                             "windows is within the windows' integration error): %s"
+                             % ", ".join(self.refined["refit"]))
             if "lag" in self.refined:
                 lines.append("the positions lag the torque by %.3g +- %.2g ms (fitted beside them: "
                              "a sensor's latency, an effort read late)"
