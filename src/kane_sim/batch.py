@@ -114,7 +114,8 @@ class BatchSimulator:
     "initial_state.q1"). simd: "auto" (the widest this CPU runs), an instruction set (avx512,
     avx2, sse2, scalar) or "off" (drivers only); vector_trig: SIMD lanes with a vector sin/cos
     (faster; no longer the single run's bits: doc/guide/batches.md); threads: lanes split over
-    this many threads per step (default: 2, or 1 below 256 mechanisms).
+    this many threads per step, and the threads that build them (default: 2, or 1 below 256
+    mechanisms).
 
     step(actions, steps=1) -> states (n, 4); reset(mask=None, seed=None) -> states; terminated,
     reasons, times, states; with sensors, readings() -> (positions, velocities) of the last
@@ -246,7 +247,7 @@ class BatchSimulator:
             raise ValueError("rollout: %d time steps of %d physics steps is more than 1e7"
                              % (a.shape[1], steps))
         with self._exclusive("rollout"):
-            return self._batch.rollout(a.astype(float), steps)
+            return self._batch.rollout(a, steps)  # a: _real_array's float copy already
 
     def _mask(self, call, mask):
         m = np.ones(len(self), dtype=bool) if mask is None else np.asarray(mask)

@@ -132,7 +132,7 @@ void bindBatch(py::module_& m) {
               py::gil_scoped_release release;
               try {
                 configs = configsWithNumbers(base.config(), inertia_from_mass, specs, values.data(),
-                                             n, coreCount());
+                                             n, static_cast<unsigned>(std::max(threads, 1)));
               } catch (const MechanismConfigError& e) {
                 refused = e.what();
               }
@@ -182,7 +182,8 @@ void bindBatch(py::module_& m) {
           [](BatchSimulator& b, const Array& actions, long steps, const py::object& mask) {
             if (actions.ndim() != 1 || static_cast<std::size_t>(actions.shape(0)) != b.size())
               throw py::value_error("step: actions must hold one value per mechanism (" +
-                                    std::to_string(b.size()) + ")");
+                                    std::to_string(b.size()) + "), got shape " +
+                                    shapeText(actions));
             std::vector<bool> active;
             if (!mask.is_none()) active = maskOf(b, mask.cast<Mask>(), "step");
             const std::vector<bool>* only = mask.is_none() ? nullptr : &active;

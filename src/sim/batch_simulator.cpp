@@ -216,21 +216,30 @@ void BatchSimulator::stepLanes(const double* actions, long steps, std::size_t ch
     const std::string at =
         "t = " + timeText(static_cast<double>(chunk.ticks[k]) * step_size_) + " s: ";
     if (o.refused) {
-      // The Simulator's checks refused the next step (its message needs its own loop: say what
-      // it checks, and where the lane stopped).
-      const double torque = std::clamp(actions[i], -configs_[i].command.torque_limit,
-                                       configs_[i].command.torque_limit);
       terminated_[i] = 1;
-      l.reason = at +
-                 "the step was refused (it would go non-finite or beyond 1e100, or turn the "
-                 "crank more than 1 rad) from " +
-                 Simulator::stateText(fromOdeState(run.start[k])) + " with M_m = " + num(torque) +
-                 " N m; the last good state is kept";
+      l.reason = at + refusalText(i, fromOdeState(run.start[k]), actions[i]);
     } else if (o.slider_crossings > 0) {
       terminated_[i] = 1;
       l.reason = at + kSliderCrossingReport;
     }
   }
+}
+
+std::string BatchSimulator::refusalText(std::size_t lane, const State& x, double action) const {
+  // The lane knows only that a check refused its step: the single run's own step from the same
+  // state under the same torque says which, in the drivers path's words (rare: a refusal ends
+  // the lane).
+  const double torque = std::clamp(action, -configs_[lane].command.torque_limit,
+                                   configs_[lane].command.torque_limit);  // as the driver sends it
+  Simulator single(configs_[lane]);
+  if (single.setState(x).ok && single.setTorque(torque).ok) {
+    const Status step = single.step();
+    if (!step.ok) return step.error;
+  }
+  return "the step was refused (it would go non-finite or beyond 1e100, or turn the crank more "
+         "than 1 rad) from " +
+         Simulator::stateText(x) + " with M_m = " + num(torque) +
+         " N m; the last good state is kept";
 }
 
 void BatchSimulator::reset(const std::vector<bool>& mask) {

@@ -1,11 +1,14 @@
 // A pool of threads that spin briefly, then wait (condition variables), between many short calls.
 #include "kane_sim/sim/worker_pool.h"
 
+#include <unistd.h>
+
 #include <system_error>
 
 namespace kane_sim {
 
-WorkerPool::WorkerPool(unsigned workers, std::chrono::microseconds spin) : spin_(spin) {
+WorkerPool::WorkerPool(unsigned workers, std::chrono::microseconds spin)
+    : spin_(spin), owner_(static_cast<long>(getpid())) {
   for (unsigned j = 1; j < workers; ++j) {
     try {
       threads_.emplace_back([this] { serve(); });
@@ -15,13 +18,22 @@ WorkerPool::WorkerPool(unsigned workers, std::chrono::microseconds spin) : spin_
   }
 }
 
+bool WorkerPool::forked() const { return static_cast<long>(getpid()) != owner_; }
+
 WorkerPool::~WorkerPool() {
+  if (forked()) {
+    // The handles name threads of the parent; a joinable std::thread must not be destroyed, and
+    // the mutex may have been held by a helper at the fork: leave both to the process's exit.
+    new std::vector<std::thread>(std::move(threads_));
+    static_cast<void>(sync_.release());
+    return;
+  }
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::mutex> lock(sync_->mutex);
     quitting_ = true;
   }
   generation_.fetch_add(1);  // ends a spin
-  wake_.notify_all();
+  sync_->wake.notify_all();
   for (std::thread& t : threads_) t.join();
 }
 
@@ -29,7 +41,7 @@ void WorkerPool::runShare() {
   try {
     for (std::size_t k = next_.fetch_add(1); k < count_; k = next_.fetch_add(1)) (*work_)(k);
   } catch (...) {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::mutex> lock(sync_->mutex);
     if (!failure_) failure_ = std::current_exception();
     next_.store(count_);  // the items not yet taken are not started
   }
@@ -44,8 +56,8 @@ void WorkerPool::serve() {
       std::this_thread::yield();
     }
     {
-      std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [&] { return quitting_ || generation_.load() != seen; });
+      std::unique_lock<std::mutex> lock(sync_->mutex);
+      sync_->wake.wait(lock, [&] { return quitting_ || generation_.load() != seen; });
       if (quitting_) return;
       seen = generation_.load();
       if (!open_) continue;  // woke after that call ended: nothing of it left to take
@@ -53,20 +65,20 @@ void WorkerPool::serve() {
     }
     runShare();
     {
-      std::lock_guard<std::mutex> lock(mutex_);
+      std::lock_guard<std::mutex> lock(sync_->mutex);
       --joined_;
     }
-    finished_.notify_one();
+    sync_->finished.notify_one();
   }
 }
 
 void WorkerPool::forEach(std::size_t count, const std::function<void(std::size_t)>& work) {
-  if (threads_.empty() || count <= 1) {
+  if (threads_.empty() || count <= 1 || forked()) {
     for (std::size_t k = 0; k < count; ++k) work(k);
     return;
   }
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::mutex> lock(sync_->mutex);
     count_ = count;
     work_ = &work;
     failure_ = nullptr;
@@ -74,13 +86,13 @@ void WorkerPool::forEach(std::size_t count, const std::function<void(std::size_t
     open_ = true;
     generation_.fetch_add(1, std::memory_order_release);
   }
-  wake_.notify_all();
+  sync_->wake.notify_all();
   runShare();
   std::exception_ptr failure;
   {
-    std::unique_lock<std::mutex> lock(mutex_);
+    std::unique_lock<std::mutex> lock(sync_->mutex);
     open_ = false;  // every item is taken: a helper waking now has nothing to join
-    finished_.wait(lock, [&] { return joined_ == 0; });
+    sync_->finished.wait(lock, [&] { return joined_ == 0; });
     work_ = nullptr;
     failure = failure_;
   }

@@ -136,7 +136,8 @@ def test_hostile_inputs_are_refused_by_name_and_move_nothing():
     before = batch.states.copy()
     for actions, steps, words in (([0.0, np.nan, 0.0], 1, r"actions\[1\] = nan is not finite"),
                                   ([0.0, 0.0, np.inf], 1, r"actions\[2\] = inf"),
-                                  ([0.0, 0.0], 1, "one value per mechanism"),
+                                  ([0.0, 0.0], 1, r"one value per mechanism \(3\), got shape "
+                                                  r"\(2,\)"),
                                   ([0.0, 0.0, 0.0], 0, "steps must be"),
                                   ([0.0, 0.0, 0.0], 1.5, "steps must be"),
                                   ([0.0, 0.0, 0.0], True, "steps must be")):
@@ -244,6 +245,56 @@ def test_ctrl_c_stops_a_long_step_where_it_is(simd):
     # Each lane ends where it is: some ran (blocks, drivers run one after another), none all
     # 10 000 s of the 1e7 steps.
     assert float(words[2]) < 5.0 and float(words[5]) < 10000.0 and float(words[7]) > 0, r.stdout
+
+
+@pytest.mark.parametrize("simd", ["auto", "off"])
+def test_a_refused_step_is_told_in_the_single_runs_words(simd):
+    # The lanes know only that a check refused the step; its reason is the single run's own.
+    params = {"command.torque_limit": 1e308}
+    batch = kane_sim.BatchSimulator(3, config_path(), params, simd=simd)
+    batch.step(np.array([1e308, 1e5, 0.0]))
+    single = kane_sim.Simulator(batch.config(0))
+    single.set_torque(1e308)
+    with pytest.raises(kane_sim.StepRefused) as refused:
+        single.step(1)
+    assert batch.terminated[0] and not batch.terminated[2]
+    assert batch.reasons[0] == "t = 0 s: " + str(refused.value), batch.reasons[0]
+
+
+def test_a_forked_child_steps_and_drops_a_two_thread_batch():
+    # Python's multiprocessing forks: the child has none of the pool's helper threads. It steps
+    # the inherited batch on its own thread (the parent's numbers) and drops it; joining the
+    # helpers there hung the child or aborted it.
+    import os
+    import time
+    batch = kane_sim.BatchSimulator(64, config_path(), threads=2)
+    batch.step(np.full(64, 0.5))
+    expected = kane_sim.BatchSimulator(64, config_path(), threads=1)
+    expected.step(np.full(64, 0.5))
+    expected.step(np.full(64, -0.5), 10)
+    pid = os.fork()
+    if pid == 0:  # the child: no pytest from here on, only an exit status
+        code = 1
+        try:
+            batch.step(np.full(64, -0.5), 10)
+            code = 0 if np.array_equal(batch.states, expected.states) else 2
+            del batch
+            __import__("gc").collect()
+        finally:
+            os._exit(code)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            break
+        time.sleep(0.05)
+    else:
+        os.kill(pid, 9)
+        os.waitpid(pid, 0)
+        pytest.fail("the forked child hung")
+    assert os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0, status
+    batch.step(np.full(64, -0.5), 10)  # the parent's batch and its helper still work
+    assert np.array_equal(batch.states, expected.states)
 
 
 def test_one_call_at_a_time():

@@ -93,6 +93,8 @@ class BatchSimulator {
   void buildDriver(std::size_t lane, const Config& config);
   void resetLane(std::size_t lane);
   OdeState& laneState(std::size_t lane);  // the lanes path's state of `lane`
+  // Why lane `lane`'s step from x under `action` was refused, in a single run's words.
+  std::string refusalText(std::size_t lane, const State& x, double action) const;
   bool stepping(std::size_t lane) const {
     return !terminated_[lane] && (!active_ || (*active_)[lane]);
   }

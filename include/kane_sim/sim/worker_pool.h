@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -37,15 +38,27 @@ class WorkerPool {
   // included): a helper that wakes late costs the items it does not take, never the call's
   // wait. Returns when all are done. The first exception a worker throws is rethrown here once
   // every worker has finished its item. One call at a time.
+  // In a process forked from the one that built the pool (Python's multiprocessing forks) the
+  // helpers do not exist: this thread does every item, and the destructor leaves the helpers'
+  // handles and the pool's mutex and condition variables alone (joining them aborted the child;
+  // destroying a condition variable a helper waited on in the parent hung it).
   void forEach(std::size_t count, const std::function<void(std::size_t)>& work);
 
  private:
   void serve();
   void runShare();
 
+  bool forked() const;
+
   const std::chrono::microseconds spin_;
-  std::mutex mutex_;
-  std::condition_variable wake_, finished_;
+  const long owner_;  // the process that started the helpers (getpid)
+  // Held by pointer: in a forked child a condition variable a parent's helper waited on cannot
+  // be destroyed (pthread_cond_destroy waits for that waiter), so the child leaves them be.
+  struct Sync {
+    std::mutex mutex;
+    std::condition_variable wake, finished;
+  };
+  std::unique_ptr<Sync> sync_ = std::make_unique<Sync>();
   std::atomic<std::uint64_t> generation_{0};  // one per forEach
   std::atomic<std::size_t> next_{0};          // the next item to take
   bool open_ = false;                         // a forEach is under way and helpers may join it
