@@ -6,6 +6,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from kane_sim import _core
 from kane_sim.core import Config, Simulator
 from kane_sim.identify.least_squares import _dissipative, fitted_config
 from kane_sim.identify.rates import _effective_samples_factor, estimate_rates
@@ -103,9 +104,9 @@ class _Segments:
     samples every `stride`-th so that at most MAX_ROWS are compared. Holds per segment the data
     rows, the physics steps' torques and the start state's first guess (the filter's)."""
 
-    def __init__(self, motion, prepared, step):
+    def __init__(self, motion, prepared, step, seconds=SEGMENT_SECONDS):
         t0, t1 = prepared.t[0], prepared.t[-1]
-        self.count = max(1, int(math.floor((t1 - t0) / SEGMENT_SECONDS)))
+        self.count = max(1, int(math.floor((t1 - t0) / seconds)))
         edges = np.linspace(t0, t1, self.count + 1)
         chosen = np.unique(np.round(np.linspace(0, self.count - 1, min(self.count, MAX_SEGMENTS)))
                            .astype(int))
@@ -129,7 +130,8 @@ class _Segments:
         return len(self.rows)
 
 
-def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, progress=None):
+def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, progress=None,
+            segment_seconds=SEGMENT_SECONDS):
     """Output error by multiple shooting: the parameters that make the model, driven by the
     recorded torque, pass closest to the recorded positions, each coordinate weighted by its
     noise (the filter's residual). The recording is cut into SEGMENT_SECONDS segments, each
@@ -150,7 +152,7 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
     limit = float(np.max(np.abs(motion.torque)) + 1.0)
     config0 = Config(base).with_values(replay_settings(limit))
     step = 1.0 / config0["simulation.physics_rate"]
-    segments = _Segments(motion, prepared, step)
+    segments = _Segments(motion, prepared, step, segment_seconds)
     rows = np.concatenate(segments.rows)
     q_data = motion.q[rows]
     t_data = motion.t[rows]
@@ -230,7 +232,7 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
     iterations = []
     if progress:
         progress("output error: %d segments of %g s%s, %d parameters, at most %d evaluations"
-                 % (n_seg, SEGMENT_SECONDS, " (of %d)" % segments.count
+                 % (n_seg, segment_seconds, " (of %d)" % segments.count
                     if segments.count > n_seg else "", n_free, max_evaluations))
 
     def jacobian(z):
@@ -299,10 +301,21 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
                 for k in (0, 1))
     bias = z[n_free + 4 * n_seg:n_lag] * scale[n_free + 4 * n_seg:n_lag]
     converged = all(rms[k] <= CONVERGED_NOISE_FACTOR * sigma[k] for k in (0, 1))
+    # The base's parameters through the same segments (the fitted start states, drift and lag):
+    # what the fit gained, judged where the model is judged (a whole-recording replay of a
+    # crank in full turns diverges for any parameters, fitted or not).
+    at_base = z.copy()
+    at_base[:n_free] = np.array([0.0 if names[i] == "torque_offset" else
+                                 _core.identification_base_value(base._core, names[i])
+                                 for i in free]) / scale[:n_free]
+    r_base = residual(at_base)
+    base_rms = tuple(float(np.sqrt(np.mean((r_base[k * half:(k + 1) * half] * sigma[k]) ** 2)))
+                     for k in (0, 1))
     return out, cov, {"evaluations": int(solution.nfev), "position_rms": rms,
                       "noise": tuple(float(x) for x in sigma), "segments": n_seg,
                       "segments_of": segments.count, "stride": segments.stride,
                       "converged": converged, "evaluation_limit": max_evaluations,
+                      "base_position_rms": base_rms, "segment_seconds": segment_seconds,
                       "crank_bias": (knots.tolist(), bias.tolist()),
                       "lag": float(z[n_lag] * scale[n_lag]),
                       "lag_error": float(np.sqrt(max(cov_z[n_lag, n_lag], 0.0)) * scale[n_lag])}

@@ -102,7 +102,8 @@ class Identification:
             lines.append("refined by output error (%d segments of %g s%s, %d evaluations): "
                          "positions fitted to %.3g rad, %.3g m RMS (their noise %.3g rad, "
                          "%.3g m)%s"
-                         % ((self.refined["segments"], SEGMENT_SECONDS, part,
+                         % ((self.refined["segments"],
+                             self.refined.get("segment_seconds", SEGMENT_SECONDS), part,
                              self.refined["evaluations"]) + self.refined["position_rms"]
                             + self.refined["noise"]
                             + ("" if self.refined["converged"] else ": NOT converged",)))
