@@ -41,11 +41,13 @@ bool inertiaFollowsMass(const YAML::Node& base) {
 
 std::vector<Config> configsWithNumbers(const Config& base, bool inertia_from_mass,
                                        const std::vector<const ParameterSpec*>& specs,
-                                       const double* values, std::size_t n, unsigned threads) {
+                                       const double* values, std::size_t n, unsigned threads,
+                                       const std::atomic<bool>* stop) {
   std::vector<Config> out(n, base);
   const std::size_t k = specs.size();
   parallelBlocks(static_cast<long>(n), threads, [&](long begin, long end) {
     for (long i = begin; i < end; ++i) {
+      if (stop && stop->load(std::memory_order_relaxed)) return;
       try {
         out[static_cast<std::size_t>(i)] = configWithNumbers(
             base, inertia_from_mass, specs, values + static_cast<std::size_t>(i) * k);

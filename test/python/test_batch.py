@@ -247,6 +247,27 @@ def test_ctrl_c_stops_a_long_step_where_it_is(simd):
     assert float(words[2]) < 5.0 and float(words[5]) < 10000.0 and float(words[7]) > 0, r.stdout
 
 
+def test_ctrl_c_stops_building_many_mechanisms():
+    # 10^6 mechanisms with their own numbers take ~9 s to build (their start-up checks): Ctrl-C
+    # ends the build within its 20 ms watch, not when it ends. Here 4 x 10^5 (~4 s).
+    script = (
+        "import signal, time, threading, os, numpy as np, kane_sim\n"
+        "n = 400_000\n"
+        "masses = np.random.default_rng(0).uniform(0.8, 1.2, n)\n"
+        "threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT)).start()\n"
+        "t = time.monotonic()\n"
+        "try:\n"
+        "    kane_sim.BatchSimulator(n, params={'mechanism.rod_mass': masses}, threads=1)\n"
+        "    print('built after %.2f s' % (time.monotonic() - t))\n"
+        "except KeyboardInterrupt:\n"
+        "    print('stopped after %.2f s' % (time.monotonic() - t))\n")
+    import subprocess
+    import sys
+    r = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0 and "stopped after" in r.stdout, r.stdout + r.stderr
+    assert float(r.stdout.split()[2]) < 2.0, r.stdout  # 0.5 s, then at most one row per thread
+
+
 @pytest.mark.parametrize("simd", ["auto", "off"])
 def test_a_refused_step_is_told_in_the_single_runs_words(simd):
     # The lanes know only that a check refused the step; its reason is the single run's own.

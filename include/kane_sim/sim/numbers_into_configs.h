@@ -8,6 +8,7 @@
 #ifndef KANE_SIM_SIM_NUMBERS_INTO_CONFIGS_H
 #define KANE_SIM_SIM_NUMBERS_INTO_CONFIGS_H
 
+#include <atomic>
 #include <cstddef>
 #include <stdexcept>
 #include <vector>
@@ -41,10 +42,12 @@ bool inertiaFollowsMass(const YAML::Node& base);
 // Row i of `values` (n x specs.size(), row-major) into a copy of `base`; MechanismConfigError
 // names the row. `inertia_from_mass`: the
 // base's file has no mechanism.rod_inertia (it follows the rod's mass and L). Rows are built on
-// up to `threads` threads.
+// up to `threads` threads. `stop` (when not null) set: the rows not yet built are left as the
+// base (the caller drops the result).
 std::vector<Config> configsWithNumbers(const Config& base, bool inertia_from_mass,
                                        const std::vector<const ParameterSpec*>& specs,
-                                       const double* values, std::size_t n, unsigned threads);
+                                       const double* values, std::size_t n, unsigned threads,
+                                       const std::atomic<bool>* stop = nullptr);
 
 }  // namespace kane_sim
 
