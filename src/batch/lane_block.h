@@ -61,7 +61,6 @@ struct Lanes<double> {
   static constexpr std::size_t width = 1;
   using Mask = bool;
   static double load(const double* p) { return *p; }
-  static double fromValues(const double* v) { return v[0]; }
   static double loadUnaligned(const double* p) { return *p; }
   static double strided(const double* p, std::size_t) { return *p; }
   static void store(double v, double* p) { *p = v; }
@@ -130,7 +129,7 @@ void runLaneBlockOf(const LaneBlock& block) {
   const auto gather = [&](auto value_of) {
     double lane[W];
     for (std::size_t j = 0; j < W; ++j) lane[j] = value_of(index(j));
-    return L::fromValues(lane);
+    return L::strided(lane, 1);
   };
   // A condition per lane, the same way: 1 or 0 gathered, compared.
   const auto gatherMask = [&](auto holds) {

@@ -17,7 +17,9 @@ struct Lanes<xsimd::batch<double, A>> {
   static constexpr std::size_t width = B::size;
   static B load(const double* p) { return B::load_aligned(p); }
   static B loadUnaligned(const double* p) { return B::load_unaligned(p); }
-  // p[0], p[stride], p[2 stride], ...: straight from memory into the register.
+  // p[0], p[stride], p[2 stride], ...: built in a register (the compiler's loads and inserts),
+  // never stored as a whole and read back (lane_block.h: store forwarding). Each branch compiles
+  // only in the lanes_<arch>.cpp of its width.
   static B strided(const double* p, std::size_t stride) {
     if constexpr (width == 2) {
       return B(_mm_set_pd(p[stride], p[0]));
@@ -27,19 +29,6 @@ struct Lanes<xsimd::batch<double, A>> {
       static_assert(width == 8, "SSE2, AVX2 or AVX-512 lanes");
       return B(_mm512_set_pd(p[7 * stride], p[6 * stride], p[5 * stride], p[4 * stride],
                              p[3 * stride], p[2 * stride], p[stride], p[0]));
-    }
-  }
-  // v[0 .. width - 1] built in a register (the compiler's loads and inserts), never stored as a
-  // whole and read back (lane_block.h: store forwarding). Each branch compiles only in the
-  // lanes_<arch>.cpp of its width.
-  static B fromValues(const double* v) {
-    if constexpr (width == 2) {
-      return B(_mm_set_pd(v[1], v[0]));
-    } else if constexpr (width == 4) {
-      return B(_mm256_set_pd(v[3], v[2], v[1], v[0]));
-    } else {
-      static_assert(width == 8, "SSE2, AVX2 or AVX-512 lanes");
-      return B(_mm512_set_pd(v[7], v[6], v[5], v[4], v[3], v[2], v[1], v[0]));
     }
   }
   static void store(const B& v, double* p) { v.store_aligned(p); }

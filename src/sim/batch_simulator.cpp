@@ -260,10 +260,6 @@ void BatchSimulator::resetLane(std::size_t i) {
   }
 }
 
-OdeState& BatchSimulator::laneState(std::size_t lane) {
-  return chunks_[lanes_[lane].chunk].run.start[lanes_[lane].slot];
-}
-
 Status BatchSimulator::checkState(std::size_t i, const State& x) const {
   const Lane& l = lanes_[i];
   // The lanes path has no Simulator of its own: one of the lane's config checks the state.
@@ -295,7 +291,7 @@ void BatchSimulator::reseed(const std::vector<bool>& mask,
     if (!mask[i]) continue;
     configs_[i].sensors.seed = static_cast<int>(seeds[i]);  // Python keeps it <= 2^31 - 1
     if (on_lanes_) {  // no sensors on lanes: a fresh start, its clock at 0
-      chunks_[lanes_[i].chunk].ticks[lanes_[i].slot] = 0;
+      laneTicks(i) = 0;
       resetLane(i);
     } else {
       buildDriver(i, configs_[i]);
@@ -305,8 +301,7 @@ void BatchSimulator::reseed(const std::vector<bool>& mask,
 
 State BatchSimulator::state(std::size_t lane) const {
   const Lane& l = lanes_[lane];
-  return l.driver ? l.driver->simulator().state()
-                  : fromOdeState(chunks_[l.chunk].run.start[l.slot]);
+  return l.driver ? l.driver->simulator().state() : fromOdeState(laneState(lane));
 }
 
 void BatchSimulator::states(double* out) const {
@@ -325,8 +320,7 @@ void BatchSimulator::states(double* out) const {
 
 double BatchSimulator::time(std::size_t lane) const {
   const Lane& l = lanes_[lane];
-  return l.driver ? l.driver->time()
-                  : static_cast<double>(chunks_[l.chunk].ticks[l.slot]) * step_size_;
+  return l.driver ? l.driver->time() : static_cast<double>(laneTicks(lane)) * step_size_;
 }
 
 }  // namespace kane_sim

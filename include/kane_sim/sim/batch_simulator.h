@@ -92,7 +92,19 @@ class BatchSimulator {
   };
   void buildDriver(std::size_t lane, const Config& config);
   void resetLane(std::size_t lane);
-  OdeState& laneState(std::size_t lane);  // the lanes path's state of `lane`
+  // The lanes path's state of `lane` (q1, q2, u1, u2, W, D) and its clock [physics steps].
+  OdeState& laneState(std::size_t lane) {
+    return chunks_[lanes_[lane].chunk].run.start[lanes_[lane].slot];
+  }
+  const OdeState& laneState(std::size_t lane) const {
+    return chunks_[lanes_[lane].chunk].run.start[lanes_[lane].slot];
+  }
+  std::uint64_t& laneTicks(std::size_t lane) {
+    return chunks_[lanes_[lane].chunk].ticks[lanes_[lane].slot];
+  }
+  std::uint64_t laneTicks(std::size_t lane) const {
+    return chunks_[lanes_[lane].chunk].ticks[lanes_[lane].slot];
+  }
   // Why lane `lane`'s step from x under `action` was refused, in a single run's words.
   std::string refusalText(std::size_t lane, const State& x, double action) const;
   bool stepping(std::size_t lane) const {
