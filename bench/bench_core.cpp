@@ -48,10 +48,18 @@ void BM_GeneratedEvaluation(benchmark::State& st) {
 }
 BENCHMARK(BM_GeneratedEvaluation);
 
-void BM_Rk4Step(benchmark::State& st, kane_sim::EquationsSource equations) {
+// every_load: the dampers and Coulomb friction on (the generated variant with every term, whose
+// tanh calls the library).
+void BM_Rk4Step(benchmark::State& st, kane_sim::EquationsSource equations, bool every_load) {
   kane_sim::Config c = defaultConfig();
   c.simulation.integrator = kane_sim::IntegratorType::kRk4;
   c.simulation.equations = equations;
+  if (every_load) {
+    auto& p = c.mechanism;
+    p.damping = {0.01, 0.01, 0.5, 0.5, 0.2};  // crank, coupler, slider3, slider4, spring
+    p.friction.crank = p.friction.coupler = 0.02;
+    p.friction.slider3 = p.friction.slider4 = 0.3;
+  }
   kane_sim::Simulator sim(c);
   sim.setTorque(2.0);
   for (auto _ : st) {
@@ -60,8 +68,9 @@ void BM_Rk4Step(benchmark::State& st, kane_sim::EquationsSource equations) {
   }
   st.SetItemsProcessed(st.iterations());
 }
-BENCHMARK_CAPTURE(BM_Rk4Step, generated, kane_sim::EquationsSource::kGenerated);
-BENCHMARK_CAPTURE(BM_Rk4Step, generic, kane_sim::EquationsSource::kGeneric);
+BENCHMARK_CAPTURE(BM_Rk4Step, generated, kane_sim::EquationsSource::kGenerated, false);
+BENCHMARK_CAPTURE(BM_Rk4Step, generic, kane_sim::EquationsSource::kGeneric, false);
+BENCHMARK_CAPTURE(BM_Rk4Step, generated_every_load, kane_sim::EquationsSource::kGenerated, true);
 
 // dopri5: the cost of one simulated second at 1 kHz physics, per tolerance.
 void BM_Dopri5PerSimSecond(benchmark::State& st) {

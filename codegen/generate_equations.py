@@ -238,6 +238,50 @@ def coefficients(laws):
     return tuple(c for _, kind, _, law, c in LOADS if kind == "resistance" and law in laws)
 
 
+# What a rate depends on besides the constants: the state's functions the kernel computes.
+def state_symbols(M_m):
+    return [sp.Symbol(n) for n in ("sin_q1", "cos_q1", "q2", "u1", "u2")] + [M_m]
+
+
+def separate_constants(rates, state):
+    """Each rate as a polynomial in the state (sin q1, cos q1, q2, u1, u2, M_m, and each tanh of
+    one) over a polynomial in it, nested by Horner's rule, whose coefficients are functions of
+    the constants alone, each named once (a0, a1, ...): the coefficients are the same at every
+    stage of a step, so the integrator forms them once per step instead of the state's terms
+    forming them again at each stage. A denominator free of the state (u2' = .../M2) goes into
+    the coefficients: no division at the stages. Returns (rates, [(name, coefficient)])."""
+    named = {}
+
+    def name(coefficient):
+        if coefficient.is_Number:
+            return coefficient
+        if coefficient not in named:
+            named[coefficient] = sp.Symbol("a%d" % len(named))
+        return named[coefficient]
+
+    def polynomial(ex, variables, divisor=sp.S.One):
+        terms = sp.Poly(sp.expand(ex), *variables).terms()
+        sum_ = sp.Add(*[name(sp.factor_terms(coefficient / divisor)) *
+                        sp.Mul(*[v ** n for v, n in zip(variables, powers)])
+                        for powers, coefficient in terms])
+        return sp.horner(sum_, *variables) if sum_.free_symbols & set(variables) else sum_
+
+    def form(ex):
+        # tanh's argument is a rate too; inside ex each tanh stands as one more variable.
+        ex = ex.replace(lambda e: isinstance(e, sp.tanh), lambda e: sp.tanh(form(e.args[0])))
+        tanhs = {t: sp.Dummy() for t in sorted(ex.atoms(sp.tanh), key=sp.default_sort_key)}
+        variables = state + list(tanhs.values())
+        numerator, denominator = sp.fraction(sp.together(ex.subs(tanhs)))
+        if denominator.free_symbols & set(variables):
+            ex = polynomial(numerator, variables) / polynomial(denominator, variables)
+        else:
+            ex = polynomial(numerator, variables, denominator)
+        return ex.subs({d: t for t, d in tanhs.items()})
+
+    rates = [form(ex) for ex in rates]
+    return rates, [(symbol, coefficient) for coefficient, symbol in named.items()]
+
+
 def render_function(out, name, p, M_m, rates, skipped=()):
     """One inline C++ function template returning RatesOf<Real>; `skipped` parameters are zero
     in this variant (the caller guarantees it) and not read."""
@@ -247,10 +291,15 @@ def render_function(out, name, p, M_m, rates, skipped=()):
     sin_q1, cos_q1 = sp.Symbol("sin_q1"), sp.Symbol("cos_q1")
     rates = [ex.subs({sp.sin(q1): sin_q1, sp.cos(q1): cos_q1}) for ex in rates]
     rates = [ex.subs({p[n]: 0 for n in skipped}) for ex in rates]
-    replacements, (e1, e2, ep) = sp.cse(rates, symbols=sp.numbered_symbols("t"),
+    rates, coefficients = separate_constants(rates, state_symbols(M_m))
+    constant_terms, named = sp.cse([c for _, c in coefficients], symbols=sp.numbered_symbols("t"),
+                                   optimizations="basic")
+    replacements, (e1, e2, ep) = sp.cse(rates, symbols=sp.numbered_symbols("e"),
                                         optimizations="basic")
-    used = set().union(*(ex.free_symbols for _, ex in replacements), e1.free_symbols,
-                       e2.free_symbols, ep.free_symbols)
+    used = set().union(*(ex.free_symbols for _, ex in constant_terms),
+                       *(ex.free_symbols for ex in named))
+    used_by_state = set().union(*(ex.free_symbols for _, ex in replacements), e1.free_symbols,
+                                e2.free_symbols, ep.free_symbols)
     out("template <class Real, class MathOf = Math<Real>>")
     out("inline RatesOf<Real> %s(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,"
         % name)
@@ -259,10 +308,16 @@ def render_function(out, name, p, M_m, rates, skipped=()):
         if p[param] in used:
             out("  const Real %s = p.%s;" % (param, field))
     for arg in ("q2", "u1", "u2"):
-        if sp.Symbol(arg) not in used:
+        if sp.Symbol(arg) not in used_by_state:
             out("  static_cast<void>(%s);" % arg)
-    if M_m not in used:
+    if M_m not in used_by_state:
         out("  static_cast<void>(M_m);")
+    out("  // The coefficients: the constants' alone, the same at every stage of a step.")
+    for symbol, ex in constant_terms:
+        out("  const Real %s = %s;" % (symbol, to_cpp(ex)))
+    for (symbol, _), ex in zip(coefficients, named):
+        out("  const Real %s = %s;" % (symbol, to_cpp(ex)))
+    out("  // The state's terms.")
     out("  Real sin_q1, cos_q1;")
     out("  MathOf::sinCos(q1, &sin_q1, &cos_q1);")
     for symbol, ex in replacements:

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include <boost/numeric/odeint.hpp>
 
@@ -125,6 +126,15 @@ class Simulator::Integrator {
     OdeState local = x;
     kane_sim::rk4Step(system, local, dt);
     x = local;
+  }
+  // The generated equations: the stages of the variant the constants need, fixed at compile time
+  // (GeneratedMechanism::withBound) and flattened into one body. With sin and cos inline
+  // (model/math_functions.h) nothing between the stages is opaque to the compiler, so it forms
+  // the equations' coefficients (the constants' functions) once per step.
+  void rk4Step(const EquationsOfMotion<GeneratedMechanism>& system, OdeState& x, double dt) {
+    system.equations->withBound([&](const auto& bound) {
+      rk4Step(EquationsOfMotion<std::decay_t<decltype(bound)>>{&bound, system.torque}, x, dt);
+    });
   }
 
   IntegratorType type_;

@@ -53,75 +53,32 @@ double Simulator::lastInstantWhere(const System& system, const OdeState x, doubl
   return before;
 }
 
+// One advance of x over `span` from t and the checks every trial state passes: nullptr, or why
+// the step is refused (a literal).
+template <class System>
+const char* Simulator::advanceChecked(const System& system, OdeState* x, double t, double span,
+                                      bool reuse_derivative) {
+  const char* error = integrator_->advance(system, *x, t, span, reuse_derivative);
+  static_assert(kMaxCrankTurnPerStep == 1.0, "the message below names the limit");
+  if (!error && !withinScale(*x))  // NaN fails it too
+    error = "the step produced a non-finite or runaway state (beyond 1e100)";
+  if (!error && integrator_type_ == IntegratorType::kRk4 &&
+      !(std::abs((*x)[2]) * step_size_ <= kMaxCrankTurnPerStep))
+    error =
+        "the crank would turn more than 1 rad in one rk4 step, which rk4 cannot resolve "
+        "(use simulation.integrator dopri5 or a higher simulation.physics_rate)";
+  return error;
+}
+
 template <class Equations>
 Status Simulator::stepWith(const Equations& equations) {
   OdeState x = toOdeState(state_, motor_work_, dissipated_energy_);
   step_impact_energy_ = 0.0;
-  const EquationsOfMotion<Equations> free{&equations, torque_};
-  const RestingContactMotion<Equations> held{&model_, &equations, torque_};
-  const SliderContact& contact = model_.parameters().contact;
-  double t = time();
-  double remaining = step_size_;
-  bool reuse_derivative = last_derivative_valid_;
-  const bool rk4 = integrator_type_ == IntegratorType::kRk4;
-  const char* error = nullptr;
-  const auto pushes = [&](const OdeState& at) {  // the held contact still pushes (N >= 0)
-    return restingContactAt(equations, fromOdeState(at)).force >= 0.0;
-  };
-  const auto apart = [&](const OdeState& at) { return separationAtLeast(at, contact.gap); };
-  static_assert(kMaxContactEventsPerStep == 16 && kMaxCrankTurnPerStep == 1.0,
-                "the messages below name the limits");
-  for (int events = 0;; ++events) {
-    if (events > kMaxContactEventsPerStep) {
-      error = "the sliders' contact changed more than 16 times within one physics step";
-      break;
-    }
-    if (resting_contact_ && !pushes(x)) {  // the contact would pull: it lets go
-      resting_contact_ = false;
-      reuse_derivative = false;
-    }
-    OdeState trial = x;
-    error = resting_contact_ ? integrator_->advance(held, trial, t, remaining, reuse_derivative)
-                             : integrator_->advance(free, trial, t, remaining, reuse_derivative);
-    if (!error && !withinScale(trial))  // NaN fails it too
-      error = "the step produced a non-finite or runaway state (beyond 1e100)";
-    if (!error && rk4 && !(std::abs(trial[2]) * step_size_ <= kMaxCrankTurnPerStep))
-      error =
-          "the crank would turn more than 1 rad in one rk4 step, which rk4 cannot resolve "
-          "(use simulation.integrator dopri5 or a higher simulation.physics_rate)";
-    if (error) break;
-    double span = 0.0;  // how far into the remaining step the event lies
-    if (resting_contact_) {
-      // Integrated on the contact: q2, u2 follow from q1, u1 exactly (no drift off it).
-      putOnContact(&trial);
-      if (pushes(trial)) {
-        x = trial;
-        break;
-      }
-      // The contact force turns to a pull within the step: let go where it does.
-      span = lastInstantWhere(
-          held, x, t, remaining,
-          [&](OdeState at) {
-            putOnContact(&at);
-            return pushes(at);
-          },
-          &x);
-      putOnContact(&x);
-      resting_contact_ = false;
-    } else {
-      if (!contact.enabled || apart(trial)) {
-        x = trial;
-        break;
-      }
-      // The sliders closed to the gap within this step: find when, resolve the touch there,
-      // integrate the rest of the step.
-      span = lastInstantWhere(free, x, t, remaining, apart, &x);
-      touch(equations, &x);
-    }
-    t += span;
-    remaining -= span;
-    reuse_derivative = false;
-  }
+  // Without contact the step is one advance (most runs); with it, the events it may hold.
+  const char* error = resting_contact_ || model_.parameters().contact.enabled
+                          ? advanceThroughContact(equations, &x)
+                          : advanceChecked(EquationsOfMotion<Equations>{&equations, torque_}, &x,
+                                           time(), step_size_, last_derivative_valid_);
   last_derivative_valid_ = !error;
   if (error) {
     resting_contact_ = resting_contact_at_start_of_step_;
@@ -147,6 +104,68 @@ Status Simulator::stepWith(const Equations& equations) {
   resting_contact_at_start_of_step_ = resting_contact_;
   ++ticks_;
   return {};
+}
+
+// The step with contact enabled or held: advance, and where the sliders touch or a held contact
+// lets go within the step, find the instant, resolve it there and advance the rest.
+template <class Equations>
+const char* Simulator::advanceThroughContact(const Equations& equations, OdeState* state) {
+  OdeState& x = *state;
+  const EquationsOfMotion<Equations> free{&equations, torque_};
+  const RestingContactMotion<Equations> held{&model_, &equations, torque_};
+  const SliderContact& contact = model_.parameters().contact;
+  double t = time();
+  double remaining = step_size_;
+  bool reuse_derivative = last_derivative_valid_;
+  const auto pushes = [&](const OdeState& at) {  // the held contact still pushes (N >= 0)
+    return restingContactAt(equations, fromOdeState(at)).force >= 0.0;
+  };
+  const auto apart = [&](const OdeState& at) { return separationAtLeast(at, contact.gap); };
+  static_assert(kMaxContactEventsPerStep == 16, "the message below names the limit");
+  for (int events = 0;; ++events) {
+    if (events > kMaxContactEventsPerStep)
+      return "the sliders' contact changed more than 16 times within one physics step";
+    if (resting_contact_ && !pushes(x)) {  // the contact would pull: it lets go
+      resting_contact_ = false;
+      reuse_derivative = false;
+    }
+    OdeState trial = x;
+    const char* error = resting_contact_
+                            ? advanceChecked(held, &trial, t, remaining, reuse_derivative)
+                            : advanceChecked(free, &trial, t, remaining, reuse_derivative);
+    if (error) return error;
+    double span = 0.0;  // how far into the remaining step the event lies
+    if (resting_contact_) {
+      // Integrated on the contact: q2, u2 follow from q1, u1 exactly (no drift off it).
+      putOnContact(&trial);
+      if (pushes(trial)) {
+        x = trial;
+        return nullptr;
+      }
+      // The contact force turns to a pull within the step: let go where it does.
+      span = lastInstantWhere(
+          held, x, t, remaining,
+          [&](OdeState at) {
+            putOnContact(&at);
+            return pushes(at);
+          },
+          &x);
+      putOnContact(&x);
+      resting_contact_ = false;
+    } else {
+      if (!contact.enabled || apart(trial)) {
+        x = trial;
+        return nullptr;
+      }
+      // The sliders closed to the gap within this step: find when, resolve the touch there,
+      // integrate the rest of the step.
+      span = lastInstantWhere(free, x, t, remaining, apart, &x);
+      touch(equations, &x);
+    }
+    t += span;
+    remaining -= span;
+    reuse_derivative = false;
+  }
 }
 
 Simulator::Dynamics Simulator::dynamics() const {

@@ -8,6 +8,7 @@
 
 #include "kane_sim/config/input_file.h"
 #include "kane_sim/format_number.h"
+#include "kane_sim/model/math_functions.h"
 #include "kane_sim/sim/output_grid.h"
 
 namespace kane_sim {
@@ -188,7 +189,8 @@ double TorqueProfile::at(double t) const {
     case Kind::kStep:
       return t < a_ ? b_ : c_;
     case Kind::kSine:
-      return c_ + a_ * std::sin(2 * M_PI * b_ * t);
+      // The project's one sin (every build the same bits, the browser's too).
+      return c_ + a_ * math::sin(2 * M_PI * b_ * t);
     case Kind::kTable: {
       // The last entry whose time is <= t.
       const auto after = std::upper_bound(points_.begin(), points_.end(), t,

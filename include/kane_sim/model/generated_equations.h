@@ -160,22 +160,27 @@ inline RatesOf<Real> ratesUndamped(const ConstantsOf<Real>& p, Real q1, Real q2,
   const Real g = p.gravity;
   const Real s0 = p.spring_rest_length;
   static_cast<void>(u2);
+  // The coefficients: the constants' alone, the same at every stage of a step.
+  const Real t0 = L*L;
+  const Real t1 = 8*t0*(2*M1 + m);
+  const Real t2 = 4*L;
+  const Real t3 = k*s0;
+  const Real t4 = 1.0/M2;
+  const Real t5 = k*t4;
+  const Real a0 = -t1;
+  const Real a1 = 16*k*t0;
+  const Real a2 = -k*t2;
+  const Real a3 = -t2*(M1*g + g*m - t3);
+  const Real a4 = t1;
+  const Real a5 = 2*I + 2*m*t0;
+  const Real a6 = t2*t5;
+  const Real a7 = -t5;
+  const Real a8 = t4*(M2*g + t3);
+  // The state's terms.
   Real sin_q1, cos_q1;
   MathOf::sinCos(q1, &sin_q1, &cos_q1);
-  const Real t0 = L*L;
-  const Real t1 = m*t0;
-  const Real t2 = sin_q1*sin_q1;
-  const Real t3 = 8*t0;
-  const Real t4 = M1*t3;
-  const Real t5 = 4*t1;
-  const Real t6 = 2*L;
-  const Real t7 = g*sin_q1*t6;
-  const Real t8 = k*sin_q1;
-  const Real t9 = t6*t8;
-  const Real t10 = cos_q1*sin_q1*u1*u1;
-  const Real t11 = k/M2;
-  return {-(M1*t7 - 1.0/2.0*M_m - cos_q1*t3*t8 + m*t7 + q2*t9 - s0*t9 + t10*t4 + t10*t5)/(I + t1 + t2*t4 + t2*t5),
-          4*L*cos_q1*t11 + g - q2*t11 + s0*t11,
+  return {(M_m + sin_q1*(a2*q2 + a3 + cos_q1*(a0*u1*u1 + a1)))/(a4*sin_q1*sin_q1 + a5),
+          a6*cos_q1 + a7*q2 + a8,
           0};
 }
 
@@ -197,31 +202,44 @@ inline RatesOf<Real> ratesViscous(const ConstantsOf<Real>& p, Real q1, Real q2, 
   const Real c_B = p.slider3_damping;
   const Real c_C = p.slider4_damping;
   const Real c_S = p.spring_damping;
+  // The coefficients: the constants' alone, the same at every stage of a step.
+  const Real t0 = L*L;
+  const Real t1 = 16*t0;
+  const Real t2 = t1*(c_B + c_S);
+  const Real t3 = 8*t0*(2*M1 + m);
+  const Real t4 = 4*L;
+  const Real t5 = c_S*t4;
+  const Real t6 = k*s0;
+  const Real t7 = 4*c_A + c_O;
+  const Real t8 = 1.0/M2;
+  const Real t9 = k*t8;
+  const Real t10 = c_C + c_S;
+  const Real a0 = -t2;
+  const Real a1 = -t3;
+  const Real a2 = k*t1;
+  const Real a3 = -k*t4;
+  const Real a4 = -t5;
+  const Real a5 = -t4*(M1*g + g*m - t6);
+  const Real a6 = -t7;
+  const Real a7 = t3;
+  const Real a8 = 2*I + 2*m*t0;
+  const Real a9 = -t5*t8;
+  const Real a10 = t4*t9;
+  const Real a11 = -t9;
+  const Real a12 = -t10*t8;
+  const Real a13 = t8*(M2*g + t6);
+  const Real a14 = t2;
+  const Real a15 = 8*L*c_S;
+  const Real a16 = t7;
+  const Real a17 = t10;
+  // The state's terms.
   Real sin_q1, cos_q1;
   MathOf::sinCos(q1, &sin_q1, &cos_q1);
-  const Real t0 = L*L;
-  const Real t1 = m*t0;
-  const Real t2 = sin_q1*sin_q1;
-  const Real t3 = 8*t0;
-  const Real t4 = t2*t3;
-  const Real t5 = 2*L;
-  const Real t6 = sin_q1*t5;
-  const Real t7 = g*t6;
-  const Real t8 = c_S*u2;
-  const Real t9 = k*sin_q1;
-  const Real t10 = t5*t9;
-  const Real t11 = cos_q1*t3;
-  const Real t12 = t4*u1;
-  const Real t13 = u1*u1;
-  const Real t14 = 4*t13;
-  const Real t15 = 1.0/M2;
-  const Real t16 = t15*u2;
-  const Real t17 = sin_q1*u1;
-  const Real t18 = u2*u2;
-  const Real t19 = 16*t0*t13*t2;
-  return {-(M1*sin_q1*t11*t13 + M1*t7 - 1.0/2.0*M_m + 2*c_A*u1 + c_B*t12 + (1.0/2.0)*c_O*u1 + c_S*t12 + cos_q1*sin_q1*t1*t14 + m*t7 + q2*t10 - s0*t10 - t11*t9 + t6*t8)/(I + M1*t4 + 4*t1*t2 + t1),
-          -4*L*c_S*t15*t17 + 4*L*cos_q1*k*t15 - c_C*t16 - c_S*t16 + g - k*q2*t15 + k*s0*t15,
-          8*L*t17*t8 + c_A*t14 + c_B*t19 + c_C*t18 + c_O*t13 + c_S*t18 + c_S*t19};
+  const Real e0 = sin_q1*u1;
+  const Real e1 = u1*u1;
+  return {(M_m + a6*u1 + sin_q1*(a0*e0 + a3*q2 + a4*u2 + a5 + cos_q1*(a1*e1 + a2)))/(a7*sin_q1*sin_q1 + a8),
+          a10*cos_q1 + a11*q2 + a12*u2 + a13 + a9*e0,
+          a16*e1 + a17*u2*u2 + e0*(a14*e0 + a15*u2)};
 }
 
 // The terms of every resistance whose law is viscous or coulomb; only for Constants whose other
@@ -247,39 +265,61 @@ inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1
   const Real F_B = p.slider3_friction;
   const Real F_C = p.slider4_friction;
   const Real v_s = p.friction_velocity_scale;
+  // The coefficients: the constants' alone, the same at every stage of a step.
+  const Real t0 = 1.0/v_s;
+  const Real t1 = 4*L;
+  const Real t2 = L*L;
+  const Real t3 = 16*t2;
+  const Real t4 = t3*(c_B + c_S);
+  const Real t5 = 8*t2*(2*M1 + m);
+  const Real t6 = c_S*t1;
+  const Real t7 = F_B*t1;
+  const Real t8 = k*s0;
+  const Real t9 = 4*c_A + c_O;
+  const Real t10 = 2*F_A;
+  const Real t11 = 1.0/M2;
+  const Real t12 = k*t11;
+  const Real t13 = c_C + c_S;
+  const Real a0 = 2*t0;
+  const Real a1 = t0;
+  const Real a2 = t0*t1;
+  const Real a3 = -t4;
+  const Real a4 = -t5;
+  const Real a5 = k*t3;
+  const Real a6 = -k*t1;
+  const Real a7 = -t6;
+  const Real a8 = -t7;
+  const Real a9 = -t1*(M1*g + g*m - t8);
+  const Real a10 = -t9;
+  const Real a11 = -t10;
+  const Real a12 = -F_O;
+  const Real a13 = t5;
+  const Real a14 = 2*I + 2*m*t2;
+  const Real a15 = -t11*t6;
+  const Real a16 = t1*t12;
+  const Real a17 = -t12;
+  const Real a18 = -t11*t13;
+  const Real a19 = -F_C*t11;
+  const Real a20 = t11*(M2*g + t8);
+  const Real a21 = t4;
+  const Real a22 = 8*L*c_S;
+  const Real a23 = t7;
+  const Real a24 = t9;
+  const Real a25 = t10;
+  const Real a26 = F_O;
+  const Real a27 = t13;
+  const Real a28 = F_C;
+  // The state's terms.
   Real sin_q1, cos_q1;
   MathOf::sinCos(q1, &sin_q1, &cos_q1);
-  const Real t0 = L*L;
-  const Real t1 = m*t0;
-  const Real t2 = sin_q1*sin_q1;
-  const Real t3 = 8*t0;
-  const Real t4 = t2*t3;
-  const Real t5 = 2*u1;
-  const Real t6 = 2*L;
-  const Real t7 = sin_q1*t6;
-  const Real t8 = g*t7;
-  const Real t9 = c_S*u2;
-  const Real t10 = k*sin_q1;
-  const Real t11 = t10*t6;
-  const Real t12 = cos_q1*t3;
-  const Real t13 = 1.0/v_s;
-  const Real t14 = t13*u1;
-  const Real t15 = F_A*MathOf::tanh(2*t14);
-  const Real t16 = F_O*MathOf::tanh(t14);
-  const Real t17 = t4*u1;
-  const Real t18 = u1*u1;
-  const Real t19 = 4*t18;
-  const Real t20 = 4*L*sin_q1;
-  const Real t21 = F_B*MathOf::tanh(t14*t20);
-  const Real t22 = 1.0/M2;
-  const Real t23 = t22*u2;
-  const Real t24 = t20*u1;
-  const Real t25 = F_C*MathOf::tanh(t13*u2);
-  const Real t26 = u2*u2;
-  const Real t27 = 16*t0*t18*t2;
-  return {-(M1*sin_q1*t12*t18 + M1*t8 - 1.0/2.0*M_m + c_A*t5 + c_B*t17 + (1.0/2.0)*c_O*u1 + c_S*t17 + cos_q1*sin_q1*t1*t19 + m*t8 + q2*t11 - s0*t11 - t10*t12 + t15 + (1.0/2.0)*t16 + t21*t7 + t7*t9)/(I + M1*t4 + 4*t1*t2 + t1),
-          4*L*cos_q1*k*t22 - c_C*t23 - c_S*t22*t24 - c_S*t23 + g - k*q2*t22 + k*s0*t22 - t22*t25,
-          8*L*sin_q1*t9*u1 + c_A*t19 + c_B*t27 + c_C*t26 + c_O*t18 + c_S*t26 + c_S*t27 + t15*t5 + t16*u1 + t21*t24 + t25*u2};
+  const Real e0 = MathOf::tanh(a0*u1);
+  const Real e1 = MathOf::tanh(a1*u1);
+  const Real e2 = sin_q1*u1;
+  const Real e3 = MathOf::tanh(a2*e2);
+  const Real e4 = MathOf::tanh(a1*u2);
+  return {(M_m + a10*u1 + a11*e0 + a12*e1 + sin_q1*(a3*e2 + a6*q2 + a7*u2 + a8*e3 + a9 + cos_q1*(a4*u1*u1 + a5)))/(a13*sin_q1*sin_q1 + a14),
+          a15*e2 + a16*cos_q1 + a17*q2 + a18*u2 + a19*e4 + a20,
+          e2*(a21*e2 + a22*u2 + a23*e3) + u1*(a24*u1 + a25*e0 + a26*e1) + u2*(a27*u2 + a28*e4)};
 }
 
 // The variant `constants` need: the shortest that keeps every non-zero resistance's law.

@@ -22,18 +22,50 @@ class GeneratedMechanism {
   // As MechanismModel::stateDerivative: q' = u, u' (eq 18), W' = M_m u1, D' (the resistances'
   // power), with M_m the motor line's torque at u1 for the command.
   OdeState stateDerivative(const State& x, double motor_command) const {
-    const double torque = motorLineTorque(motor_, motor_command, x.u1);  // M_m
-    // The shortest generated variant that holds every non-zero resistance (the branch is the
-    // same every call).
-    const generated::Rates r =
-        generated::ratesFor(variant_, constants_, x.q1, x.q2, x.u1, x.u2, torque);
-    return {x.u1, x.u2, r.u1_dot, r.u2_dot, torque * x.u1, r.dissipated_power};
+    return derivative(variant_, constants_, motor_, x, motor_command);
+  }
+
+  // The same equations with the variant fixed at compile time.
+  template <generated::RatesVariant Variant>
+  struct Bound {
+    const GeneratedMechanism* mechanism;
+    OdeState stateDerivative(const State& x, double motor_command) const {
+      return derivative(Variant, mechanism->constants_, mechanism->motor_, x, motor_command);
+    }
+  };
+
+  // f(bound), bound a Bound of this mechanism's variant: for a body that evaluates the equations
+  // several times (an integrator's stages), which then takes the variant's branch once instead
+  // of at every evaluation (~6 ns of a ~110 ns rk4 step).
+  template <class F>
+  decltype(auto) withBound(F&& f) const {
+    using generated::RatesVariant;
+    switch (variant_) {
+      case RatesVariant::kUndamped:
+        return f(Bound<RatesVariant::kUndamped>{this});
+      case RatesVariant::kViscous:
+        return f(Bound<RatesVariant::kViscous>{this});
+      default:
+        break;
+    }
+    static_assert(generated::kEveryTerm == RatesVariant::kCoulomb, "the last variant");
+    return f(Bound<RatesVariant::kCoulomb>{this});
   }
 
   const generated::Constants& constants() const { return constants_; }
   generated::RatesVariant variant() const { return variant_; }
 
  private:
+  static OdeState derivative(generated::RatesVariant variant, const generated::Constants& constants,
+                             const MotorLine& motor, const State& x, double motor_command) {
+    const double torque = motorLineTorque(motor, motor_command, x.u1);  // M_m
+    // The shortest generated variant that holds every non-zero resistance (a constant in a
+    // Bound; otherwise the same branch every call).
+    const generated::Rates r =
+        generated::ratesFor(variant, constants, x.q1, x.q2, x.u1, x.u2, torque);
+    return {x.u1, x.u2, r.u1_dot, r.u2_dot, torque * x.u1, r.dissipated_power};
+  }
+
   generated::Constants constants_;
   MotorLine motor_;
   generated::RatesVariant variant_;

@@ -126,6 +126,11 @@ class Simulator {
   class Integrator;
   template <class Equations>
   Status stepWith(const Equations& equations);
+  template <class Equations>
+  const char* advanceThroughContact(const Equations& equations, OdeState* x);
+  template <class System>
+  const char* advanceChecked(const System& system, OdeState* x, double t, double span,
+                             bool reuse_derivative);
   // x_C - x_B >= threshold at x (the cosine only when q2's bounds leave it open).
   bool separationAtLeast(const OdeState& x, double threshold) const;
   // q2, u2 of x set from q1, u1 on the resting contact (MechanismModel::onContact).

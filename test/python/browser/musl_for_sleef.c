@@ -1,7 +1,8 @@
-/* The native build's math functions (include/kane_sim/model/math_functions.h: SLEEF's
- * deterministic sincos and tanh, SSE2 form) answered with musl's sin, cos and tanh, for the
- * browser test's LD_PRELOAD library: `simulate` then computes with the WebAssembly build's libm,
- * and the two must agree bit for bit (the same C++ on the same numbers). */
+/* The native build's calls into SLEEF (include/kane_sim/model/math_functions.h: its
+ * deterministic sincos beyond |x| = 1e14, and tanh; SSE2 form) answered with musl's sin, cos and
+ * tanh, for the browser test's LD_PRELOAD library: `simulate` then computes with the WebAssembly
+ * build's functions everywhere (below 1e14 both builds run the same written-out sincos), and the
+ * two must agree bit for bit (the same C++ on the same numbers). */
 #include <emmintrin.h>
 #include <sleef.h>
 
