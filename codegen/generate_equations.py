@@ -294,6 +294,11 @@ def render_function(out, name, p, M_m, rates, skipped=()):
     rates, coefficients = separate_constants(rates, state_symbols(M_m))
     constant_terms, named = sp.cse([c for _, c in coefficients], symbols=sp.numbered_symbols("t"),
                                    optimizations="basic")
+    # Each tanh a named value, taken two at a time (MathOf::tanhPair: one two-lane call of the
+    # library costs what one value does).
+    tanhs = sorted({t for ex in rates for t in ex.atoms(sp.tanh)}, key=sp.default_sort_key)
+    tanh_values = [sp.Symbol("tanh_%d" % i) for i in range(len(tanhs))]
+    rates = [ex.subs(dict(zip(tanhs, tanh_values))) for ex in rates]
     replacements, (e1, e2, ep) = sp.cse(rates, symbols=sp.numbered_symbols("e"),
                                         optimizations="basic")
     used = set().union(*(ex.free_symbols for _, ex in constant_terms),
@@ -320,6 +325,13 @@ def render_function(out, name, p, M_m, rates, skipped=()):
     out("  // The state's terms.")
     out("  Real sin_q1, cos_q1;")
     out("  MathOf::sinCos(q1, &sin_q1, &cos_q1);")
+    for i in range(0, len(tanhs) - 1, 2):
+        out("  Real %s, %s;" % (tanh_values[i], tanh_values[i + 1]))
+        out("  MathOf::tanhPair(%s, %s, &%s, &%s);" % (
+            to_cpp(tanhs[i].args[0]), to_cpp(tanhs[i + 1].args[0]), tanh_values[i],
+            tanh_values[i + 1]))
+    if len(tanhs) % 2:
+        out("  const Real %s = MathOf::tanh(%s);" % (tanh_values[-1], to_cpp(tanhs[-1].args[0])))
     for symbol, ex in replacements:
         out("  const Real %s = %s;" % (symbol, to_cpp(ex)))
     out("  return {%s," % to_cpp(e1))
@@ -429,7 +441,8 @@ def render():
     out("using Rates = RatesOf<double>;")
     out("")
     out("// The math the equations call: sin q1 and cos q1 in one call, and tanh for the laws that")
-    out("// call it; for double the one implementation every path uses (model/math_functions.h).")
+    out("// call it, two values a call; for double the one implementation every path uses")
+    out("// (model/math_functions.h).")
     out("// A SIMD batch type passes its own as the functions' MathOf (the same functions' vector")
     out("// forms, src/batch/simd_lanes.h).")
     out("template <class Real>")
@@ -438,6 +451,9 @@ def render():
     out("struct Math<double> {")
     out("  static void sinCos(double x, double* s, double* c) { math::sinCos(x, s, c); }")
     out("  static double tanh(double x) { return math::tanh(x); }")
+    out("  static void tanhPair(double x, double y, double* tx, double* ty) {")
+    out("    math::tanhPair(x, y, tx, ty);")
+    out("  }")
     out("};")
     out("")
     out("// Which variant a set of constants needs: each leaves out the terms of the laws after it in")

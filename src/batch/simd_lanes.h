@@ -49,6 +49,10 @@ struct Lanes<xsimd::batch<double, A>> {
 template <class B, class Vector>
 struct DeterministicMath {
   static B tanh(const B& x) { return B(Vector::tanh(x)); }
+  static void tanhPair(const B& x, const B& y, B* tx, B* ty) {  // every lane already used
+    *tx = tanh(x);
+    *ty = tanh(y);
+  }
   static void sinCos(const B& x, B* s, B* c) {
     const auto both = Vector::sincos(x);
     *s = B(both.x);
@@ -62,6 +66,10 @@ struct DeterministicMath {
 template <class B, class Vector>
 struct VectorMath {
   static B tanh(const B& x) { return B(Vector::tanh(x)); }
+  static void tanhPair(const B& x, const B& y, B* tx, B* ty) {
+    *tx = tanh(x);
+    *ty = tanh(y);
+  }
   static void sinCos(const B& x, B* s, B* c) {
     const auto both = xsimd::sincos(x);
     *s = both.first;

@@ -344,6 +344,30 @@ TEST(LaneMath, TheWrittenOutSincosIsTheLibrarysBitForBit) {
   EXPECT_EQ(differing, 0) << "of " << x.size() << " arguments";
 }
 
+// The friction laws' tanh two values a call (one two-lane call of the library): each the
+// one-value call's bits, whatever the other lane holds (NaN and infinities included).
+TEST(LaneMath, TanhPairGivesEachValueTheOneValueCallsBits) {
+  std::mt19937_64 rng(6);
+  std::uniform_real_distribution<double> exponent(-320.0, 310.0);
+  std::vector<double> x = {0.0,
+                           -0.0,
+                           4.9e-324,
+                           18.714973875,
+                           -18.714973876,
+                           std::numeric_limits<double>::infinity(),
+                           std::numeric_limits<double>::quiet_NaN()};
+  for (int i = 0; i < 200000; ++i)
+    x.push_back((i % 2 ? 1 : -1) * std::pow(10.0, exponent(rng) / 20.0 - 5.0 * (i % 3)));
+  const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  int differing = 0;
+  for (std::size_t i = 0; i + 1 < x.size(); ++i) {
+    double a, b;
+    math::tanhPair(x[i], x[x.size() - 1 - i], &a, &b);
+    differing += !same(a, math::tanh(x[i])) || !same(b, math::tanh(x[x.size() - 1 - i]));
+  }
+  EXPECT_EQ(differing, 0);
+}
+
 TEST(Sweep, VectorTrigDiffersFarLessThanTheIntegratorsOwnError) {
   // xsimd's sin and cos round differently from libm's, at every stage; sensitive (undamped)
   // motion grows that. The yardstick: rk4's own error, the single run at h against h/2.

@@ -130,7 +130,8 @@ struct RatesOf {
 using Rates = RatesOf<double>;
 
 // The math the equations call: sin q1 and cos q1 in one call, and tanh for the laws that
-// call it; for double the one implementation every path uses (model/math_functions.h).
+// call it, two values a call; for double the one implementation every path uses
+// (model/math_functions.h).
 // A SIMD batch type passes its own as the functions' MathOf (the same functions' vector
 // forms, src/batch/simd_lanes.h).
 template <class Real>
@@ -139,6 +140,9 @@ template <>
 struct Math<double> {
   static void sinCos(double x, double* s, double* c) { math::sinCos(x, s, c); }
   static double tanh(double x) { return math::tanh(x); }
+  static void tanhPair(double x, double y, double* tx, double* ty) {
+    math::tanhPair(x, y, tx, ty);
+  }
 };
 
 // Which variant a set of constants needs: each leaves out the terms of the laws after it in
@@ -312,14 +316,14 @@ inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1
   // The state's terms.
   Real sin_q1, cos_q1;
   MathOf::sinCos(q1, &sin_q1, &cos_q1);
-  const Real e0 = MathOf::tanh(a0*u1);
-  const Real e1 = MathOf::tanh(a1*u1);
-  const Real e2 = sin_q1*u1;
-  const Real e3 = MathOf::tanh(a2*e2);
-  const Real e4 = MathOf::tanh(a1*u2);
-  return {(M_m + a10*u1 + a11*e0 + a12*e1 + sin_q1*(a3*e2 + a6*q2 + a7*u2 + a8*e3 + a9 + cos_q1*(a4*u1*u1 + a5)))/(a13*sin_q1*sin_q1 + a14),
-          a15*e2 + a16*cos_q1 + a17*q2 + a18*u2 + a19*e4 + a20,
-          e2*(a21*e2 + a22*u2 + a23*e3) + u1*(a24*u1 + a25*e0 + a26*e1) + u2*(a27*u2 + a28*e4)};
+  Real tanh_0, tanh_1;
+  MathOf::tanhPair(a0*u1, a1*u1, &tanh_0, &tanh_1);
+  Real tanh_2, tanh_3;
+  MathOf::tanhPair(a1*u2, a2*sin_q1*u1, &tanh_2, &tanh_3);
+  const Real e0 = sin_q1*u1;
+  return {(M_m + a10*u1 + a11*tanh_0 + a12*tanh_1 + sin_q1*(a3*e0 + a6*q2 + a7*u2 + a8*tanh_3 + a9 + cos_q1*(a4*u1*u1 + a5)))/(a13*sin_q1*sin_q1 + a14),
+          a15*e0 + a16*cos_q1 + a17*q2 + a18*u2 + a19*tanh_2 + a20,
+          e0*(a21*e0 + a22*u2 + a23*tanh_3) + u1*(a24*u1 + a25*tanh_0 + a26*tanh_1) + u2*(a27*u2 + a28*tanh_2)};
 }
 
 // The variant `constants` need: the shortest that keeps every non-zero resistance's law.
