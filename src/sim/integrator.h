@@ -129,8 +129,9 @@ class Simulator::Integrator {
   }
   // The generated equations: the stages of the variant the constants need, fixed at compile time
   // (GeneratedMechanism::withBound) and flattened into one body. With sin and cos inline
-  // (model/math_functions.h) nothing between the stages is opaque to the compiler, so it forms
-  // the equations' coefficients (the constants' functions) once per step.
+  // (model/math_functions.h) nothing between the stages is opaque to the compiler (without
+  // friction, whose tanh stays a library call), so it forms the equations' coefficients (the
+  // constants' functions) once per step.
   void rk4Step(const EquationsOfMotion<GeneratedMechanism>& system, OdeState& x, double dt) {
     system.equations->withBound([&](const auto& bound) {
       rk4Step(EquationsOfMotion<std::decay_t<decltype(bound)>>{&bound, system.torque}, x, dt);
