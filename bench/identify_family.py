@@ -4,13 +4,14 @@ random masses, k, dampers, friction and rod inertia, six motion regimes, random 
 mid-run. Prints per rig what identify() decided, then the distribution: per parameter class the
 median and worst relative error of what it told (not kept, not marked), also without the
 parameters it named as told poorly, the coverage (share of told (rig, parameter) pairs within 3
-of their reported sigma), a fresh torque's re-simulation error (the true rig against the fitted
-config, 10 s of another multisine, against the sensors' noise), refusals with their reasons,
-the wall time and peak memory.
+of their reported sigma), a fresh torque (10 s of another multisine): how the fitted config
+follows the rig's fresh recording (rigs.fresh_recording_error) and how it predicts the truth
+restarted from the truth's states every 2 s (rigs.fresh_torque_error), against the sensors'
+noise; refusals with their reasons, the wall time and peak memory.
 
-Usage: /usr/bin/python3 bench/identify_family.py [--rigs N] [--first SEED] [--duration S]   (after sourcing the
-build's devel/setup.bash; N = 30, SEED = 100, the regimes in turn; S = 0: each rig's own 20 to
-120 s)
+Usage: /usr/bin/python3 bench/identify_family.py [--rigs N] [--first SEED] [--duration S]
+(after sourcing the build's devel/setup.bash; N = 30, SEED = 100, the regimes in turn; S = 0:
+each rig's own 20 to 120 s)
 """
 import argparse
 import os
@@ -34,7 +35,7 @@ def main():
     args = parser.parse_args()
     errors = {label: [] for label in rigs.CLASSES}
     well_told = {label: [] for label in rigs.CLASSES}  # not named as told poorly
-    z_all, refused, walls, fresh_ratio = [], [], [], []
+    z_all, refused, walls, fresh_ratio, followed = [], [], [], [], []
     for k in range(args.rigs):
         seed = args.first + k
         rig = rigs.draw(seed, regime=rigs.REGIMES[k % len(rigs.REGIMES)],
@@ -56,6 +57,7 @@ def main():
         rows = rigs.score(rig, fit)
         fresh, noise = rigs.fresh_torque_error(rig, fit)
         fresh_ratio.append(max(fresh[0] / noise[0], fresh[1] / noise[1]))
+        followed.append(max(rigs.fresh_recording_error(rig, fit)))
         worst = {}
         for name, row in rows.items():
             if not row["told"] or name == "torque_offset":
@@ -67,10 +69,12 @@ def main():
                     well_told.setdefault(label, []).append(abs(row["error"]))
                 worst[label] = max(worst.get(label, 0.0), abs(row["error"]))
             z_all.append(row["z"])
-        print("%-44s ok (%.1f s): worst %s; z max %.2g; fresh torque %.2g x noise" % (
-            rig, walls[-1], ", ".join("%s %.2g %%" % (k2, 100 * v) for k2, v in worst.items()),
-            max([r["z"] for r in rows.values() if r["told"]] or [0]), fresh_ratio[-1]),
-            flush=True)
+        print("%-44s ok (%.1f s): worst %s; z max %.2g; fresh recording followed to %.2g, "
+              "predicted from the truth's states to %.2g x noise" % (
+                  rig, walls[-1],
+                  ", ".join("%s %.2g %%" % (k2, 100 * v) for k2, v in worst.items()),
+                  max([r["z"] for r in rows.values() if r["told"]] or [0]), followed[-1],
+                  fresh_ratio[-1]), flush=True)
     print("\nper class (told parameters whose truth is not 0): median / worst relative error")
     for label, values in errors.items():
         if values:
@@ -85,6 +89,12 @@ def main():
     if len(z):
         print("coverage: %.1f %% of %d told (rig, parameter) pairs within 3 sigma (median z %.2g)"
               % (100 * np.mean(z <= 3), len(z), np.median(z)))
+    if followed:
+        f = np.array(followed)
+        print("fresh recording (10 s of another multisine, the rig's sensors; the fitted config "
+              "follows it as the fit follows its data: start states, drift and lag free): RMS "
+              "error / sensor noise median %.2g, worst %.2g; within 3x the noise: %d of %d"
+              % (np.median(f), np.max(f), np.sum(f <= 3), len(f)))
     if fresh_ratio:
         f = np.array(fresh_ratio)
         print("fresh torque (10 s of another multisine, the fitted config restarted from the "

@@ -33,7 +33,8 @@ from kane_sim.identify.least_squares import (  # noqa: F401  (the public names, 
     DEFAULT_METHOD, ENERGY_WINDOW, ENERGY_WINDOW_RECORDED, METHODS, QUADRATURE_TOLERANCE,
     _dissipative, _estimate, _rest_length, _rms, _system, _usable, fitted_config, parameters)
 from kane_sim.identify.refinement import (  # noqa: F401  (the public names, as before the split)
-    BIAS_KNOT_SPACING, CONVERGED_NOISE_FACTOR, SEGMENT_SECONDS, _refine, simulate_motion)
+    BIAS_KNOT_SPACING, CONVERGED_NOISE_FACTOR, SEGMENT_SECONDS, _refine, refine_segments,
+    simulate_motion)
 from kane_sim.identify.validation import (  # noqa: F401  (the public names, as before the split)
     _config_warnings, _holdout, validation)
 from kane_sim.identify.report import (  # noqa: F401  (the public names, as before the split)
@@ -150,20 +151,8 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
             refit = [n for n in quadrature if n in kept]
             fixed = [n for n in kept if n not in refit]
             start = theta
-            theta, cov, result.refined = _refine(base, names, start, fixed, motion, rated,
-                                                 progress=progress)
-            if not result.refined["converged"]:
-                # Fast motion at a low sensor rate: the filter's start states of 2 s segments
-                # can be too far off for the fit to find its way (a 100 Hz recording of full
-                # turns stopped at 30 times the noise); half as long, each start matters less
-                # (the same rig: 1.5 times the noise, masses within 0.02 %).
-                say("output error: not converged with %g s segments; again with %g s"
-                    % (SEGMENT_SECONDS, SEGMENT_SECONDS / 2))
-                again = _refine(base, names, start, fixed, motion, rated, progress=progress,
-                                segment_seconds=SEGMENT_SECONDS / 2)
-                if again[2]["converged"] or sum(again[2]["position_rms"]) < \
-                        sum(result.refined["position_rms"]):
-                    theta, cov, result.refined = again
+            theta, cov, result.refined = refine_segments(base, names, start, fixed, motion,
+                                                         rated, progress=progress)
             result.refined["least_squares"] = ls_theta
             result.refined["refit"] = refit
             kept = [n for n in kept if n not in refit]

@@ -107,6 +107,13 @@ class Identification:
                              self.refined["evaluations"]) + self.refined["position_rms"]
                             + self.refined["noise"]
                             + ("" if self.refined["converged"] else ": NOT converged",)))
+            floor = self.refined.get("torque_sampling", (0.0, 0.0))
+            if any(f > 0.5 * n for f, n in zip(floor, self.refined["noise"])):
+                lines.append("the recorded torque steps between its samples (its steps' instants "
+                             "are known to a sample): that alone leaves the positions about "
+                             "%.3g rad, %.3g m from any model's (the fit is judged against it "
+                             "and the noise together; record the effort at the physics rate to "
+                             "remove it)" % floor)
             if self.refined.get("refit"):
                 lines.append("fitted by the output error alone (their effect on the energy "
                              "windows is within the windows' integration error): %s"

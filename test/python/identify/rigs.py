@@ -116,12 +116,16 @@ def torque_profile(rig, rng=None):
     raise ValueError("regime %r" % rig.regime)
 
 
-def record(rig):
+def record(rig, drive=None, mode=None):
     """What the rig's bag cut to /joint_states holds: the sensors' readings at their arrival
     stamps (t, q1 = crank, q2 = slider 4, u1, u2), the crank's effort then (the torque in
-    force), from `start` on."""
-    sim = kane_sim.Simulator(rig.config())
-    drive = torque_profile(rig)
+    force), from `start` on. drive: one value per physics step (default: the regime's,
+    torque_profile); mode: the command mode (default: the rig's)."""
+    config = rig.config()
+    if mode:
+        config = config.with_values({"command.mode": mode})
+    sim = kane_sim.Simulator(config)
+    drive = torque_profile(rig) if drive is None else drive
     run = sim.run(len(drive) / sim.config["simulation.physics_rate"], torque=drive,
                   output_rate=sim.config["simulation.physics_rate"])
     s = run.sensors
@@ -150,27 +154,60 @@ def score(rig, fit):
     return rows
 
 
+def _fresh_torque(rig, duration, seed):
+    """A torque the fit never saw: another multisine within 3 N m, one value per physics step
+    over `duration` s, and the step [s]."""
+    rng = np.random.default_rng(10_000 + seed)
+    dt = 1.0 / rig.config()["simulation.physics_rate"]
+    t = dt * np.arange(int(round(duration / dt)))
+    freqs = rng.uniform(0.2, 3.0, 4)
+    phases = rng.uniform(0, 2 * np.pi, 4)
+    return 3.0 * np.sum(np.sin(2 * np.pi * np.outer(t, freqs) + phases), axis=1) / 4, dt
+
+
+def sensor_noise(rig):
+    """(crank [rad], slider 4 [m]): the standard deviation of the rig's position readings, the
+    crank encoder's counts (uniform within a count: count / sqrt(12)) included."""
+    counts = rig.sensors["sensors.crank_encoder_counts"]
+    quantum = 2 * math.pi / counts / math.sqrt(12) if counts else 0.0
+    return (math.hypot(rig.sensors["sensors.crank_position_noise"], quantum),
+            rig.sensors["sensors.slider4_position_noise"])
+
+
+def fresh_recording_error(rig, fit, duration=10.0, seed=0):
+    """How the fitted config follows a recording it never saw, as its user would check it: the
+    true rig, its sensors on, driven by a fresh torque (_fresh_torque) and recorded as record()
+    does; the fitted config, every parameter held, follows it as the fit follows its own data
+    (identify's output error with nothing free but each segment's start state, the drift and the
+    lag). Returns (q1 RMS / crank noise, q2 RMS / slider-4 noise), the noise sensor_noise's:
+    1 is a model that explains the fresh recording down to its sensors."""
+    from kane_sim.identify.data import load_motion
+    from kane_sim.identify.rates import estimate_rates
+    from kane_sim.identify.refinement import refine_segments
+    torque, dt = _fresh_torque(rig, rig.start + duration, seed)
+    motion = load_motion(record(rig, drive=torque, mode="effort"))
+    theta = np.array([fit.estimates[n] for n in fit.names])
+    _, _, report = refine_segments(fit.config, fit.names, theta, list(fit.names), motion,
+                                   estimate_rates(motion))
+    return tuple(rms / noise for rms, noise in zip(report["position_rms"], sensor_noise(rig)))
+
+
 def fresh_torque_error(rig, fit, duration=10.0, seed=0, horizon=2.0):
-    """How the fitted config predicts a motion it never saw: the true rig and the fitted config,
-    no sensors, driven by a fresh torque (another multisine, within 3 N m) from the rig's
-    initial state for `duration` s, the fitted one restarted from the truth's state every
+    """How the fitted config predicts a motion it never saw, against the truth itself: the true
+    rig and the fitted config, no sensors, driven by a fresh torque (_fresh_torque) from the
+    rig's initial state for `duration` s, the fitted one restarted from the truth's state every
     `horizon` s (as the fit's segments: open loop over 10 s a 0.5 % error in k shifts a
     lightly damped oscillation's phase by far more than the noise). Returns (q1 RMS [rad], q2
-    RMS [m]) of their difference, and the rig's sensor noise (crank, slider 4)."""
-    rng = np.random.default_rng(10_000 + seed)
+    RMS [m]) of their difference, and the rig's sensor noise (sensor_noise)."""
+    torque, dt = _fresh_torque(rig, duration, seed)
     truth = rig.config().with_values({"sensors.enabled": False, "command.mode": "effort"})
     fitted = fit.config.with_values({"sensors.enabled": False, "command.mode": "effort",
                                      "simulation.physics_rate":
                                          truth["simulation.physics_rate"]})
-    dt = 1.0 / truth["simulation.physics_rate"]
-    t = dt * np.arange(int(round(duration / dt)))
-    freqs = rng.uniform(0.2, 3.0, 4)
-    phases = rng.uniform(0, 2 * np.pi, 4)
-    torque = 3.0 * np.sum(np.sin(2 * np.pi * np.outer(t, freqs) + phases), axis=1) / 4
     true_sim, fit_sim = kane_sim.Simulator(truth), kane_sim.Simulator(fitted)
     per = int(round(horizon / dt))
     errors = []
-    for start in range(0, len(t), per):
+    for start in range(0, len(torque), per):
         chunk = torque[start:start + per]
         fit_sim.set_state(true_sim.state)
         a = true_sim.run(len(chunk) * dt, torque=chunk, states_only=True).q
@@ -178,9 +215,7 @@ def fresh_torque_error(rig, fit, duration=10.0, seed=0, horizon=2.0):
         errors.append(a - b)
     err = np.concatenate(errors)
     rms = tuple(float(np.sqrt(np.mean(err[:, k] ** 2))) for k in (0, 1))
-    noise = (rig.sensors["sensors.crank_position_noise"],
-             rig.sensors["sensors.slider4_position_noise"])
-    return rms, noise
+    return rms, sensor_noise(rig)
 
 
 def parameter_class(name):
