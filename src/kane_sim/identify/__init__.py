@@ -201,6 +201,9 @@ def _refusal(result):
         stopped = r["evaluations"] >= r["evaluation_limit"]
         causes = ["the fit stopped at its limit of %d evaluations" % r["evaluation_limit"]] \
             if stopped else []
+        if r.get("stalled"):
+            causes.append("the fit stopped getting closer after %d evaluations (a local "
+                          "minimum: a base far from the rig)" % r["evaluations"])
         fitted = set(result.names) - set(result.kept)
         if "mechanism.rod_inertia" not in fitted:
             causes.append("a parameter not fitted that matters (the rod's inertia: add "

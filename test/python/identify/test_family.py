@@ -21,11 +21,12 @@ from conftest import tool  # noqa: E402
 
 # Four regimes of the family, each a different rig (masses and k x[0.5, 2], dampers, friction
 # and the rod's inertia drawn), sensors and rate, seeds 100 to 104: measured errors of the
-# masses and k 1.7 %, 0.11 %, 0.23 % and 0.54 % at the worst (bench/identify_family.py). The
+# masses and k 0.055 %, 0.026 %, 2.0 % (the PRBS, whose torque steps between its samples: slider
+# 3's mass) and 0.022 % at the worst (bench/identify_family.py: the whole family). The
 # biased multisine is the long recording's below; the --excite profile is test_identify.py's
 # (its rig at seed 103: 0.005 %, 12 s of fitting this suite leaves to the bench).
 # The PRBS rig records 60 s: its torque steps between its 200 Hz samples, and on 30 s the fit
-# re-simulates a fresh torque 3.004 times the noise off (60 s: 1.9; 120 s: 1.9, measured).
+# follows a fresh recording 3.004 times the noise off (60 s: 1.9; 120 s: 1.9, measured).
 @pytest.mark.parametrize("seed, regime, duration", [(100, "oscillation", 30),
                                                     (101, "full_turns", 30), (102, "prbs", 60),
                                                     (104, "servo", 30)])
