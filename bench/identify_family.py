@@ -89,18 +89,15 @@ def main():
     if len(z):
         print("coverage: %.1f %% of %d told (rig, parameter) pairs within 3 sigma (median z %.2g)"
               % (100 * np.mean(z <= 3), len(z), np.median(z)))
-    if followed:
-        f = np.array(followed)
-        print("fresh recording (10 s of another multisine, the rig's sensors; the fitted config "
-              "follows it as the fit follows its data: start states, drift and lag free): RMS "
-              "error / sensor noise median %.2g, worst %.2g; within 3x the noise: %d of %d"
-              % (np.median(f), np.max(f), np.sum(f <= 3), len(f)))
-    if fresh_ratio:
-        f = np.array(fresh_ratio)
-        print("fresh torque (10 s of another multisine, the fitted config restarted from the "
-              "true rig's state every 2 s): RMS error / sensor noise median %.2g, worst %.2g; "
-              "within 3x the noise: %d of %d"
-              % (np.median(f), np.max(f), np.sum(f <= 3), len(f)))
+    for what, ratios in (("fresh recording (10 s of another multisine, the rig's sensors; the "
+                          "fitted config follows it as the fit follows its data: start states, "
+                          "drift and lag free)", followed),
+                         ("fresh torque (10 s of another multisine, the fitted config restarted "
+                          "from the true rig's state every 2 s)", fresh_ratio)):
+        if ratios:
+            f = np.array(ratios)
+            print("%s: RMS error / sensor noise median %.2g, worst %.2g; within 3x the noise: "
+                  "%d of %d" % (what, np.median(f), np.max(f), np.sum(f <= 3), len(f)))
     print("refused: %d of %d rigs" % (len(refused), args.rigs))
     for rig, why in refused:
         print("  %s: %s" % (rig, why))
