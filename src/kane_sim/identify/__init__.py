@@ -33,8 +33,8 @@ from kane_sim.identify.least_squares import (  # noqa: F401  (the public names, 
     DEFAULT_METHOD, ENERGY_WINDOW, ENERGY_WINDOW_RECORDED, METHODS, QUADRATURE_TOLERANCE,
     _dissipative, _estimate, _rest_length, _rms, _system, _usable, fitted_config, parameters)
 from kane_sim.identify.refinement import (  # noqa: F401  (the public names, as before the split)
-    BIAS_KNOT_SPACING, CONVERGED_NOISE_FACTOR, SEGMENT_SECONDS, _refine, refine_segments,
-    simulate_motion)
+    BIAS_KNOT_SPACING, CONVERGED_NOISE_FACTOR, MAX_LAG, SEGMENT_SECONDS, _refine,
+    refine_segments, simulate_motion)
 from kane_sim.identify.validation import (  # noqa: F401  (the public names, as before the split)
     _config_warnings, _holdout, validation)
 from kane_sim.identify.report import (  # noqa: F401  (the public names, as before the split)
@@ -161,6 +161,14 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
             entangled = [n for n in entangled if any(
                 m.startswith(k + " (kept at") and n in m for k in kept for m in messages)]
     result.warnings = base.warnings + _config_warnings(base, motion)
+    physics_rate = base["simulation.physics_rate"]
+    if prepared.bandwidth is None and not result.refined and motion.rate < 0.999 * physics_rate:
+        result.warnings.append(
+            "the data is noise-free but sampled at %.4g Hz, below the physics rate (%.4g Hz): "
+            "the torque between its samples is not in it, and the errors above count how well "
+            "the equations close, not that (a 100 Hz simulate CSV of an --excite run gave the "
+            "crank damper 23 %% off at 3.8 of its errors): record at the physics rate for errors "
+            "that hold" % (motion.rate, physics_rate))
     result.samples, result.rows = len(prepared), len(b)
     result.condition_number, result.residual_rms = cond, rms
     result.kept, result.unidentifiable, result.entangled = kept, messages, entangled
@@ -201,6 +209,10 @@ def _refusal(result):
         stopped = r["evaluations"] >= r["evaluation_limit"]
         causes = ["the fit stopped at its limit of %d evaluations" % r["evaluation_limit"]] \
             if stopped else []
+        if abs(r.get("lag", 0.0)) >= 0.99 * MAX_LAG:
+            causes.insert(0, "a torque later than a sensor's latency (the positions' lag ran "
+                          "into the fit's bound: %.3g ms, the bound %g ms either way)"
+                          % (1e3 * r["lag"], 1e3 * MAX_LAG))
         if r.get("stalled"):
             causes.append("the fit stopped getting closer after %d evaluations (a local "
                           "minimum: a base far from the rig)" % r["evaluations"])
@@ -217,6 +229,14 @@ def _refusal(result):
                 "and their errors describe no model of this data. Most likely: %s"
                 % (r["position_rms"] + (CONVERGED_NOISE_FACTOR,) + r["noise"]
                    + ("; or ".join(causes),)))
+    if r and abs(r.get("lag", 0.0)) >= 0.99 * MAX_LAG:
+        # The lag ran into its bound: the torque and the positions are further apart in time
+        # than a sensor's latency (a 50 ms late effort was fitted at -25 ms to 2.3 times the
+        # noise, masses 8-14 % off).
+        return ("the positions' lag behind the torque ran into the fit's bound (%.3g ms, the "
+                "bound %g ms either way): the torque is not the one delivered when its sample "
+                "says (an effort read late, stamps from another clock); the estimates describe "
+                "no model of this data" % (1e3 * r["lag"], 1e3 * MAX_LAG))
     # A mass, the rod's inertia or k more than OFF_SCALE times from the base's (either way): no
     # rig's rough values are that far off; a torque in the wrong units is (x1000 gave masses of
     # 1282 kg for 1.3).

@@ -55,6 +55,10 @@ class _Stalled(Exception):
         self.x, self.fun, self.jac = x, fun, jac
 
 
+# A second difference of the recorded torque beyond this many times their median is a step.
+STEP_FACTOR = 10.0
+
+
 def _torque_sampling_floor(motion, segments, step, model_q, z):
     """(q1 [rad], q2 [m]): how far the positions may lie from any model's because the recorded
     torque is known only at its samples. Between samples the replay takes a cubic spline, exact
@@ -70,6 +74,13 @@ def _torque_sampling_floor(motion, segments, step, model_q, z):
         return (0.0, 0.0)
     jumps = np.zeros(len(motion))
     jumps[2:] = np.abs(np.diff(motion.torque, 2))
+    # Steps only: a second difference beyond STEP_FACTOR times their median. A smooth torque's
+    # are all alike ((w h)^2 of it) and a noisy reading's are the noise, neither a step: moved
+    # by them, the replay of a fast motion far from the optimum spread by itself, and the report
+    # blamed steps a multisine never had.
+    jumps[jumps <= STEP_FACTOR * np.median(jumps)] = 0.0
+    if not np.any(jumps):
+        return (0.0, 0.0)
     moved = copy.copy(motion)
     rng = np.random.default_rng(0)
     # A sample moved by d carries an impulse of about d h, and a step of J shows in two second

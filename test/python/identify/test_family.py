@@ -55,13 +55,13 @@ def test_rigs_of_the_family_are_fitted(seed, regime, duration):
     followed = rigs.fresh_recording_error(rig, fit)
     assert max(followed) < 3, (followed, fit.report())
     # The PRBS's torque steps between its 200 Hz samples: the fit names what that alone leaves
-    # (slider 4: about 0.2 mm against 18 um of noise); a smooth multisine leaves nothing of the
-    # kind (a servo's torque at 100 Hz does: 0.98 mrad on the crank against 1.2 of noise).
+    # (slider 4: about 0.2 mm against 18 um of noise); a smooth multisine, or a servo's torque,
+    # has no steps and leaves nothing of the kind.
     floor, noise = fit.refined["torque_sampling"], fit.refined["noise"]
     if regime == "prbs":
         assert floor[1] > 3 * noise[1] and "steps between its samples" in fit.report()
-    elif regime != "servo":
-        assert floor[0] < 0.5 * noise[0] and floor[1] < 0.5 * noise[1], (floor, noise)
+    else:
+        assert floor == (0.0, 0.0) and "steps between" not in fit.report(), floor
 
 
 def test_what_the_energy_windows_cannot_tell_the_output_error_fits():
@@ -203,3 +203,17 @@ def test_the_true_model_follows_a_fresh_recording_down_to_its_noise():
     rig = rigs.draw(102, regime="prbs")
     ratio = rigs.fresh_recording_error(rig, _Truth(rig))
     assert max(ratio) < 1.3, ratio
+
+
+def test_a_torque_later_than_the_lag_may_be_is_refused_naming_it():
+    # The effort read 50 ms late, sensors as noisy as sensors.yaml's: the fit reaches 2.3 times
+    # the noise with the lag at its -25 ms bound and masses 8-14 % off (measured by a fresh-eye
+    # user before this refusal; written then, with exit 0).
+    rig = rigs.draw(100, regime="oscillation", duration=20)
+    rig.sensors.update({"sensors.crank_position_noise": 0.002,
+                        "sensors.slider4_position_noise": 0.0005})
+    data = rigs.record(rig)
+    data["applied_torque"] = np.interp(data["t"] - 0.05, data["t"], data["applied_torque"])
+    fit = ki.identify(data, None, holdout=0, validate=False)
+    assert fit.refined["converged"]
+    assert fit.refusal and "ran into the fit's bound (-25 ms" in fit.refusal, fit.refusal
