@@ -19,17 +19,17 @@ import rigs  # noqa: E402
 from conftest import tool  # noqa: E402
 
 
-# Four regimes of the family, each a different rig (masses and k x[0.5, 2], dampers, friction
-# and the rod's inertia drawn), sensors and rate, seeds 100 to 104: measured errors of the
-# masses and k 0.055 %, 0.026 %, 2.0 % (the PRBS, whose torque steps between its samples: slider
-# 3's mass) and 0.022 % at the worst (bench/identify_family.py: the whole family). The
+# Three regimes of the family, each a different rig (masses and k x[0.5, 2], dampers, friction
+# and the rod's inertia drawn), sensors and rate, seeds 100 to 102: measured errors of the
+# masses and k 0.055 %, 0.026 % and 2.0 % (the PRBS, whose torque steps between its samples:
+# slider 3's mass) at the worst (bench/identify_family.py: the whole family). The
 # biased multisine is the long recording's below; the --excite profile is test_identify.py's
 # (its rig at seed 103: 0.005 %, 12 s of fitting this suite leaves to the bench).
 # The PRBS rig records 60 s: its torque steps between its 200 Hz samples, and on 30 s the fit
 # follows a fresh recording 3.004 times the noise off (60 s: 1.9; 120 s: 1.9, measured).
+# The servo (seed 104) is test_what_the_energy_windows_cannot_tell_the_output_error_fits's.
 @pytest.mark.parametrize("seed, regime, duration", [(100, "oscillation", 30),
-                                                    (101, "full_turns", 30), (102, "prbs", 60),
-                                                    (104, "servo", 30)])
+                                                    (101, "full_turns", 30), (102, "prbs", 60)])
 def test_rigs_of_the_family_are_fitted(seed, regime, duration):
     rig = rigs.draw(seed, regime=regime, duration=duration)
     fit = ki.identify(rigs.record(rig), None, holdout=0)
@@ -81,8 +81,12 @@ def test_what_the_energy_windows_cannot_tell_the_output_error_fits():
             if name in rigs.MASSES + rigs.STIFFNESS:
                 assert abs(row["error"]) < 0.02, (name, row)
     fresh, noise = rigs.fresh_torque_error(rig, fit)
-    # The issue's bound: a fresh torque re-simulated within 3 times the sensors' noise.
+    # The issue's bound: a fresh torque re-simulated within 3 times the sensors' noise, from
+    # the truth's states and as a user checks it (a fresh recording followed: 1.1 measured).
     assert fresh[0] < 3 * noise[0] and fresh[1] < 3 * noise[1], (fresh, noise)
+    assert max(rigs.fresh_recording_error(rig, fit)) < 3
+    # A servo's torque has no steps: no torque-sampling floor.
+    assert fit.refined["torque_sampling"] == (0.0, 0.0)
 
 
 def test_fast_motion_at_a_low_rate_is_fitted_on_shorter_segments():
@@ -209,7 +213,7 @@ def test_a_torque_later_than_the_lag_may_be_is_refused_naming_it():
     # The effort read 50 ms late, sensors as noisy as sensors.yaml's: the fit reaches 2.3 times
     # the noise with the lag at its -25 ms bound and masses 8-14 % off (measured by a fresh-eye
     # user before this refusal; written then, with exit 0).
-    rig = rigs.draw(100, regime="oscillation", duration=20)
+    rig = rigs.draw(100, regime="oscillation", duration=12)
     rig.sensors.update({"sensors.crank_position_noise": 0.002,
                         "sensors.slider4_position_noise": 0.0005})
     data = rigs.record(rig)
