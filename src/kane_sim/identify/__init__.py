@@ -199,6 +199,11 @@ NOISE_FREE_REPLAY_SHARE = 0.05
 UNPHYSICAL_SIGMAS = 5.0
 
 
+def _lag_at_bound(refined):
+    """Whether the output error's fitted lag ran into its bound (MAX_LAG either way)."""
+    return abs(refined.get("lag", 0.0)) >= 0.99 * MAX_LAG
+
+
 def _refusal(result):
     """Why the fit must not be written, or None: the output-error fit left the positions further
     from the recording than CONVERGED_NOISE_FACTOR times their noise (its numbers, and their
@@ -209,7 +214,7 @@ def _refusal(result):
         stopped = r["evaluations"] >= r["evaluation_limit"]
         causes = ["the fit stopped at its limit of %d evaluations" % r["evaluation_limit"]] \
             if stopped else []
-        if abs(r.get("lag", 0.0)) >= 0.99 * MAX_LAG:
+        if _lag_at_bound(r):
             causes.insert(0, "a torque later than a sensor's latency (the positions' lag ran "
                           "into the fit's bound: %.3g ms, the bound %g ms either way)"
                           % (1e3 * r["lag"], 1e3 * MAX_LAG))
@@ -229,7 +234,7 @@ def _refusal(result):
                 "and their errors describe no model of this data. Most likely: %s"
                 % (r["position_rms"] + (CONVERGED_NOISE_FACTOR,) + r["noise"]
                    + ("; or ".join(causes),)))
-    if r and abs(r.get("lag", 0.0)) >= 0.99 * MAX_LAG:
+    if r and _lag_at_bound(r):
         # The lag ran into its bound: the torque and the positions are further apart in time
         # than a sensor's latency (a 50 ms late effort was fitted at -25 ms to 2.3 times the
         # noise, masses 8-14 % off).

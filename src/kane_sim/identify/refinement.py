@@ -62,7 +62,7 @@ STEP_FACTOR = 10.0
 def _torque_sampling_floor(motion, segments, step, model_q, z):
     """(q1 [rad], q2 [m]): how far the positions may lie from any model's because the recorded
     torque is known only at its samples. Between samples the replay takes a cubic spline, exact
-    to (w h)^4 for a smooth torque; a torque that steps between two samples (a PRBS, a servo's
+    to (w h)^4 for a smooth torque; a torque that steps between two samples (a PRBS, a stepped
     command) stepped at an instant the recording does not hold, anywhere within the sample
     period h, and each step's impulse is uncertain by |jump| h / sqrt(12). The jumps are the
     torque's second differences (a smooth torque's are (w h)^2 of it); one replay with the
@@ -287,6 +287,12 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
         q[:, 0] += bias_basis @ x[n_free + 4 * n_seg:n_lag]
         return q
 
+    def position_rms(r):
+        """(q1 [rad], q2 [m]) RMS of a residual vector (q1 rows, then q2 rows, in noise units)."""
+        half = len(r) // 2
+        return tuple(float(sigma[k] * np.sqrt(np.mean(r[k * half:(k + 1) * half] ** 2)))
+                     for k in (0, 1))
+
     def residual(z, tolerant=True):
         try:
             q = model_q(z)
@@ -329,12 +335,10 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
         with ThreadPoolExecutor(workers) as pool:
             results = list(pool.map(moved, range(-1, len(groups))))  # -1: z itself
         r0 = results[0]
+        rms0 = position_rms(r0)
         if progress:
-            half = len(r0) // 2
             progress("output error: iteration %d, positions %.3g rad, %.3g m RMS (noise %.3g "
-                     "rad, %.3g m)" % (len(iterations) + 1,
-                                       sigma[0] * np.sqrt(np.mean(r0[:half] ** 2)),
-                                       sigma[1] * np.sqrt(np.mean(r0[half:] ** 2)), *sigma))
+                     "rad, %.3g m)" % ((len(iterations) + 1,) + rms0 + tuple(sigma)))
         iterations.append(float(r0 @ r0))
         jac = np.zeros((len(r0), len(z)))
         for group, h, r1 in zip(groups, steps, results[1:]):
@@ -346,9 +350,7 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
                     mine = owner == k
                     jac[mine, j] = delta[mine] / h[k]
         jac[:len(rows), first_knot:n_lag] = bias_basis * (scale[first_knot:n_lag] / sigma[0])
-        half = len(r0) // 2
-        far = any(np.sqrt(np.mean(r0[k * half:(k + 1) * half] ** 2)) > CONVERGED_NOISE_FACTOR
-                  for k in (0, 1))
+        far = any(rms0[k] > CONVERGED_NOISE_FACTOR * sigma[k] for k in (0, 1))
         if give_up_early and far and len(iterations) > STALL_ITERATIONS:
             # The cost's fall per iteration over the last STALL_ITERATIONS, against what is left
             # to fall (to CONVERGED_NOISE_FACTOR times the noise on every row) and the
@@ -398,8 +400,7 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
     scaled = cov_z[:n_free, :n_free] * np.outer(scale[:n_free], scale[:n_free])
     for a_i, i in enumerate(free):
         cov[i, free] = scaled[a_i]
-    rms = tuple(float(np.sqrt(np.mean((r[k * half:(k + 1) * half] * sigma[k]) ** 2)))
-                for k in (0, 1))
+    rms = position_rms(r)
     bias = z[n_free + 4 * n_seg:n_lag] * scale[n_free + 4 * n_seg:n_lag]
     floor = _torque_sampling_floor(motion, segments, step, model_q, z)
     converged = all(rms[k] <= CONVERGED_NOISE_FACTOR * math.hypot(sigma[k], floor[k])
@@ -412,8 +413,7 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
                                  _core.identification_base_value(base._core, names[i])
                                  for i in free]) / scale[:n_free]
     r_base = residual(at_base)
-    base_rms = tuple(float(np.sqrt(np.mean((r_base[k * half:(k + 1) * half] * sigma[k]) ** 2)))
-                     for k in (0, 1))
+    base_rms = position_rms(r_base)
     return out, cov, {"evaluations": int(solution.nfev), "position_rms": rms,
                       "noise": tuple(float(x) for x in sigma), "segments": n_seg,
                       "stalled": stalled,
