@@ -6,7 +6,7 @@
 # Usage: bench/run_all.sh [NODE_SECONDS_PER_CASE (default 60)]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install_deps.sh
+bash scripts/install_deps.sh --tests
 missing=()
 for p in python3-scipy libmujoco-dev libsimbody-dev; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

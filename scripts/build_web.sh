@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the browser twin into <build folder>/web when emscripten is installed (install_deps.sh
-# installs it): the ROS-free core compiled to WebAssembly (web/CMakeLists.txt, with yaml-cpp
+# --web installs it): the ROS-free core compiled to WebAssembly (web/CMakeLists.txt, with yaml-cpp
 # compiled from Debian's own source package), the page (web/page) and its bag reader
 # (@foxglove/rosbag from npm, bundled into one ES module by esbuild). `rosrun kane_sim web` serves
 # the folder. Called by scripts/build.sh; safe to run again (each part is rebuilt only when its
@@ -12,7 +12,7 @@ cd "$KANE_SIM_SOURCE_DIR"
 out=$KANE_SIM_BUILD_DIR/web
 work=$KANE_SIM_BUILD_DIR/web-build
 if ! command -v emcc >/dev/null; then
-  echo "build_web: emscripten is not installed: the browser page is not built (bash scripts/install_deps.sh installs it)"
+  echo "build_web: emscripten is not installed: the browser page is not built (bash scripts/install_deps.sh --web installs it; then bash scripts/build_web.sh)"
   exit 0
 fi
 # Debian's emscripten finds its JavaScript optimizer's acorn here when node is not Debian's own.

@@ -3,7 +3,7 @@
 # node tests under rostest, tool and launch tests) and exits non-zero when any test fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install_deps.sh
+bash scripts/install_deps.sh --tests
 bash scripts/build.sh --target all tests
 # shellcheck source=scripts/build_dir.sh
 source scripts/build_dir.sh

@@ -40,10 +40,12 @@ def find_web_dir(given=None, script_path=__file__):
             return os.path.abspath(place)
     if given is not None:
         missing = [n for n in NEEDED if not os.path.isfile(os.path.join(given, n))]
-        raise WebDirError("--dir %s is not a built page (missing %s): bash scripts/build.sh builds "
-                          "one when emscripten is installed" % (given, ", ".join(missing)))
-    raise WebDirError("no built page found (looked in %s): install emscripten (bash "
-                      "scripts/install_deps.sh) and build (bash scripts/build.sh)"
+        raise WebDirError("--dir %s is not a built page (missing %s): bash scripts/build_web.sh "
+                          "builds one once the page's toolchain is installed (bash "
+                          "scripts/install_deps.sh --web)" % (given, ", ".join(missing)))
+    raise WebDirError("no built page found (looked in %s): install the page's toolchain, "
+                      "emscripten and npm (bash scripts/install_deps.sh --web, about 1 GB), and "
+                      "build the page (bash scripts/build_web.sh)"
                       % ", ".join(dict.fromkeys(places)))
 
 
