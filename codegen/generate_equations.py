@@ -52,6 +52,8 @@ PARAMETERS = [
     ("F_C", "slider4_friction", "F_C [N], Coulomb friction of slider 4 on the rail"),
     ("v_s", "friction_velocity_scale",
      "v_s [rad/s or m/s], Coulomb friction's smoothing: F = -F_c tanh(v / v_s)"),
+    ("k_t", "crank_spring_stiffness", "k_t [N m/rad], a torsional spring at pin O"),
+    ("q1_0", "crank_spring_rest_angle", "q1_0 [rad], the torsional spring's rest angle"),
 ]
 # Where each C++ constant comes from: a member of MechanismParameters (p), or the model (s0).
 SOURCES = {
@@ -62,41 +64,75 @@ SOURCES = {
     "c_C": "p.damping.slider4", "c_S": "p.damping.spring",
     "F_O": "p.friction.crank", "F_A": "p.friction.coupler", "F_B": "p.friction.slider3",
     "F_C": "p.friction.slider4", "v_s": "p.friction.velocity_scale",
+    "k_t": "p.crank_spring_stiffness", "q1_0": "p.crank_spring_rest_angle",
 }
 
 # The loads, one named list as `kanes_equations(bodies, loads)` takes them: every load's name,
-# the kind of load it is, and for a resistance (a load opposing a joint's rate) its site, its
-# law and its coefficient's symbol. The C++ model (LoadName, kLoadInfo) and every per-load
-# output derive from this table through the generated header; a resistance needs nothing else
-# (MechanismModel::loads() applies any site's law). To add one: a row here, its coefficient in
-# PARAMETERS and SOURCES, its schema row (src/config/parameter_schema.cpp), regenerate.
-#   site: where it acts and on which rate (SITES below); law: LAWS below.
+# the kind of load it is, and for a load at a site (a resistance opposing a joint's rate, or a
+# conservative load pulling a joint's coordinate back to its rest) its site, its law and its
+# coefficient's symbol (and an elastic law's rest). The C++ model (LoadName, kLoadInfo) and
+# every per-load output (powers, potential energies, the ledger) derive from this table through
+# the generated header; a load at a site needs nothing else (MechanismModel::loads() and
+# energy() apply any site's law). To add one: a row here, its symbols in PARAMETERS and
+# SOURCES, its schema row (src/config/parameter_schema.cpp), regenerate.
+#   site: where it acts, on which rate and coordinate (sites in derive()); law: LAWS below.
+#   A conservative load's potential energy is its law's (POTENTIALS); the derivation proves
+#   that its generalized forces are -dV/dq_r and stops otherwise.
 LOADS = [
-    # name,             kind,          site,      law,       coefficient
-    ("gravity",         "gravity",     None,      None,      None),  # eq (14): G1 ... G4
-    ("spring",          "spring",      None,      None,      None),  # eq (15): F_eB, F_eC
-    ("motor",           "motor",       None,      None,      None),  # M_m k on rod 1
-    ("crank_damper",    "resistance",  "crank",   "viscous", "c_O"),
-    ("coupler_damper",  "resistance",  "coupler", "viscous", "c_A"),
-    ("slider3_damper",  "resistance",  "slider3", "viscous", "c_B"),
-    ("slider4_damper",  "resistance",  "slider4", "viscous", "c_C"),
-    ("spring_damper",   "resistance",  "spring",  "viscous", "c_S"),
-    ("contact",         "contact",     None,      None,      None),  # N at C, -N at B (sim)
-    ("crank_friction",  "resistance",  "crank",   "coulomb", "F_O"),
-    ("coupler_friction", "resistance", "coupler", "coulomb", "F_A"),
-    ("slider3_friction", "resistance", "slider3", "coulomb", "F_B"),
-    ("slider4_friction", "resistance", "slider4", "coulomb", "F_C"),
+    # name,             kind,           site,      law,       coefficient, rest
+    ("gravity",         "gravity",      None,      None,      None,  None),  # eq (14): G1 ... G4
+    ("spring",          "spring",       None,      None,      None,  None),  # eq (15): F_eB, F_eC
+    ("motor",           "motor",        None,      None,      None,  None),  # M_m k on rod 1
+    ("crank_damper",    "resistance",   "crank",   "viscous", "c_O", None),
+    ("coupler_damper",  "resistance",   "coupler", "viscous", "c_A", None),
+    ("slider3_damper",  "resistance",   "slider3", "viscous", "c_B", None),
+    ("slider4_damper",  "resistance",   "slider4", "viscous", "c_C", None),
+    ("spring_damper",   "resistance",   "spring",  "viscous", "c_S", None),
+    ("contact",         "contact",      None,      None,      None,  None),  # N at C, -N at B
+    ("crank_friction",  "resistance",   "crank",   "coulomb", "F_O", None),
+    ("coupler_friction", "resistance",  "coupler", "coulomb", "F_A", None),
+    ("slider3_friction", "resistance",  "slider3", "coulomb", "F_B", None),
+    ("slider4_friction", "resistance",  "slider4", "coulomb", "F_C", None),
+    ("crank_spring",    "conservative", "crank",   "elastic", "k_t", "q1_0"),
 ]
-# A resistance's law: the magnitude it opposes the site's rate v with, from its coefficient c.
-# In order of cost: the generated rates come in one variant per prefix of this list (no
-# resistance; the viscous ones; ...; every law), and a config runs the shortest that holds the
-# laws of its non-zero coefficients, so a law whose coefficients are all zero costs nothing and
-# changes no bit. Coulomb friction is smoothed by tanh: no stiction (a held load creeps at
-# v ~ v_s F / F_c).
+# The potential energy [J] of the loads that are not at a site, as the CSV and the message name
+# it; a conservative load at a site has <name>_energy.
+ENERGY_COLUMNS = {"gravity": "gravitational_energy", "spring": "spring_energy"}
+# A law: the magnitude F its load opposes the site's rate v (a resistance) or its coordinate's
+# distance from rest x - x0 (elastic) with, from its coefficient c (p: the parameter symbols).
+# In order of cost: the generated rates come in one variant per prefix of this list (none; the
+# viscous ones; ...; every law), and a config runs the shortest that holds the laws of its
+# non-zero coefficients, so a law whose coefficients are all zero costs nothing and changes no
+# bit. Coulomb friction is smoothed by tanh: no stiction (a held load creeps at v ~ v_s F / F_c).
 LAWS = {
-    "viscous": lambda c, v, p: c * v,
-    "coulomb": lambda c, v, p: c * sp.tanh(v / p["v_s"]),
+    "viscous": lambda c, v, x, x0, p: c * v,
+    "coulomb": lambda c, v, x, x0, p: c * sp.tanh(v / p["v_s"]),
+    "elastic": lambda c, v, x, x0, p: c * (x - x0),
 }
+# A conservative law's potential energy V(x) [J]; its force is -dV/dx, proved in derive().
+POTENTIALS = {
+    "elastic": lambda c, x, x0: c * (x - x0) ** 2 / 2,
+}
+
+
+def conservative(law):
+    return law in POTENTIALS
+
+
+def check_loads():
+    """A conservative load declares its energy through its law, a resistance has none: a row
+    that breaks this stops the generator, naming it (a forgotten energy would otherwise leave
+    total_energy, the ledger and every energy consumer silently wrong)."""
+    for name, kind, site, law, coefficient, rest in LOADS:
+        if kind == "conservative" and not conservative(law):
+            sys.exit("load %s is conservative, but its law %r declares no potential energy "
+                     "(add it to POTENTIALS)" % (name, law))
+        if kind == "resistance" and conservative(law):
+            sys.exit("load %s is a resistance, but its law %r has a potential energy: make it "
+                     "conservative" % (name, law))
+        if bool(site) != bool(law and coefficient):
+            sys.exit("load %s: a load at a site names its law and coefficient, others neither"
+                     % name)
 
 
 def variants():
@@ -112,8 +148,8 @@ def variants():
 
 def derive():
     """The mechanism in KanesMethod's vocabulary: frames, points, bodies, loads. Returns the
-    symbols and (u', dissipated power) as expressions of q1, q2, u1, u2, M_m and the parameters,
-    twice: with the viscous resistances only, and with every resistance."""
+    symbols, (u', dissipated power) as expressions of q1, q2, u1, u2, M_m and the parameters
+    with the viscous resistances only, and for each other law what its loads add to them."""
     q1, q2, u1, u2 = me.dynamicsymbols("q1 q2 u1 u2")
     p = {name: sp.Symbol(name, real=True) for name, _, _ in PARAMETERS}
     m, L, I, M1, M2, k, g, s0 = (p[n] for n in ("m", "L", "I", "M1", "M2", "k", "g", "s0"))
@@ -145,25 +181,32 @@ def derive():
     # Eq (15): e = (x_B - x_C) - (x_B0 - x_C0) > 0 compressed; F_eB = -k e i, F_eC = +k e i.
     e = (B.pos_from(O).dot(N.x) - q2) + s0
     w1, w2 = R1.ang_vel_in(N).dot(N.z), R2.ang_vel_in(N).dot(N.z)
-    # Each site: its rate v and the entries of a resistance F = -law(v) there (a torque on a
-    # rod's frame, or a force at a slider's point, and the reaction where there is one).
+    # Each site: its rate v, its coordinate x (v = x') and the entries of a load -F there (a
+    # torque on a rod's frame, or a force at a slider's point, and the reaction where there is
+    # one), F the law's magnitude.
+    x_b = B.pos_from(O).dot(N.x)
     sites = {
-        "crank": (w1, lambda F: [(R1, -F * N.z)]),  # pin O on rod 1
-        "coupler": (w2 - w1, lambda F: [(R2, -F * N.z), (R1, F * N.z)]),  # pin A, rod 2 on rod 1
-        "slider3": (B.vel(N).dot(N.x), lambda F: [(B, -F * N.x)]),
-        "slider4": (C.vel(N).dot(N.x), lambda F: [(C, -F * N.x)]),
-        "spring": ((C.vel(N) - B.vel(N)).dot(N.x), lambda F: [(C, -F * N.x), (B, F * N.x)]),
+        "crank": (w1, q1, lambda F: [(R1, -F * N.z)]),  # pin O on rod 1
+        "coupler": (w2 - w1, -2 * q1,  # pin A, rod 2 on rod 1
+                    lambda F: [(R2, -F * N.z), (R1, F * N.z)]),
+        "slider3": (B.vel(N).dot(N.x), x_b, lambda F: [(B, -F * N.x)]),
+        "slider4": (C.vel(N).dot(N.x), q2, lambda F: [(C, -F * N.x)]),
+        "spring": ((C.vel(N) - B.vel(N)).dot(N.x), q2 - x_b,
+                   lambda F: [(C, -F * N.x), (B, F * N.x)]),
     }
     # The viscous resistances enter the derivation; the other laws' generalized forces are
-    # added to its result (below): simplify() with tanh terms takes tens of minutes, and the
-    # variants without them keep the text, hence the bits, they had before friction existed.
-    resistances, nonlinear = [], []
-    for name, kind, site, law, coefficient in LOADS:
-        if kind != "resistance":
+    # added to its result (below), law by law: simplify() with tanh terms takes tens of minutes,
+    # and each variant without a law keeps the text, hence the bits, it had before that law.
+    resistances, by_law, potentials = [], {}, []
+    for name, kind, site, law, coefficient, rest in LOADS:
+        if not site:
             continue
-        rate, entries = sites[site]
-        (resistances if law == "viscous" else nonlinear).extend(
-            entries(LAWS[law](p[coefficient], rate, p)))
+        rate, coordinate, entries = sites[site]
+        x0 = p[rest] if rest else None
+        load = entries(LAWS[law](p[coefficient], rate, coordinate, x0, p))
+        (resistances if law == "viscous" else by_law.setdefault(law, [])).extend(load)
+        if conservative(law):
+            potentials.append((name, load, POTENTIALS[law](p[coefficient], coordinate, x0)))
     loads = [
         (C1, m * g * N.x),  # eq (14): G1 ... G4
         (C2, m * g * N.x),
@@ -187,13 +230,18 @@ def derive():
     power = 0
     for where, load in resistances:
         power -= load.dot(velocity(where))
-    # The nonlinear resistances: their generalized active forces F_r = Σ F · ∂v/∂u_r (eq 16),
-    # through the same mass matrix, and their power.
-    u = [u1, u2]
-    active = sp.Matrix([sum((load.dot(velocity(where).diff(u_r, N)) for where, load in nonlinear),
-                            sp.S.Zero) for u_r in u])
-    nonlinear_u_dot = kane.mass_matrix.LUsolve(active)
-    nonlinear_power = -sum((load.dot(velocity(where)) for where, load in nonlinear), sp.S.Zero)
+    u, q = [u1, u2], [q1, q2]
+
+    def active(entries):  # F_r = Σ F · ∂v/∂u_r (eq 16)
+        return sp.Matrix([sum((load.dot(velocity(where).diff(u_r, N)) for where, load in entries),
+                              sp.S.Zero) for u_r in u])
+
+    # A conservative load's declared energy is its forces' own: F_r = -∂V/∂q_r (q_r' = u_r).
+    for name, entries, V in potentials:
+        for F_r, q_r in zip(active(entries), q):
+            if sp.simplify(F_r + V.diff(q_r)) != 0:
+                sys.exit("load %s: its potential energy %s does not give its forces (F_%s + "
+                         "dV/d%s = %s)" % (name, V, q_r, q_r, sp.simplify(F_r + V.diff(q_r))))
     # Simplified (cos^2 = 1 - sin^2 shortens M11), then any sin 2q1 that simplify() folds
     # written back as 2 sin q1 cos q1: one sincos serves the whole kernel.
     q1s = sp.Symbol("q1")
@@ -207,8 +255,15 @@ def derive():
         return sp.factor_terms(sp.expand(ex))
 
     viscous = [plain(ex) for ex in list(u_dot) + [power]]
-    added = [plain(ex, simplify=False) for ex in list(nonlinear_u_dot) + [nonlinear_power]]
-    return p, M_m, viscous, [a + b for a, b in zip(viscous, added)]
+    # Each other law's loads: their generalized active forces through the same mass matrix, and
+    # their dissipated power (none for a conservative law: its power is -dV/dt, not D').
+    added = {}
+    for law, entries in by_law.items():
+        law_power = sp.S.Zero if conservative(law) else -sum(
+            (load.dot(velocity(where)) for where, load in entries), sp.S.Zero)
+        added[law] = [plain(ex, simplify=False)
+                      for ex in list(kane.mass_matrix.LUsolve(active(entries))) + [law_power]]
+    return p, M_m, viscous, added
 
 
 class _Printer(CXX11CodePrinter):
@@ -234,8 +289,8 @@ def to_cpp(expr):
 
 
 def coefficients(laws):
-    """The coefficient symbols of the resistances obeying `laws`."""
-    return tuple(c for _, kind, _, law, c in LOADS if kind == "resistance" and law in laws)
+    """The coefficient symbols of the loads at a site obeying `laws`."""
+    return tuple(c for _, _, site, law, c, _ in LOADS if site and law in laws)
 
 
 # What a rate depends on besides the constants: the state's functions the kernel computes.
@@ -291,7 +346,11 @@ def render_function(out, name, p, M_m, rates, skipped=()):
     sin_q1, cos_q1 = sp.Symbol("sin_q1"), sp.Symbol("cos_q1")
     rates = [ex.subs({sp.sin(q1): sin_q1, sp.cos(q1): cos_q1}) for ex in rates]
     rates = [ex.subs({p[n]: 0 for n in skipped}) for ex in rates]
-    rates, coefficients = separate_constants(rates, state_symbols(M_m))
+    # q1 itself is a term of the state only where an elastic law at the crank puts it.
+    state = state_symbols(M_m)
+    if any(q1 in ex.free_symbols for ex in rates):
+        state.append(q1)
+    rates, coefficients = separate_constants(rates, state)
     constant_terms, named = sp.cse([c for _, c in coefficients], symbols=sp.numbered_symbols("t"),
                                    optimizations="basic")
     # Each tanh a named value, taken two at a time (MathOf::tanhPair: one two-lane call of the
@@ -341,41 +400,51 @@ def render_function(out, name, p, M_m, rates, skipped=()):
 
 
 def render_loads(out):
-    """The load table: LoadName and, per load, its name, kind, site, law, coefficient."""
+    """The load table: LoadName and, per load, its name, kind, site, law, coefficient, rest and
+    energy column."""
     out("// The loads, one named list (codegen/generate_equations.py's LOADS): each load's name, kind")
-    out("// and, for a resistance, where it acts, its law and its coefficient (an index into")
+    out("// and, for a load at a site, where it acts, its law and its coefficient (an index into")
     out("// ConstantsOf's fields). Several entries of MechanismModel::loads() can share a name.")
     out("enum class LoadName {")
-    for name, kind, site, law, coefficient in LOADS:
+    for name, *_ in LOADS:
         out("  k%s," % "".join(w.capitalize() for w in name.split("_")))
     out("  kCount")
     out("};")
     out("constexpr int kNumLoadNames = static_cast<int>(LoadName::kCount);")
-    out("enum class LoadKind { kGravity, kSpring, kMotor, kResistance, kContact };")
-    out("// Where a resistance acts, and the rate it opposes: the crank's pin O (w1, on rod 1), the")
-    out("// coupler's pin A (w2 - w1, on rod 2 and its reaction on rod 1), the sliders on the rail")
-    out("// (v_B, v_C), the pair beside the spring (v_C - v_B, on slider 4 and the opposite on 3).")
+    kinds = list(dict.fromkeys(kind for _, kind, *_ in LOADS))
+    out("enum class LoadKind { %s };" % ", ".join("k%s" % k.capitalize() for k in kinds))
+    out("// Where a load at a site acts, its rate and its coordinate: the crank's pin O (w1 and q1, on")
+    out("// rod 1), the coupler's pin A (w2 - w1 and -2 q1, on rod 2 and its reaction on rod 1), the")
+    out("// sliders on the rail (v_B and x_B, v_C and x_C), the pair beside the spring (v_C - v_B and")
+    out("// x_C - x_B, on slider 4 and the opposite on 3).")
     sites = ["crank", "coupler", "slider3", "slider4", "spring"]
     out("enum class LoadSite { kNone, %s };" % ", ".join("k%s" % x.capitalize() for x in sites))
-    out("// The laws of codegen/generate_equations.py's LAWS (viscous: c v).")
+    out("// The laws of codegen/generate_equations.py's LAWS (viscous: c v; coulomb: c tanh(v / v_s);")
+    out("// elastic: c (x - x0), whose potential energy is c (x - x0)^2 / 2).")
     out("enum class LoadLaw { kNone, %s };" % ", ".join("k%s" % law.capitalize() for law in LAWS))
     out("struct LoadInfo {")
     out("  const char* name;   // snake_case: power column power_<name>, ...")
     out("  LoadKind kind;")
-    out("  LoadSite site;      // resistances only")
-    out("  LoadLaw law;        // resistances only")
-    out("  int coefficient;    // resistances: the index of its coefficient among the constants")
-    out("  const char* symbol; // resistances: that coefficient's symbol")
+    out("  LoadSite site;      // loads at a site only")
+    out("  LoadLaw law;        // loads at a site only")
+    out("  int coefficient;    // at a site: the index of its coefficient among the constants")
+    out("  const char* symbol; // at a site: that coefficient's symbol")
+    out("  int rest;           // an elastic law: the index of its rest coordinate x0; else -1")
     out("  bool dissipative;   // its power is <= 0 and counts in the ledger's D'")
+    out("  // A conservative load's potential energy column (CSV, Python; the message's")
+    out("  // load_energies), or nullptr: its power is -d(that energy)/dt.")
+    out("  const char* energy_column;")
     out("};")
     out("// Indexed by LoadName.")
     out("constexpr LoadInfo kLoadInfo[kNumLoadNames] = {")
     index = {name: i for i, (name, _, _) in enumerate(PARAMETERS)}
-    for name, kind, site, law, coefficient in LOADS:
-        out('    {"%s", LoadKind::k%s, LoadSite::k%s, LoadLaw::k%s, %d, "%s", %s},' % (
+    for name, kind, site, law, coefficient, rest in LOADS:
+        energy = ENERGY_COLUMNS.get(name) or (name + "_energy" if conservative(law) else None)
+        out('    {"%s", LoadKind::k%s, LoadSite::k%s, LoadLaw::k%s, %d, "%s", %d, %s, %s},' % (
             name, kind.capitalize(), (site or "none").capitalize(), (law or "none").capitalize(),
             index[coefficient] if coefficient else -1, coefficient or "",
-            "true" if kind == "resistance" else "false"))
+            index[rest] if rest else -1, "true" if kind == "resistance" else "false",
+            '"%s"' % energy if energy else "nullptr"))
     out("};")
     out("// The constants' symbols, in ConstantsOf's order (a schema row's equation symbol is one).")
     out("constexpr const char* kConstantSymbols[] = {%s};" % ", ".join(
@@ -397,7 +466,8 @@ def render_constants_source(out):
 
 
 def render():
-    p, M_m, viscous_rates, rates = derive()
+    check_loads()
+    p, M_m, viscous_rates, added = derive()
     lines = []
     out = lines.append
     out("// GENERATED by codegen/generate_equations.py from a SymPy %s KanesMethod derivation of the"
@@ -464,26 +534,28 @@ def render():
     out("constexpr RatesVariant kEveryTerm = RatesVariant::%s;  // rates()" % variants()[-1][0])
     for enumerator, name, laws in variants():
         out("")
-        if laws:
-            out("// The terms of every resistance whose law is %s; only for Constants whose other"
+        if len(laws) == len(LAWS):
+            out("// Every term: the loads at a site of every law (%s)." % ", ".join(laws))
+        elif laws:
+            out("// The terms of the loads at a site whose law is %s; only for Constants whose"
                 % " or ".join(laws))
-            out("// resistances' coefficients are 0." if len(laws) < len(LAWS) else
-                "// (that is, every term).")
+            out("// other loads' coefficients are 0.")
         else:
-            out("// No resistance (every coefficient 0): the textbook's model; dissipated power 0.")
-        nonlinear = [law for law in laws if law != "viscous"]
-        source = rates if nonlinear else viscous_rates
+            out("// No load at a site (every coefficient 0): the textbook's model; dissipated "
+                "power 0.")
+        source = [sp.Add(v, *(added[law][i] for law in laws if law != "viscous"))
+                  for i, v in enumerate(viscous_rates)]
         skipped = coefficients(tuple(law for law in LAWS if law not in laws))
         render_function(out, name, p, M_m, source, skipped=skipped)
     out("")
-    out("// The variant `constants` need: the shortest that keeps every non-zero resistance's law.")
+    out("// The variant `constants` need: the shortest that keeps every non-zero load's law.")
     out("inline RatesVariant variantFor(const Constants& constants) {")
     out("  const double* value = &constants.%s;" % PARAMETERS[0][1])
     out("  static_assert(sizeof(Constants) == %d * sizeof(double), \"Constants holds doubles\");"
         % len(PARAMETERS))
     out("  int need = 0;  // LoadLaw's order is the variants' (kNone: kUndamped)")
     out("  for (const LoadInfo& load : kLoadInfo)")
-    out("    if (load.kind == LoadKind::kResistance && value[load.coefficient] != 0.0 &&")
+    out("    if (load.site != LoadSite::kNone && value[load.coefficient] != 0.0 &&")
     out("        static_cast<int>(load.law) > need)")
     out("      need = static_cast<int>(load.law);")
     out("  return static_cast<RatesVariant>(need);")

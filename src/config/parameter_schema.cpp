@@ -190,6 +190,17 @@ std::vector<ParameterSpec> declareParameters() {
       row("mechanism", "rod_inertia", KANE_SIM_FIELD(mechanism.rod_inertia), "kg m²", kPositive)
           .symbol("I1z = I2z").role(ParameterRole::kInertial, "I").defaultText("m (2L)²/12")
           .doc("central moment of inertia of each rod about k"),
+      row("mechanism", "crank_spring_stiffness", KANE_SIM_FIELD(mechanism.crank_spring_stiffness),
+              "N m/rad", kNonNegative)
+          .symbol("k_t").role(ParameterRole::kStiffness, "k_t")
+          .reconfigure(physical("crank_spring_stiffness", 0.0, 1e4))
+          .doc("a torsional spring at pin O: −k_t (q1 − q1_0) on rod 1, energy ½ k_t (q1 − q1_0)²; "
+              "0 = none (the textbook's)"),
+      row("mechanism", "crank_spring_rest_angle", KANE_SIM_FIELD(mechanism.crank_spring_rest_angle),
+              "rad", kAny)
+          .symbol("q1_0").role(ParameterRole::kLoadShape, "q1_0")
+          .reconfigure(physical("crank_spring_rest_angle", -10.0, 10.0))
+          .doc("the torsional spring's rest angle (q1 counts turns: 2π is a turn away)"),
       // ---- initial_state: where the motion starts; the spring is unstretched there ---------
       row("initial_state", "q1", KANE_SIM_FIELD(initial_state.q1), "rad", kAny)
           .symbol("q10").role(ParameterRole::kInitialState).required()

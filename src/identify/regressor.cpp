@@ -19,7 +19,11 @@ bool estimable(const ParameterSpec& spec) { return identifiable(spec.role) && sp
 // Except the coupler's friction: it acts on the crank's rate alone, as the crank's does
 // (omega2 = -omega1), apart only within friction.velocity_scale of rest; fitted together the two
 // trade off freely (one rig's least squares gave the coupler 11.5 N m). Named, it is fitted.
-bool byDefault(const ParameterSpec& spec) { return spec.path() != "friction.coupler_joint"; }
+// And the crank's torsional spring: a rig has one only by design, and over a small swing its
+// torque -k_t (q1 - q1_0) trades off against gravity's; named, it is fitted.
+bool byDefault(const ParameterSpec& spec) {
+  return spec.path() != "friction.coupler_joint" && spec.path() != "mechanism.crank_spring_stiffness";
+}
 
 bool contains(const std::vector<std::string>& names, const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();

@@ -54,6 +54,11 @@ LEDGER = _names("ledger")
 REACTIONS = _names("reaction")
 # Each load's power [W] by the load's name: their sum is dT/dt.
 POWERS = _keyed("power")
+# The potential energy column of each load that has one (beside gravity's and the spring's own
+# fields), by the load's name: /mechanism_state's load_energies, keyed by load_names.
+_LOAD_NAMES = {index: key for _, g, key, field, index in TABLE if field == "load_powers"}
+LOAD_ENERGIES = tuple((_LOAD_NAMES[index], name) for name, _, _, field, index in TABLE
+                      if field == "load_energies")
 # Each body's kinetic energy [J] by body.
 KINETIC_PER_BODY = _keyed("kinetic")
 # /mechanism_state's fields as columns: (column, field, index or None), for reading bags.

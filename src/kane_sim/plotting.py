@@ -29,6 +29,7 @@ REACTIONS = columns.REACTIONS
 # /mechanism_state's fields as CSV columns: (column, field, index or None).
 _BAG_FIELDS = columns.BAG_FIELDS
 _POWER_KEYS = dict(columns.POWERS)  # load name -> its power column
+_ENERGY_KEYS = dict(columns.LOAD_ENERGIES)  # load name -> its potential energy column
 
 
 def _bag_fields(m):
@@ -36,13 +37,30 @@ def _bag_fields(m):
     (whatever order or loads the recording's version had); a bag recorded before the named
     arrays (2026-11-25) has one <load>_power field per load instead."""
     names = getattr(m, "load_names", None)
-    fields = [f for f in _BAG_FIELDS if f[1] != "load_powers"]
+    fields = [f for f in _BAG_FIELDS if f[1] not in ("load_powers", "load_energies")]
     if names is not None:
         fields += [(_POWER_KEYS[n], "load_powers", i) for i, n in enumerate(names)
                    if n in _POWER_KEYS]
+        if getattr(m, "load_energies", None):  # bags recorded before load_energies lack it
+            fields += [(_ENERGY_KEYS[n], "load_energies", i) for i, n in enumerate(names)
+                       if n in _ENERGY_KEYS]
     else:
         fields += [(column, key + "_power", None) for key, column in _POWER_KEYS.items()]
     return fields
+
+
+_ENERGY_LABELS = {"kinetic_energy": "kinetic T", "gravitational_energy": "gravitational V_g",
+                  "spring_energy": "spring V_s", "total_energy": "total E"}
+
+
+def _energy_curves(data):
+    """(column, label) of the energy panel: T, each load's potential energy (the output table's
+    energy columns: gravity's and the spring's always, another load's when it is not zero
+    throughout), E, then W and D."""
+    terms = [k for k in columns.ENERGIES if k in data and len(data[k]) and
+             (k in _ENERGY_LABELS or np.any(np.asarray(data[k]) != 0))]
+    return ([(k, _ENERGY_LABELS.get(k) or k[:-len("_energy")].replace("_", " ") + " V")
+             for k in terms] + [("motor_work", "motor work W"), ("dissipated_energy", "dissipated D")])
 
 
 def require_regular_file(path):
@@ -153,10 +171,7 @@ def plot_run(data, out=None, title="", compare=None, compare_label=""):
     axes[3].plot(t, data["applied_torque"], color="tab:red", label="applied M_m")
     axes[3].set_ylabel("torque [N m]")
     ax = axes[4]
-    for key, label in (("kinetic_energy", "kinetic T"),
-                       ("gravitational_energy", "gravitational V_g"),
-                       ("spring_energy", "spring V_s"), ("total_energy", "total E"), ("motor_work", "motor work W"),
-                       ("dissipated_energy", "dissipated D")):
+    for key, label in _energy_curves(data):
         ax.plot(t, data[key], label=label)
     ax.set_ylabel("energy [J]")
     if powers:

@@ -46,18 +46,50 @@ double MechanismModel::resistanceCoefficient(const LoadInfo& load) const {
   return (&constants_.rod_mass)[load.coefficient];
 }
 
-double MechanismModel::resistance(const LoadInfo& load, double rate) const {
+double MechanismModel::siteLoad(const LoadInfo& load, double rate, double coordinate) const {
   const double c = resistanceCoefficient(load);
   switch (load.law) {
     case LoadLaw::kViscous:  // c v
       return c * rate;
     case LoadLaw::kCoulomb:  // F_c tanh(v / v_s); none at all when off, whatever v_s
       return c == 0.0 ? 0.0 : c * math::tanh(rate / constants_.friction_velocity_scale);
+    case LoadLaw::kElastic:  // c (x - x0)
+      return c * (coordinate - (&constants_.rod_mass)[load.rest]);
     case LoadLaw::kNone:
       break;
   }
   return 0.0;
 }
+
+double MechanismModel::sitePotential(const LoadInfo& load, double coordinate) const {
+  if (load.law != LoadLaw::kElastic) return 0.0;
+  const double stretch = coordinate - (&constants_.rod_mass)[load.rest];  // x - x0
+  return 0.5 * resistanceCoefficient(load) * stretch * stretch;
+}
+
+namespace {
+
+// A site's coordinate x (its rate is x'): the crank's q1, the coupler pin's relative angle
+// -2 q1 (rod 2 at -q1 against rod 1 at q1), x_B, x_C, and x_C - x_B beside the spring.
+double siteCoordinate(LoadSite site, const MechanismGeometry& g) {
+  switch (site) {
+    case LoadSite::kCrank:
+      return g.rod1_angle;
+    case LoadSite::kCoupler:
+      return g.rod2_angle - g.rod1_angle;
+    case LoadSite::kSlider3:
+      return g.pin_b.x();
+    case LoadSite::kSlider4:
+      return g.point_c.x();
+    case LoadSite::kSpring:
+      return g.sliderSeparation();
+    case LoadSite::kNone:
+      break;
+  }
+  return 0.0;
+}
+
+}  // namespace
 
 MechanismKinematics MechanismModel::kinematics(const State& x) const {
   const MechanismParameters& p = parameters_;
@@ -124,32 +156,34 @@ MechanismLoads MechanismModel::loads(const MechanismKinematics& k, const State& 
   add(LoadName::kMotor, kRod1,
       kane::torqueOn(k.rod1, appliedMotorTorque(motor_command, x.u1) * kK));
 
-  // The resistances (dampers, friction), opposing their sites' rates: torques on the rods'
-  // frames, forces at the sliders, and the reactions where a site joins two bodies.
+  // The loads at a site (dampers, friction, elastic springs), opposing their sites' rates or
+  // pulling their coordinates back to rest: torques on the rods' frames, forces at the
+  // sliders, and the reactions where a site joins two bodies.
   const double w1 = k.rod1.angularVelocity(u).z(), w2 = k.rod2.angularVelocity(u).z();
   const double v_b = k.slider3.velocity(u).x(), v_c = k.slider4.velocity(u).x();
   for (int n = 0; n < kNumLoadNames; ++n) {
     const LoadInfo& info = kLoadInfo[n];
-    if (info.kind != LoadKind::kResistance) continue;
+    if (info.site == LoadSite::kNone) continue;
     const LoadName name = static_cast<LoadName>(n);
+    const double x = siteCoordinate(info.site, k.geometry);
     switch (info.site) {
       case LoadSite::kCrank:  // pin O: -F k on rod 1, F from w1
-        add(name, kRod1, kane::torqueOn(k.rod1, Eigen::Vector3d(-resistance(info, w1) * kK)));
+        add(name, kRod1, kane::torqueOn(k.rod1, Eigen::Vector3d(-siteLoad(info, w1, x) * kK)));
         break;
       case LoadSite::kCoupler: {  // pin A: -F k on rod 2 from w2 - w1, its reaction on rod 1
-        const Eigen::Vector3d on_rod2 = -resistance(info, w2 - w1) * kK;
+        const Eigen::Vector3d on_rod2 = -siteLoad(info, w2 - w1, x) * kK;
         add(name, kRod2, kane::torqueOn(k.rod2, on_rod2));
         add(name, kRod1, kane::torqueOn(k.rod1, Eigen::Vector3d(-on_rod2)));
         break;
       }
       case LoadSite::kSlider3:  // -F i at B, F from v_B
-        add(name, kSlider3, kane::forceAt(k.slider3, Eigen::Vector3d(-resistance(info, v_b) * kI)));
+        add(name, kSlider3, kane::forceAt(k.slider3, Eigen::Vector3d(-siteLoad(info, v_b, x) * kI)));
         break;
       case LoadSite::kSlider4:  // -F i at C, F from v_C
-        add(name, kSlider4, kane::forceAt(k.slider4, Eigen::Vector3d(-resistance(info, v_c) * kI)));
+        add(name, kSlider4, kane::forceAt(k.slider4, Eigen::Vector3d(-siteLoad(info, v_c, x) * kI)));
         break;
       case LoadSite::kSpring: {  // -F i on slider 4 from v_C - v_B, the opposite on slider 3
-        const Eigen::Vector3d on_c = -resistance(info, v_c - v_b) * kI;
+        const Eigen::Vector3d on_c = -siteLoad(info, v_c - v_b, x) * kI;
         add(name, kSlider3, kane::forceAt(k.slider3, Eigen::Vector3d(-on_c)));
         add(name, kSlider4, kane::forceAt(k.slider4, on_c));
         break;
@@ -264,9 +298,13 @@ EnergyTerms MechanismModel::energy(const MechanismKinematics& k, const State& x)
   for (double body : bodyKineticEnergies(k, x)) e.kinetic += body;
   for (const kane::Particle<kNumSpeeds>* p :
        {&k.rod1.mass_center, &k.rod2.mass_center, &k.slider3, &k.slider4})
-    e.gravitational -= p->mass * g * p->position.dot(kI);
+    e[LoadName::kGravity] -= p->mass * g * p->position.dot(kI);
   const double elongation = springElongation(k.geometry);
-  e.spring = 0.5 * parameters_.spring_stiffness * elongation * elongation;
+  e[LoadName::kSpring] = 0.5 * parameters_.spring_stiffness * elongation * elongation;
+  // Each conservative load at a site: its law's potential at its site's coordinate.
+  for (int n = 0; n < kNumLoadNames; ++n)
+    if (kLoadInfo[n].site != LoadSite::kNone && kLoadInfo[n].energy_column)
+      e.potential[n] = sitePotential(kLoadInfo[n], siteCoordinate(kLoadInfo[n].site, k.geometry));
   return e;
 }
 

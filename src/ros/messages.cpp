@@ -84,8 +84,8 @@ kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_ti
   msg.active_forces = {s.active_forces[0], s.active_forces[1]};
   msg.inertia_forces = {s.inertia_forces[0], s.inertia_forces[1]};
   msg.kinetic_energy = s.energy.kinetic;
-  msg.gravitational_energy = s.energy.gravitational;
-  msg.spring_energy = s.energy.spring;
+  msg.gravitational_energy = s.energy.gravitational();
+  msg.spring_energy = s.energy.spring();
   msg.total_energy = s.energy.total();
   msg.motor_work = s.motor_work;
   msg.dissipated_energy = s.dissipated_energy;
@@ -109,6 +109,7 @@ kane_sim::MechanismState mechanismStateMessage(const Snapshot& s, double real_ti
   msg.reactions_determinate = f.determinate;
   msg.load_names = loadNames();
   msg.load_powers.assign(s.load_powers.by_name.begin(), s.load_powers.by_name.end());
+  msg.load_energies.assign(s.energy.potential.begin(), s.energy.potential.end());
   std::copy(s.body_kinetic_energy.begin(), s.body_kinetic_energy.end(),
             msg.body_kinetic_energy.begin());
   msg.impact_energy = s.impact_energy;

@@ -19,9 +19,10 @@ std::string dampersOn(const Config& c) {
   for (const ParameterSpec* p : parametersOfRole(ParameterRole::kDissipative))
     if (numericValue(*p, c) != 0.0)
       text += ", " + p->path() + " " + formatNumber(numericValue(*p, c));
-  if (c.mechanism.friction.any())
+  if (c.mechanism.friction.any())  // friction's shape (v_s), not another load's (a rest angle)
     for (const ParameterSpec* p : parametersOfRole(ParameterRole::kLoadShape))
-      text += ", " + p->path() + " " + formatNumber(numericValue(*p, c));
+      if (std::string(p->section) == "friction")
+        text += ", " + p->path() + " " + formatNumber(numericValue(*p, c));
   return text;
 }
 

@@ -35,10 +35,23 @@ std::vector<CsvColumn> makeColumns() {
              [](const Snapshot& s) { return s.motor_work; }),
       column("kinetic_energy", "energy", "kinetic_energy", -1,
              [](const Snapshot& s) { return s.energy.kinetic; }, "kinetic"),
-      column("gravitational_energy", "energy", "gravitational_energy", -1,
-             [](const Snapshot& s) { return s.energy.gravitational; }, "gravitational"),
-      column("spring_energy", "energy", "spring_energy", -1,
-             [](const Snapshot& s) { return s.energy.spring; }, "spring"),
+  };
+  // Each conservative load's potential energy [J] (Σ + T = total_energy), under its LoadInfo's
+  // energy column: the message's fields of those names for the textbook's gravity and spring,
+  // its load_energies array (keyed by load_names) for any other.
+  for (int n = 0; n < kNumLoadNames; ++n) {
+    const LoadInfo& load = kLoadInfo[n];
+    if (!load.energy_column) continue;
+    const LoadName name = static_cast<LoadName>(n);
+    const bool own_field = name == LoadName::kGravity || name == LoadName::kSpring;
+    const char* formerly = name == LoadName::kGravity ? "gravitational"
+                           : name == LoadName::kSpring ? "spring"
+                                                       : "";
+    c.push_back({load.energy_column, "energy", load.energy_column,
+                 own_field ? load.energy_column : "load_energies", own_field ? -1 : n,
+                 [n](const Snapshot& s) { return s.energy.potential[n]; }, formerly});
+  }
+  c.insert(c.end(), {
       column("energy_minus_work", "derived", "", -1,
              [](const Snapshot& s) { return s.energy.total() - s.motor_work; }),
       column("F1", "equations", "active_forces", 0,
@@ -47,7 +60,7 @@ std::vector<CsvColumn> makeColumns() {
              [](const Snapshot& s) { return s.active_forces[1]; }),
       column("spring_elongation", "geometry", "spring_elongation", -1,
              [](const Snapshot& s) { return s.spring_elongation; }),
-  };
+  });
   // The loads' powers [W], power_<load> for each name of the model's load list (Σ = dT/dt). The
   // motor's comes here, where its older name motor_power stood; the others follow.
   auto loadPower = [](int n) {

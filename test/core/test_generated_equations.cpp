@@ -99,12 +99,18 @@ TEST_P(GeneratedEquations, RatesMatchTheGenericAssemblyAtRandomStates) {
   for (int trial = 0; trial < 2000; ++trial) {
     Config drawn = shipped;
     MechanismParameters& p = drawn.mechanism;
-    for (double* v : {&p.rod_mass, &p.rod_half_length, &p.rod_inertia, &p.slider3_mass,
-                      &p.slider4_mass, &p.spring_stiffness, &p.gravity})
-      *v = scaled(*v);
-    // Every resistance the schema declares (a new one is drawn here without editing this test),
-    // on or off at random so that every variant of the generated rates is compared, and the
-    // shape of their laws (friction's v_s) from 1/10 to 10 times its default.
+    // Every constant of the equations the schema declares, by its role (a new parameter is
+    // drawn here without editing this test): the masses, L, g and the stiffnesses from 1/10 to
+    // 10 times the shipped ones (one that is 0 there, as the crank's torsional spring, on or off
+    // at random); every resistance on or off at random, so that every variant of the generated
+    // rates is compared; and the shape of the laws (friction's v_s, the spring's rest angle)
+    // from 1/10 to 10 times its default.
+    for (ParameterRole role : {ParameterRole::kInertial, ParameterRole::kGeometric,
+                               ParameterRole::kGravity, ParameterRole::kStiffness})
+      for (const ParameterSpec* spec : parametersOfRole(role)) {
+        double& v = spec->field.number(drawn);
+        v = v != 0.0 ? scaled(v) : unit(rng) < 0.3 ? 0.0 : 10 * unit(rng);
+      }
     for (const ParameterSpec* spec : parametersOfRole(ParameterRole::kDissipative))
       spec->field.number(drawn) = unit(rng) < 0.3 ? 0.0 : 10 * unit(rng);
     for (const ParameterSpec* spec : parametersOfRole(ParameterRole::kLoadShape))
@@ -214,8 +220,8 @@ TEST(EveryParameter, ChangesTheRatesOnBothPaths) {
     // A law's shape changes nothing while its load is off, nor where it has saturated (tanh of
     // 1.5 / 0.01 is 1 to the bit): every resistance on, and the shape at the state's speeds.
     if (p.role == ParameterRole::kLoadShape) {
-      for (const ParameterSpec* r : parametersOfRole(ParameterRole::kDissipative))
-        r->field.number(base) = 0.5;
+      for (ParameterRole role : {ParameterRole::kDissipative, ParameterRole::kStiffness})
+        for (const ParameterSpec* r : parametersOfRole(role)) r->field.number(base) = 0.5;
       p.field.number(base) = 1.0;
     }
     Config changed = base;

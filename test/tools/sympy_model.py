@@ -55,6 +55,9 @@ def sympy_model(params, x0, torque=0.0, damping=None, friction=None):
         (points["B"], p["slider3_mass"] * g * frame.x - k * elongation * frame.x),
         (points["C"], p["slider4_mass"] * g * frame.x + k * elongation * frame.x),
         (rod1, torque * frame.z),
+        # a torsional spring at O, pulling rod 1 back to its rest angle
+        (rod1, -p.get("crank_spring_stiffness", 0.0) * (q1 - p.get("crank_spring_rest_angle", 0.0))
+         * frame.z),
     ]
     # Viscous dampers as loads: torques on the rods' frames from the joint rates (pin O: w1;
     # pin A: w2 - w1, reaction on rod 1), forces at B and C against their velocities, and the

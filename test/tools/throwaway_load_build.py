@@ -37,8 +37,8 @@ EDITS = [
     ("codegen/generate_equations.py", '"c_S": "p.damping.spring",',
      ' "c_T": "p.damping.throwaway",'),
     ("codegen/generate_equations.py",
-     '    ("spring_damper",   "resistance",  "spring",  "viscous", "c_S"),\n',
-     '    ("throwaway_damper", "resistance", "slider4", "viscous", "c_T"),\n'),
+     '    ("spring_damper",   "resistance",   "spring",  "viscous", "c_S", None),\n',
+     '    ("throwaway_damper", "resistance", "slider4", "viscous", "c_T", None),\n'),
     ("include/kane_sim/model/mechanism_parameters.h",
      "  double spring = 0.0;  // c_S [N s/m] beside the spring: -c_S (v_C - v_B) i at C, the "
      "opposite at B\n",

@@ -1,16 +1,26 @@
 #!/usr/bin/python3
-"""A load is one declaration, as far as the code generator goes: a throw-away resistance added to
-codegen/generate_equations.py's tables (one PARAMETERS row, its SOURCES entry, one LOADS row),
-nothing else, reaches every part of the generated header: the constants struct, constantsFrom(),
-LoadName, kLoadInfo (with its coefficient's index), kConstantSymbols, the full rates variant
-(and not the undamped one), and variantFor(). The header then compiles and runs with g++: the
-new load's coefficient changes u' of the full variant, and variantFor() picks that variant only
-when the coefficient is not 0. (The C++ consumers beyond the header read kLoadInfo and the
-schema's roles: test_generated_equations' every-parameter test and test_parameter_schema hold
-them to the tables.)
+"""A load is one declaration, as far as the code generator goes, and a conservative load carries
+its energy. Two throw-away loads are added to codegen/generate_equations.py's tables, nothing
+else:
+
+- a resistance (one PARAMETERS row, its SOURCES entry, one LOADS row) reaches every part of the
+  generated header: the constants struct, constantsFrom(), LoadName, kLoadInfo (with its
+  coefficient's index), kConstantSymbols, the full rates variant (and not the undamped one),
+  and variantFor(); the header compiles and runs with g++: the coefficient changes u' of the
+  full variant, and variantFor() picks that variant only when it is not 0;
+- a conservative load (an elastic spring holding slider 4 at a rest position: two PARAMETERS
+  rows, one LOADS row) gets its energy column in kLoadInfo and its force in the rates (u2' moves
+  by exactly -k_T (q2 - x_T) / M2, no dissipated power); with its law's energy left out, or an
+  energy whose gradient is not its force, the generator refuses it, naming the load.
+
+(The C++ consumers beyond the header read kLoadInfo and the schema's roles:
+test_generated_equations' every-parameter test, test_parameter_schema and test_constraint_forces'
+power-flow test, where each conservative load's power must be -dV/dt, hold them to the tables.)
 Usage: throwaway_load_test.py
 """
+import contextlib
 import importlib.util
+import io
 import os
 import subprocess
 import sys
@@ -19,7 +29,7 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 GENERATOR = os.path.join(HERE, "..", "..", "codegen", "generate_equations.py")
 
-PROGRAM = r"""
+DAMPER_PROGRAM = r"""
 #include <cstdio>
 #include "generated_equations.h"
 using namespace kane_sim::generated;
@@ -41,41 +51,45 @@ int main() {
 }
 """
 
+SPRING_PROGRAM = r"""
+#include <cmath>
+#include <cstdio>
+#include "generated_equations.h"
+using namespace kane_sim::generated;
+int main() {
+  Constants c{};
+  c.rod_mass = 1; c.rod_half_length = 0.25; c.rod_inertia = 0.02; c.slider3_mass = 0.5;
+  c.slider4_mass = 0.8; c.spring_stiffness = 200; c.gravity = 9.81; c.spring_rest_length = 0.3;
+  c.friction_velocity_scale = 0.01;
+  const Rates before = ratesFor(variantFor(c), c, 0.4, 1.2, 1.5, -0.7, 2.0);
+  c.throwaway_stiffness = 30.0;
+  c.throwaway_rest = 0.9;
+  const Rates after = ratesFor(variantFor(c), c, 0.4, 1.2, 1.5, -0.7, 2.0);
+  const double want = -30.0 * (1.2 - 0.9) / 0.8;  // slider 4 alone on q2: -k_T (q2 - x_T) / M2
+  std::printf("%d %d %d\n", static_cast<int>(variantFor(c) == kEveryTerm),
+              std::abs(after.u2_dot - before.u2_dot - want) < 1e-12 * 100,
+              static_cast<int>(after.dissipated_power != before.dissipated_power));
+  return 0;
+}
+"""
 
-def main():
+
+def generator():
+    """A fresh copy of the code generator's module (each scenario edits its tables)."""
     spec = importlib.util.spec_from_file_location("generate_equations", GENERATOR)
     gen = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(gen)
-    # The declaration: a second viscous damper on slider 4, coefficient c_T.
-    gen.PARAMETERS.append(("c_T", "throwaway_damping", "c_T [N s/m], a throw-away damper"))
-    gen.SOURCES["c_T"] = "p.throwaway"
-    gen.LOADS.append(("throwaway_damper", "resistance", "slider4", "viscous", "c_T"))
-    text = gen.render()
-    index = len(gen.PARAMETERS) - 1
-    checks = [
-        ("the constants struct", "  Real throwaway_damping;"),
-        ("constantsFrom()", "c.throwaway_damping = p.throwaway;"),
-        ("LoadName", "  kThrowawayDamper,"),
-        ("kLoadInfo", '{"throwaway_damper", LoadKind::kResistance, LoadSite::kSlider4, '
-                      'LoadLaw::kViscous, %d, "c_T", true}' % index),
-        ("kConstantSymbols", '"c_T"};'),
-    ]
-    failures = 0
-    for what, needle in checks:
-        ok = needle in text
-        failures += not ok
-        print("%s %s has the new load" % ("ok  " if ok else "FAIL", what))
-    full = text[text.index("inline RatesOf<Real> rates("):]
-    undamped = text[text.index("inline RatesOf<Real> ratesUndamped("):
-                    text.index("inline RatesOf<Real> ratesViscous(")]
-    ok = "const Real c_T = p.throwaway_damping;" in full and "c_T" not in undamped
-    failures += not ok
-    print("%s the full rates read c_T, the undamped ones do not" % ("ok  " if ok else "FAIL"))
+    return gen
+
+
+def compiled_output(text, program):
+    """Compiles `program` against the header `text` and runs it: (its output's words, or None
+    with the compiler's message)."""
     with tempfile.TemporaryDirectory() as work:
         with open(os.path.join(work, "generated_equations.h"), "w") as f:
             f.write(text)
         with open(os.path.join(work, "main.cpp"), "w") as f:
-            f.write(PROGRAM)
+            f.write(program)
         exe = os.path.join(work, "main")
         # The package's headers after `work` (the math functions the header includes), SLEEF
         # for them.
@@ -84,16 +98,91 @@ def main():
                                 os.path.join(work, "main.cpp"), "-o", exe, "-lsleef"],
                                capture_output=True, text=True)
         if built.returncode != 0:
-            print("FAIL the header with the new load does not compile:\n" + built.stderr[:2000])
-            failures += 1
-        else:
-            out = subprocess.run([exe], capture_output=True, text=True).stdout.split()
-            want = ["0", "1", "1", "throwaway_damper", str(index), "1"]
-            ok = out == want
-            failures += not ok
-            print("%s compiled and ran: variant off/on, u2' and D' moved, name, index, site: %s"
-                  % ("ok  " if ok else "FAIL", " ".join(out)))
-    print("%d passed, %d failed" % (len(checks) + 2 - failures, failures))
+            return None, built.stderr[:2000]
+        return subprocess.run([exe], capture_output=True, text=True).stdout.split(), ""
+
+
+def report(ok, what):
+    print("%s %s" % ("ok  " if ok else "FAIL", what))
+    return 0 if ok else 1
+
+
+def a_resistance():
+    gen = generator()
+    # The declaration: a second viscous damper on slider 4, coefficient c_T.
+    gen.PARAMETERS.append(("c_T", "throwaway_damping", "c_T [N s/m], a throw-away damper"))
+    gen.SOURCES["c_T"] = "p.throwaway"
+    gen.LOADS.append(("throwaway_damper", "resistance", "slider4", "viscous", "c_T", None))
+    text = gen.render()
+    index = len(gen.PARAMETERS) - 1
+    checks = [
+        ("the constants struct", "  Real throwaway_damping;"),
+        ("constantsFrom()", "c.throwaway_damping = p.throwaway;"),
+        ("LoadName", "  kThrowawayDamper,"),
+        ("kLoadInfo", '{"throwaway_damper", LoadKind::kResistance, LoadSite::kSlider4, '
+                      'LoadLaw::kViscous, %d, "c_T", -1, true, nullptr}' % index),
+        ("kConstantSymbols", '"c_T"};'),
+    ]
+    failures = sum(report(needle in text, "%s has the new damper" % what) for what, needle in checks)
+    full = text[text.index("inline RatesOf<Real> rates("):]
+    undamped = text[text.index("inline RatesOf<Real> ratesUndamped("):
+                    text.index("inline RatesOf<Real> ratesViscous(")]
+    failures += report("const Real c_T = p.throwaway_damping;" in full and "c_T" not in undamped,
+                       "the full rates read c_T, the undamped ones do not")
+    out, error = compiled_output(text, DAMPER_PROGRAM)
+    want = ["0", "1", "1", "throwaway_damper", str(index), "1"]
+    failures += report(out == want, "compiled and ran: variant off/on, u2' and D' moved, name, "
+                       "index, site: %s" % (" ".join(out) if out else error))
+    return failures
+
+
+def conservative_load(potential=True, wrong_potential=False):
+    """A throw-away elastic spring holding slider 4 at x_T: coefficient k_T, rest x_T."""
+    gen = generator()
+    gen.PARAMETERS.append(("k_T", "throwaway_stiffness", "k_T [N/m], a throw-away spring"))
+    gen.PARAMETERS.append(("x_T", "throwaway_rest", "x_T [m], its rest position"))
+    gen.SOURCES.update({"k_T": "p.throwaway_k", "x_T": "p.throwaway_x"})
+    law = "elastic"
+    if not potential:  # a new conservative law whose energy was left out
+        law = "stiffening"
+        gen.LAWS[law] = lambda c, v, x, x0, p: c * (x - x0) ** 3
+    elif wrong_potential:  # a new conservative law whose energy is not its force's
+        law = "stiffening"
+        gen.LAWS[law] = lambda c, v, x, x0, p: c * (x - x0) ** 3
+        gen.POTENTIALS[law] = lambda c, x, x0: c * (x - x0) ** 4 / 2
+    gen.LOADS.append(("throwaway_spring", "conservative", "slider4", law, "k_T", "x_T"))
+    return gen
+
+
+def a_conservative_load():
+    gen = conservative_load()
+    text = gen.render()
+    k, x = len(gen.PARAMETERS) - 2, len(gen.PARAMETERS) - 1
+    failures = report('{"throwaway_spring", LoadKind::kConservative, LoadSite::kSlider4, '
+                      'LoadLaw::kElastic, %d, "k_T", %d, false, "throwaway_spring_energy"}'
+                      % (k, x) in text, "kLoadInfo has the new spring, its rest and its energy "
+                      "column")
+    out, error = compiled_output(text, SPRING_PROGRAM)
+    failures += report(out == ["1", "1", "0"], "compiled and ran: u2' moved by -k_T (q2 - x_T) / M2 "
+                       "to rounding, no dissipated power: %s" % (" ".join(out) if out else error))
+    # Without its energy, or with an energy its force does not have, the generator stops,
+    # naming the load.
+    for what, gen in (("left out", conservative_load(potential=False)),
+                      ("not its force's", conservative_load(wrong_potential=True))):
+        try:
+            with contextlib.redirect_stdout(io.StringIO()):
+                gen.render()
+            refused = ""
+        except SystemExit as stop:
+            refused = str(stop)
+        failures += report("throwaway_spring" in refused,
+                           "its energy %s: the generator refuses it (%s)" % (what, refused[:90]))
+    return failures
+
+
+def main():
+    failures = a_resistance() + a_conservative_load()
+    print("%d failed" % failures)
     return 1 if failures else 0
 
 

@@ -87,6 +87,8 @@ async function openConfig(yaml, name) {
   page.yaml = yaml;
   page.configName = name;
   page.schema = reply.schema;
+  page.plots.energyColumns = reply.schema.columns.filter((c) => c.group === "energy")
+                                                .map((c) => c.name);
   page.liveData = { t: [] };
   page.view.refit();
   $("config").value = yaml;

@@ -5,16 +5,16 @@
 const COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
                 "#7f7f7f", "#bcbd22", "#17becf"];
 
-// [title, unit, [[column, label], ...]]; "power" panels take every power_* column that is not
-// zero throughout, and their sum.
+// [title, unit, [[column, label], ...]]; the "energy" panel takes T, each load's potential energy
+// (the columns of the output table's "energy" group, Plots.energyColumns: gravity's and the
+// spring's always, another load's when it is not zero throughout), E, W and D; "power" panels
+// take every power_* column that is not zero throughout, and their sum.
 export const PANELS = [
   ["q1, crank angle", "rad", [["q1", "q1"], ["sensor_q1", "q1 from joint_states"]]],
   ["q2, slider 4", "m", [["q2", "q2"]]],
   ["speeds", "rad/s, m/s", [["u1", "u1 [rad/s]"], ["u2", "u2 [m/s]"]]],
   ["torque", "N m", [["applied_torque", "applied M_m"]]],
-  ["energy", "J", [["kinetic_energy", "kinetic T"], ["gravitational_energy", "gravitational V_g"],
-    ["spring_energy", "spring V_s"], ["total_energy", "total E"], ["motor_work", "motor work W"],
-    ["dissipated_energy", "dissipated D"]]],
+  ["energy", "J", "energy"],
   ["power", "W", "power"],
   ["ledger drift (E + D - W - P)", "J", [["ledger_drift", "drift"]]],
 ];
@@ -31,12 +31,16 @@ export class Plots {
       return canvas;
     });
     this.cursor = null;
+    // The output table's energy columns (the schema's, set by the page when a config opens).
+    this.energyColumns = ["kinetic_energy", "gravitational_energy", "spring_energy", "total_energy"];
   }
 
   // data: {t: [...], column: [...]}; window: [t0, t1] or null for all; cursor: a time to mark.
   draw(data, window, cursor) {
     PANELS.forEach(([title, unit, spec], i) => {
-      let curves = spec === "power" ? powerCurves(data) : spec.filter(([k]) => data[k]);
+      let curves = spec === "power"    ? powerCurves(data)
+                   : spec === "energy" ? energyCurves(data, this.energyColumns)
+                                       : spec.filter(([k]) => data[k]);
       this.panel(this.canvases[i], `${title} [${unit}]`, data, curves, window, cursor);
     });
   }
@@ -107,6 +111,18 @@ export class Plots {
       g.stroke();
     }
   }
+}
+
+const ENERGY_LABELS = { kinetic_energy: "kinetic T", gravitational_energy: "gravitational V_g",
+                        spring_energy: "spring V_s", total_energy: "total E" };
+
+function energyCurves(data, columns) {
+  const always = (k) => k in ENERGY_LABELS;
+  const terms = columns.filter((k) => data[k] && (always(k) || data[k].some((v) => v !== 0)))
+                       .sort((a, b) => (a === "total_energy") - (b === "total_energy"));
+  return terms.map((k) => [k, ENERGY_LABELS[k] || k.replace(/_energy$/, "").replace(/_/g, " ") + " V"])
+              .concat([["motor_work", "motor work W"], ["dissipated_energy", "dissipated D"]]
+                        .filter(([k]) => data[k]));
 }
 
 function powerCurves(data) {

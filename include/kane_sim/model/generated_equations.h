@@ -35,6 +35,8 @@ struct ConstantsOf {
   Real slider3_friction;         // F_B [N], Coulomb friction of slider 3 on the rail
   Real slider4_friction;         // F_C [N], Coulomb friction of slider 4 on the rail
   Real friction_velocity_scale;  // v_s [rad/s or m/s], Coulomb friction's smoothing: F = -F_c tanh(v / v_s)
+  Real crank_spring_stiffness;   // k_t [N m/rad], a torsional spring at pin O
+  Real crank_spring_rest_angle;  // q1_0 [rad], the torsional spring's rest angle
 };
 using Constants = ConstantsOf<double>;
 
@@ -61,11 +63,13 @@ Constants constantsFrom(const Parameters& p, double spring_rest_length) {
   c.slider3_friction = p.friction.slider3;  // F_B
   c.slider4_friction = p.friction.slider4;  // F_C
   c.friction_velocity_scale = p.friction.velocity_scale;  // v_s
+  c.crank_spring_stiffness = p.crank_spring_stiffness;  // k_t
+  c.crank_spring_rest_angle = p.crank_spring_rest_angle;  // q1_0
   return c;
 }
 
 // The loads, one named list (codegen/generate_equations.py's LOADS): each load's name, kind
-// and, for a resistance, where it acts, its law and its coefficient (an index into
+// and, for a load at a site, where it acts, its law and its coefficient (an index into
 // ConstantsOf's fields). Several entries of MechanismModel::loads() can share a name.
 enum class LoadName {
   kGravity,
@@ -81,43 +85,51 @@ enum class LoadName {
   kCouplerFriction,
   kSlider3Friction,
   kSlider4Friction,
+  kCrankSpring,
   kCount
 };
 constexpr int kNumLoadNames = static_cast<int>(LoadName::kCount);
-enum class LoadKind { kGravity, kSpring, kMotor, kResistance, kContact };
-// Where a resistance acts, and the rate it opposes: the crank's pin O (w1, on rod 1), the
-// coupler's pin A (w2 - w1, on rod 2 and its reaction on rod 1), the sliders on the rail
-// (v_B, v_C), the pair beside the spring (v_C - v_B, on slider 4 and the opposite on 3).
+enum class LoadKind { kGravity, kSpring, kMotor, kResistance, kContact, kConservative };
+// Where a load at a site acts, its rate and its coordinate: the crank's pin O (w1 and q1, on
+// rod 1), the coupler's pin A (w2 - w1 and -2 q1, on rod 2 and its reaction on rod 1), the
+// sliders on the rail (v_B and x_B, v_C and x_C), the pair beside the spring (v_C - v_B and
+// x_C - x_B, on slider 4 and the opposite on 3).
 enum class LoadSite { kNone, kCrank, kCoupler, kSlider3, kSlider4, kSpring };
-// The laws of codegen/generate_equations.py's LAWS (viscous: c v).
-enum class LoadLaw { kNone, kViscous, kCoulomb };
+// The laws of codegen/generate_equations.py's LAWS (viscous: c v; coulomb: c tanh(v / v_s);
+// elastic: c (x - x0), whose potential energy is c (x - x0)^2 / 2).
+enum class LoadLaw { kNone, kViscous, kCoulomb, kElastic };
 struct LoadInfo {
   const char* name;   // snake_case: power column power_<name>, ...
   LoadKind kind;
-  LoadSite site;      // resistances only
-  LoadLaw law;        // resistances only
-  int coefficient;    // resistances: the index of its coefficient among the constants
-  const char* symbol; // resistances: that coefficient's symbol
+  LoadSite site;      // loads at a site only
+  LoadLaw law;        // loads at a site only
+  int coefficient;    // at a site: the index of its coefficient among the constants
+  const char* symbol; // at a site: that coefficient's symbol
+  int rest;           // an elastic law: the index of its rest coordinate x0; else -1
   bool dissipative;   // its power is <= 0 and counts in the ledger's D'
+  // A conservative load's potential energy column (CSV, Python; the message's
+  // load_energies), or nullptr: its power is -d(that energy)/dt.
+  const char* energy_column;
 };
 // Indexed by LoadName.
 constexpr LoadInfo kLoadInfo[kNumLoadNames] = {
-    {"gravity", LoadKind::kGravity, LoadSite::kNone, LoadLaw::kNone, -1, "", false},
-    {"spring", LoadKind::kSpring, LoadSite::kNone, LoadLaw::kNone, -1, "", false},
-    {"motor", LoadKind::kMotor, LoadSite::kNone, LoadLaw::kNone, -1, "", false},
-    {"crank_damper", LoadKind::kResistance, LoadSite::kCrank, LoadLaw::kViscous, 8, "c_O", true},
-    {"coupler_damper", LoadKind::kResistance, LoadSite::kCoupler, LoadLaw::kViscous, 9, "c_A", true},
-    {"slider3_damper", LoadKind::kResistance, LoadSite::kSlider3, LoadLaw::kViscous, 10, "c_B", true},
-    {"slider4_damper", LoadKind::kResistance, LoadSite::kSlider4, LoadLaw::kViscous, 11, "c_C", true},
-    {"spring_damper", LoadKind::kResistance, LoadSite::kSpring, LoadLaw::kViscous, 12, "c_S", true},
-    {"contact", LoadKind::kContact, LoadSite::kNone, LoadLaw::kNone, -1, "", false},
-    {"crank_friction", LoadKind::kResistance, LoadSite::kCrank, LoadLaw::kCoulomb, 13, "F_O", true},
-    {"coupler_friction", LoadKind::kResistance, LoadSite::kCoupler, LoadLaw::kCoulomb, 14, "F_A", true},
-    {"slider3_friction", LoadKind::kResistance, LoadSite::kSlider3, LoadLaw::kCoulomb, 15, "F_B", true},
-    {"slider4_friction", LoadKind::kResistance, LoadSite::kSlider4, LoadLaw::kCoulomb, 16, "F_C", true},
+    {"gravity", LoadKind::kGravity, LoadSite::kNone, LoadLaw::kNone, -1, "", -1, false, "gravitational_energy"},
+    {"spring", LoadKind::kSpring, LoadSite::kNone, LoadLaw::kNone, -1, "", -1, false, "spring_energy"},
+    {"motor", LoadKind::kMotor, LoadSite::kNone, LoadLaw::kNone, -1, "", -1, false, nullptr},
+    {"crank_damper", LoadKind::kResistance, LoadSite::kCrank, LoadLaw::kViscous, 8, "c_O", -1, true, nullptr},
+    {"coupler_damper", LoadKind::kResistance, LoadSite::kCoupler, LoadLaw::kViscous, 9, "c_A", -1, true, nullptr},
+    {"slider3_damper", LoadKind::kResistance, LoadSite::kSlider3, LoadLaw::kViscous, 10, "c_B", -1, true, nullptr},
+    {"slider4_damper", LoadKind::kResistance, LoadSite::kSlider4, LoadLaw::kViscous, 11, "c_C", -1, true, nullptr},
+    {"spring_damper", LoadKind::kResistance, LoadSite::kSpring, LoadLaw::kViscous, 12, "c_S", -1, true, nullptr},
+    {"contact", LoadKind::kContact, LoadSite::kNone, LoadLaw::kNone, -1, "", -1, false, nullptr},
+    {"crank_friction", LoadKind::kResistance, LoadSite::kCrank, LoadLaw::kCoulomb, 13, "F_O", -1, true, nullptr},
+    {"coupler_friction", LoadKind::kResistance, LoadSite::kCoupler, LoadLaw::kCoulomb, 14, "F_A", -1, true, nullptr},
+    {"slider3_friction", LoadKind::kResistance, LoadSite::kSlider3, LoadLaw::kCoulomb, 15, "F_B", -1, true, nullptr},
+    {"slider4_friction", LoadKind::kResistance, LoadSite::kSlider4, LoadLaw::kCoulomb, 16, "F_C", -1, true, nullptr},
+    {"crank_spring", LoadKind::kConservative, LoadSite::kCrank, LoadLaw::kElastic, 18, "k_t", 19, false, "crank_spring_energy"},
 };
 // The constants' symbols, in ConstantsOf's order (a schema row's equation symbol is one).
-constexpr const char* kConstantSymbols[] = {"m", "L", "I", "M1", "M2", "k", "g", "s0", "c_O", "c_A", "c_B", "c_C", "c_S", "F_O", "F_A", "F_B", "F_C", "v_s"};
+constexpr const char* kConstantSymbols[] = {"m", "L", "I", "M1", "M2", "k", "g", "s0", "c_O", "c_A", "c_B", "c_C", "c_S", "F_O", "F_A", "F_B", "F_C", "v_s", "k_t", "q1_0"};
 
 // u1', u2' of F*_r + F_r = 0 (eq 18) and the resistances' dissipated power [W] at (q, u)
 // under the applied driver moment M_m [N m].
@@ -147,11 +159,11 @@ struct Math<double> {
 
 // Which variant a set of constants needs: each leaves out the terms of the laws after it in
 // LAWS (their coefficients all zero): fewer terms, and the bits those terms' absence gives.
-enum class RatesVariant { kUndamped, kViscous, kCoulomb };
-constexpr RatesVariant kRatesVariants[] = {RatesVariant::kUndamped, RatesVariant::kViscous, RatesVariant::kCoulomb};
-constexpr RatesVariant kEveryTerm = RatesVariant::kCoulomb;  // rates()
+enum class RatesVariant { kUndamped, kViscous, kCoulomb, kElastic };
+constexpr RatesVariant kRatesVariants[] = {RatesVariant::kUndamped, RatesVariant::kViscous, RatesVariant::kCoulomb, RatesVariant::kElastic};
+constexpr RatesVariant kEveryTerm = RatesVariant::kElastic;  // rates()
 
-// No resistance (every coefficient 0): the textbook's model; dissipated power 0.
+// No load at a site (every coefficient 0): the textbook's model; dissipated power 0.
 template <class Real, class MathOf = Math<Real>>
 inline RatesOf<Real> ratesUndamped(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
                                    Real M_m) {
@@ -188,8 +200,8 @@ inline RatesOf<Real> ratesUndamped(const ConstantsOf<Real>& p, Real q1, Real q2,
           0};
 }
 
-// The terms of every resistance whose law is viscous; only for Constants whose other
-// resistances' coefficients are 0.
+// The terms of the loads at a site whose law is viscous; only for Constants whose
+// other loads' coefficients are 0.
 template <class Real, class MathOf = Math<Real>>
 inline RatesOf<Real> ratesViscous(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
                                   Real M_m) {
@@ -246,11 +258,11 @@ inline RatesOf<Real> ratesViscous(const ConstantsOf<Real>& p, Real q1, Real q2, 
           a16*e1 + a17*u2*u2 + e0*(a14*e0 + a15*u2)};
 }
 
-// The terms of every resistance whose law is viscous or coulomb; only for Constants whose other
-// (that is, every term).
+// The terms of the loads at a site whose law is viscous or coulomb; only for Constants whose
+// other loads' coefficients are 0.
 template <class Real, class MathOf = Math<Real>>
-inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
-                           Real M_m) {
+inline RatesOf<Real> ratesCoulomb(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
+                                  Real M_m) {
   const Real m = p.rod_mass;
   const Real L = p.rod_half_length;
   const Real I = p.rod_inertia;
@@ -326,13 +338,96 @@ inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1
           e0*(a21*e0 + a22*u2 + a23*tanh_3) + u1*(a24*u1 + a25*tanh_0 + a26*tanh_1) + u2*(a27*u2 + a28*tanh_2)};
 }
 
-// The variant `constants` need: the shortest that keeps every non-zero resistance's law.
+// Every term: the loads at a site of every law (viscous, coulomb, elastic).
+template <class Real, class MathOf = Math<Real>>
+inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,
+                           Real M_m) {
+  const Real m = p.rod_mass;
+  const Real L = p.rod_half_length;
+  const Real I = p.rod_inertia;
+  const Real M1 = p.slider3_mass;
+  const Real M2 = p.slider4_mass;
+  const Real k = p.spring_stiffness;
+  const Real g = p.gravity;
+  const Real s0 = p.spring_rest_length;
+  const Real c_O = p.crank_damping;
+  const Real c_A = p.coupler_damping;
+  const Real c_B = p.slider3_damping;
+  const Real c_C = p.slider4_damping;
+  const Real c_S = p.spring_damping;
+  const Real F_O = p.crank_friction;
+  const Real F_A = p.coupler_friction;
+  const Real F_B = p.slider3_friction;
+  const Real F_C = p.slider4_friction;
+  const Real v_s = p.friction_velocity_scale;
+  const Real k_t = p.crank_spring_stiffness;
+  const Real q1_0 = p.crank_spring_rest_angle;
+  // The coefficients: the constants' alone, the same at every stage of a step.
+  const Real t0 = 1.0/v_s;
+  const Real t1 = 4*L;
+  const Real t2 = L*L;
+  const Real t3 = 16*t2;
+  const Real t4 = t3*(c_B + c_S);
+  const Real t5 = 8*t2*(2*M1 + m);
+  const Real t6 = c_S*t1;
+  const Real t7 = F_B*t1;
+  const Real t8 = k*s0;
+  const Real t9 = 4*c_A + c_O;
+  const Real t10 = 2*F_A;
+  const Real t11 = 1.0/M2;
+  const Real t12 = k*t11;
+  const Real t13 = c_C + c_S;
+  const Real a0 = 2*t0;
+  const Real a1 = t0;
+  const Real a2 = t0*t1;
+  const Real a3 = -t4;
+  const Real a4 = -t5;
+  const Real a5 = k*t3;
+  const Real a6 = -k*t1;
+  const Real a7 = -t6;
+  const Real a8 = -t7;
+  const Real a9 = -t1*(M1*g + g*m - t8);
+  const Real a10 = -t9;
+  const Real a11 = -k_t;
+  const Real a12 = -t10;
+  const Real a13 = -F_O;
+  const Real a14 = k_t*q1_0;
+  const Real a15 = t5;
+  const Real a16 = 2*I + 2*m*t2;
+  const Real a17 = -t11*t6;
+  const Real a18 = t1*t12;
+  const Real a19 = -t12;
+  const Real a20 = -t11*t13;
+  const Real a21 = -F_C*t11;
+  const Real a22 = t11*(M2*g + t8);
+  const Real a23 = t4;
+  const Real a24 = 8*L*c_S;
+  const Real a25 = t7;
+  const Real a26 = t9;
+  const Real a27 = t10;
+  const Real a28 = F_O;
+  const Real a29 = t13;
+  const Real a30 = F_C;
+  // The state's terms.
+  Real sin_q1, cos_q1;
+  MathOf::sinCos(q1, &sin_q1, &cos_q1);
+  Real tanh_0, tanh_1;
+  MathOf::tanhPair(a0*u1, a1*u1, &tanh_0, &tanh_1);
+  Real tanh_2, tanh_3;
+  MathOf::tanhPair(a1*u2, a2*sin_q1*u1, &tanh_2, &tanh_3);
+  const Real e0 = sin_q1*u1;
+  return {(M_m + a10*u1 + a11*q1 + a12*tanh_0 + a13*tanh_1 + a14 + sin_q1*(a3*e0 + a6*q2 + a7*u2 + a8*tanh_3 + a9 + cos_q1*(a4*u1*u1 + a5)))/(a15*sin_q1*sin_q1 + a16),
+          a17*e0 + a18*cos_q1 + a19*q2 + a20*u2 + a21*tanh_2 + a22,
+          e0*(a23*e0 + a24*u2 + a25*tanh_3) + u1*(a26*u1 + a27*tanh_0 + a28*tanh_1) + u2*(a29*u2 + a30*tanh_2)};
+}
+
+// The variant `constants` need: the shortest that keeps every non-zero load's law.
 inline RatesVariant variantFor(const Constants& constants) {
   const double* value = &constants.rod_mass;
-  static_assert(sizeof(Constants) == 18 * sizeof(double), "Constants holds doubles");
+  static_assert(sizeof(Constants) == 20 * sizeof(double), "Constants holds doubles");
   int need = 0;  // LoadLaw's order is the variants' (kNone: kUndamped)
   for (const LoadInfo& load : kLoadInfo)
-    if (load.kind == LoadKind::kResistance && value[load.coefficient] != 0.0 &&
+    if (load.site != LoadSite::kNone && value[load.coefficient] != 0.0 &&
         static_cast<int>(load.law) > need)
       need = static_cast<int>(load.law);
   return static_cast<RatesVariant>(need);
@@ -347,6 +442,8 @@ inline RatesOf<Real> ratesFor(RatesVariant variant, const ConstantsOf<Real>& p, 
       return ratesUndamped<Real, MathOf>(p, q1, q2, u1, u2, M_m);
     case RatesVariant::kViscous:
       return ratesViscous<Real, MathOf>(p, q1, q2, u1, u2, M_m);
+    case RatesVariant::kCoulomb:
+      return ratesCoulomb<Real, MathOf>(p, q1, q2, u1, u2, M_m);
     default:
       break;
   }

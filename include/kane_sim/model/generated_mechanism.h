@@ -45,11 +45,13 @@ class GeneratedMechanism {
         return f(Bound<RatesVariant::kUndamped>{this});
       case RatesVariant::kViscous:
         return f(Bound<RatesVariant::kViscous>{this});
+      case RatesVariant::kCoulomb:
+        return f(Bound<RatesVariant::kCoulomb>{this});
       default:
         break;
     }
-    static_assert(generated::kEveryTerm == RatesVariant::kCoulomb, "the last variant");
-    return f(Bound<RatesVariant::kCoulomb>{this});
+    static_assert(generated::kEveryTerm == RatesVariant::kElastic, "the last variant");
+    return f(Bound<RatesVariant::kElastic>{this});
   }
 
   const generated::Constants& constants() const { return constants_; }

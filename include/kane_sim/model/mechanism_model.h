@@ -107,11 +107,32 @@ struct RestingContact {
   double closing_acceleration = 0.0;
 };
 
+// The kinetic energy and each conservative load's potential energy (a load whose LoadInfo names
+// an energy column): gravity's V_g = -Σ M g (r · i), zero at the level of O; the spring's
+// V_s = ½ k e²; an elastic law's ½ c (x - x0)². Sums run in the load list's order.
 struct EnergyTerms {
-  double kinetic = 0.0;        // T  [J]
-  double gravitational = 0.0;  // V_g = -Σ M g (r · i)  [J], zero at the level of O
-  double spring = 0.0;         // V_s = ½ k e²  [J]
-  double total() const { return kinetic + gravitational + spring; }
+  double kinetic = 0.0;                             // T [J]
+  std::array<double, kNumLoadNames> potential{};    // [J] by LoadName; 0 for the other loads
+
+  double operator[](LoadName name) const { return potential[static_cast<int>(name)]; }
+  double& operator[](LoadName name) { return potential[static_cast<int>(name)]; }
+  double gravitational() const { return (*this)[LoadName::kGravity]; }
+  double spring() const { return (*this)[LoadName::kSpring]; }
+  // V, the sum of the conservative loads' potential energies.
+  double potentialTotal() const {
+    double sum = 0.0;
+    for (int n = 0; n < kNumLoadNames; ++n)
+      if (kLoadInfo[n].energy_column) sum += potential[n];
+    return sum;
+  }
+  // E = T + V, summed from T in the list's order (so that with the loads of the textbook example
+  // it is T + V_g + V_s, bit for bit).
+  double total() const {
+    double sum = kinetic;
+    for (int n = 0; n < kNumLoadNames; ++n)
+      if (kLoadInfo[n].energy_column) sum += potential[n];
+    return sum;
+  }
 };
 
 // Where the power goes at one instant: d(E)/dt = motor - dissipated (at fixed parameters).
@@ -139,10 +160,14 @@ class MechanismModel {
   static void addContactLoads(const MechanismKinematics& k, double contact_force,
                               MechanismLoads* loads);
 
-  // A resistance's coefficient (its LoadInfo's), and the force or torque it opposes a rate
-  // `rate` with: c v (viscous) or F_c tanh(v / v_s) (Coulomb, smoothed).
+  // A load at a site: its coefficient (its LoadInfo's), and the force or torque it opposes the
+  // site's rate `rate` or coordinate `coordinate` with: c v (viscous), F_c tanh(v / v_s)
+  // (Coulomb, smoothed) or c (x - x0) (elastic); and its potential energy, ½ c (x - x0)² for
+  // an elastic law (0 for the others: they have none).
   double resistanceCoefficient(const LoadInfo& load) const;
-  double resistance(const LoadInfo& load, double rate) const;
+  double resistance(const LoadInfo& load, double rate) const { return siteLoad(load, rate, 0.0); }
+  double siteLoad(const LoadInfo& load, double rate, double coordinate) const;
+  double sitePotential(const LoadInfo& load, double coordinate) const;
 
   // The torque the drive delivers at crank speed u1 for a command (MotorLine).
   double appliedMotorTorque(double command, double u1) const;

@@ -92,6 +92,9 @@ struct MechanismParameters {
   double rod_inertia = kUnset;
 
   // Options beyond the textbook example, all off by default.
+  // A torsional spring at pin O: -k_t (q1 - q1_0) k on rod 1 (the load list's crank_spring).
+  double crank_spring_stiffness = 0.0;   // k_t [N m/rad]
+  double crank_spring_rest_angle = 0.0;  // q1_0 [rad]
   JointDamping damping;
   JointFriction friction;
   MotorLine motor;
@@ -105,7 +108,8 @@ struct MechanismParameters {
   // reconfiguration of it go unnoticed, as a damper once ran the undamped kernel).
   auto fields() const {
     return std::tie(rod_mass, rod_half_length, slider3_mass, slider4_mass, spring_stiffness,
-                    gravity, rod_inertia, damping, friction, motor, contact);
+                    gravity, rod_inertia, crank_spring_stiffness, crank_spring_rest_angle, damping,
+                    friction, motor, contact);
   }
 };
 

@@ -85,4 +85,4 @@ def test_without_a_build_it_says_how_to_make_one(tmp_path):
     r = subprocess.run(["/usr/bin/python3", str(script)], capture_output=True, text=True,
                        timeout=30, env=env)
     assert r.returncode == 1 and "no built page found" in r.stderr, r.stderr
-    assert "bash scripts/build.sh" in r.stderr
+    assert "bash scripts/install_deps.sh --web" in r.stderr and "bash scripts/build_web.sh" in r.stderr
