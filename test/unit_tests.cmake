@@ -92,37 +92,42 @@ add_test(NAME python_module COMMAND /usr/bin/python3 -m pytest -q -p no:cachepro
   --ignore=${PROJECT_SOURCE_DIR}/test/python/identify
   --ignore=${PROJECT_SOURCE_DIR}/test/python/browser
   --ignore=${PROJECT_SOURCE_DIR}/test/python/cluster ${PROJECT_SOURCE_DIR}/test/python)
-set_tests_properties(python_module PROPERTIES TIMEOUT 300
+# Timeouts are bounds that catch a hang, not expectations: a test that takes 200 s on two free
+# cores takes four times that on one core shared with a busy process (taskset -c 0 beside a CPU
+# hog), and must pass there too.
+set_tests_properties(python_module PROPERTIES TIMEOUT 1800
   ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
 # Identification (kane_sim.identify, rosrun kane_sim identify): its own test, to run beside the rest.
 add_test(NAME python_identify COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
   ${PROJECT_SOURCE_DIR}/test/python/identify)
-set_tests_properties(python_identify PROPERTIES TIMEOUT 300
+set_tests_properties(python_identify PROPERTIES TIMEOUT 1800
   ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
 # Sweeps on a Dask cluster: a scheduler and two workers on 127.0.0.1, `rosrun kane_sim sweep`.
 add_test(NAME python_cluster COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
   ${PROJECT_SOURCE_DIR}/test/python/cluster)
-set_tests_properties(python_cluster PROPERTIES TIMEOUT 300
+set_tests_properties(python_cluster PROPERTIES TIMEOUT 1800
   ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
 # The browser twin (built by scripts/build_web.sh) in headless Chromium, against simulate.
 add_test(NAME browser COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
   ${PROJECT_SOURCE_DIR}/test/python/browser)
-set_tests_properties(browser PROPERTIES TIMEOUT 300 COST 50
+set_tests_properties(browser PROPERTIES TIMEOUT 1800 COST 50
   ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
 add_test(NAME layers COMMAND /usr/bin/python3 ${tools_dir}/layers_test.py ${PROJECT_SOURCE_DIR})
 add_test(NAME doc_links
   COMMAND /usr/bin/python3 ${tools_dir}/doc_links_test.py ${PROJECT_SOURCE_DIR})
+add_test(NAME guides_history
+  COMMAND /usr/bin/python3 ${tools_dir}/guides_history_test.py ${PROJECT_SOURCE_DIR})
 add_test(NAME analyze_cli COMMAND /usr/bin/python3 ${tools_dir}/analyze_cli_test.py ${CMAKE_BINARY_DIR})
 add_test(NAME config_fuzz COMMAND /usr/bin/python3 ${tools_dir}/config_fuzz_test.py ${CMAKE_BINARY_DIR} 300)
 add_test(NAME plot_bag COMMAND bash ${tools_dir}/plot_bag_test.sh ${CMAKE_BINARY_DIR})
 add_test(NAME rviz_smoke COMMAND bash ${tools_dir}/rviz_smoke_test.sh ${CMAKE_BINARY_DIR})
-set_tests_properties(rviz_smoke PROPERTIES TIMEOUT 360)
+set_tests_properties(rviz_smoke PROPERTIES TIMEOUT 1200)
 add_test(NAME launches COMMAND bash ${tools_dir}/launch_test.sh ${CMAKE_BINARY_DIR})
-set_tests_properties(launches PROPERTIES TIMEOUT 180)
+set_tests_properties(launches PROPERTIES TIMEOUT 900)
 add_test(NAME faults COMMAND bash ${tools_dir}/faults_test.sh ${CMAKE_BINARY_DIR})
 add_test(NAME node_cli COMMAND bash ${tools_dir}/node_cli_test.sh ${CMAKE_BINARY_DIR})
-set_tests_properties(node_cli PROPERTIES TIMEOUT 120)
-set_tests_properties(faults PROPERTIES TIMEOUT 180)
+set_tests_properties(node_cli PROPERTIES TIMEOUT 600)
+set_tests_properties(faults PROPERTIES TIMEOUT 900)
 # The longest tests first (ctest -j2 starts the highest COST first; without it, a clean build
 # folder has no timings yet and runs them in file order, leaving one core idle at the end).
 # COST: seconds measured on the 2-core CI machine.

@@ -87,6 +87,13 @@ inline std::string formatNumber(double value) {
   return std::string(buffer, shortestChars(buffer, value));
 }
 
+// A time [s] for a message: to the nanosecond (far below any physics step), then as formatNumber
+// does, so that a sim time summed step by step reads 19.99, not 19.990000000000002.
+inline std::string formatTime(double seconds) {
+  if (!std::isfinite(seconds) || std::fabs(seconds) > 1e9) return formatNumber(seconds);
+  return formatNumber(std::round(seconds * 1e9) / 1e9);
+}
+
 }  // namespace kane_sim
 
 #endif  // KANE_SIM_FORMAT_NUMBER_H

@@ -32,8 +32,8 @@ Eigen::Matrix4d jacobianOf(const GeneratedMechanism& equations, const State& x, 
   // Friction's tanh bends within v_s of a zero rate: a speed's step must stay inside that bend,
   // or the difference sees a step of 2 F_c over 2 h and misses the slope F_c / v_s (1 N over v_s
   // 1e-9 once passed as a rate 1000 times too small).
-  const bool friction = static_cast<int>(equations.variant()) >=
-                        static_cast<int>(generated::RatesVariant::kCoulomb);
+  const bool friction =
+      static_cast<int>(equations.variant()) >= static_cast<int>(generated::RatesVariant::kCoulomb);
   const double speed_cap = 1e-2 * equations.constants().friction_velocity_scale;
   for (int j = 0; j < 4; ++j) {
     double h = 1e-6 * (1.0 + std::abs(values[j]));

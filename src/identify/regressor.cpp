@@ -22,7 +22,8 @@ bool estimable(const ParameterSpec& spec) { return identifiable(spec.role) && sp
 // And the crank's torsional spring: a rig has one only by design, and over a small swing its
 // torque -k_t (q1 - q1_0) trades off against gravity's; named, it is fitted.
 bool byDefault(const ParameterSpec& spec) {
-  return spec.path() != "friction.coupler_joint" && spec.path() != "mechanism.crank_spring_stiffness";
+  return spec.path() != "friction.coupler_joint" &&
+         spec.path() != "mechanism.crank_spring_stiffness";
 }
 
 bool contains(const std::vector<std::string>& names, const std::string& name) {

@@ -177,10 +177,12 @@ MechanismLoads MechanismModel::loads(const MechanismKinematics& k, const State& 
         break;
       }
       case LoadSite::kSlider3:  // -F i at B, F from v_B
-        add(name, kSlider3, kane::forceAt(k.slider3, Eigen::Vector3d(-siteLoad(info, v_b, x) * kI)));
+        add(name, kSlider3,
+            kane::forceAt(k.slider3, Eigen::Vector3d(-siteLoad(info, v_b, x) * kI)));
         break;
       case LoadSite::kSlider4:  // -F i at C, F from v_C
-        add(name, kSlider4, kane::forceAt(k.slider4, Eigen::Vector3d(-siteLoad(info, v_c, x) * kI)));
+        add(name, kSlider4,
+            kane::forceAt(k.slider4, Eigen::Vector3d(-siteLoad(info, v_c, x) * kI)));
         break;
       case LoadSite::kSpring: {  // -F i on slider 4 from v_C - v_B, the opposite on slider 3
         const Eigen::Vector3d on_c = -siteLoad(info, v_c - v_b, x) * kI;

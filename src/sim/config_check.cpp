@@ -26,6 +26,18 @@ std::string dampersOn(const Config& c) {
   return text;
 }
 
+// When the equations are not finite at `where` and a constant of them is beyond the
+// mechanism's scale (k = 1e308 makes u' overflow at any state), that constant is what to fix:
+// refused naming it, not the state.
+void refuseBeyondScale(const Config& c, const std::string& where) {
+  for (const ParameterSpec& p : parameterSchema())
+    if (inEquations(p.role) && p.field.number && !(std::abs(numericValue(p, c)) <= 1e100))
+      throw ConfigError(p.path(), "= " + formatNumber(numericValue(p, c)) +
+                                      " is beyond the mechanism's scale: with it " + where +
+                                      " gives non-finite equations; use values of the "
+                                      "mechanism's size (at most 1e100)");
+}
+
 // What to do when rk4 at the configured rate cannot follow the fastest rate: a physics_rate
 // that can, or, when none within the rate's own limit can, dopri5 or a softer mechanism.
 std::string rk4Remedy(double fastest_rate, const Config& c) {
@@ -71,7 +83,8 @@ void checkIntegrable(const Config& c) {
   const double initial = fastestRate(model, c.initial_state, 0.0);
   if (std::isfinite(stiffest.rate) && !(initial <= stiffest.rate))
     stiffest = {initial, c.initial_state.q1, c.initial_state.u1};
-  if (!std::isfinite(stiffest.rate))
+  if (!std::isfinite(stiffest.rate)) {
+    refuseBeyondScale(c, "q1 = " + formatNumber(stiffest.q1) + " rad");
     throw ConfigError(
         "mechanism",
         "gives equations of motion that are not finite at q1 = " + formatNumber(stiffest.q1) +
@@ -81,6 +94,7 @@ void checkIntegrable(const Config& c) {
             formatNumber(c.mechanism.slider3_mass) + ", slider4_mass " +
             formatNumber(c.mechanism.slider4_mass) + ", spring_stiffness " +
             formatNumber(c.mechanism.spring_stiffness) + dampersOn(c) + ")");
+  }
   if (!rk4) {
     if (!(stiffest.rate * h <= kDopri5RateSteps))
       throw ConfigError(
@@ -112,8 +126,11 @@ void checkIntegrable(const Config& c) {
 
 void checkSimulatable(const Config& config) {
   const Status usable = Simulator(config).checkUsable(config.initial_state);
-  if (!usable.ok)
+  if (!usable.ok) {
+    refuseBeyondScale(config,
+                      "the initial state " + usable.error.substr(0, usable.error.find(" gives")));
     throw ConfigError("initial_state", "is not a state to start from: " + usable.error);
+  }
   checkIntegrable(config);
 }
 

@@ -25,16 +25,19 @@ std::vector<CsvColumn> makeColumns() {
       column("q2", "state", "q", 1, [](const Snapshot& s) { return s.state.q2; }),
       column("u1", "state", "u", 0, [](const Snapshot& s) { return s.state.u1; }),
       column("u2", "state", "u", 1, [](const Snapshot& s) { return s.state.u2; }),
-      column("total_energy", "energy", "total_energy", -1,
-             [](const Snapshot& s) { return s.energy.total(); }, "energy"),
+      column(
+          "total_energy", "energy", "total_energy", -1,
+          [](const Snapshot& s) { return s.energy.total(); }, "energy"),
       column("u1dot", "equations", "u_dot", 0, [](const Snapshot& s) { return s.u_dot[0]; }),
       column("u2dot", "equations", "u_dot", 1, [](const Snapshot& s) { return s.u_dot[1]; }),
-      column("applied_torque", "command", "applied_torque", -1,
-             [](const Snapshot& s) { return s.torque; }, "torque"),
+      column(
+          "applied_torque", "command", "applied_torque", -1,
+          [](const Snapshot& s) { return s.torque; }, "torque"),
       column("motor_work", "ledger", "motor_work", -1,
              [](const Snapshot& s) { return s.motor_work; }),
-      column("kinetic_energy", "energy", "kinetic_energy", -1,
-             [](const Snapshot& s) { return s.energy.kinetic; }, "kinetic"),
+      column(
+          "kinetic_energy", "energy", "kinetic_energy", -1,
+          [](const Snapshot& s) { return s.energy.kinetic; }, "kinetic"),
   };
   // Each conservative load's potential energy [J] (Σ + T = total_energy), under its LoadInfo's
   // energy column: the message's fields of those names for the textbook's gravity and spring,
@@ -44,7 +47,7 @@ std::vector<CsvColumn> makeColumns() {
     if (!load.energy_column) continue;
     const LoadName name = static_cast<LoadName>(n);
     const bool own_field = name == LoadName::kGravity || name == LoadName::kSpring;
-    const char* formerly = name == LoadName::kGravity ? "gravitational"
+    const char* formerly = name == LoadName::kGravity  ? "gravitational"
                            : name == LoadName::kSpring ? "spring"
                                                        : "";
     c.push_back({load.energy_column, "energy", load.energy_column,
@@ -52,15 +55,15 @@ std::vector<CsvColumn> makeColumns() {
                  [n](const Snapshot& s) { return s.energy.potential[n]; }, formerly});
   }
   c.insert(c.end(), {
-      column("energy_minus_work", "derived", "", -1,
-             [](const Snapshot& s) { return s.energy.total() - s.motor_work; }),
-      column("F1", "equations", "active_forces", 0,
-             [](const Snapshot& s) { return s.active_forces[0]; }),
-      column("F2", "equations", "active_forces", 1,
-             [](const Snapshot& s) { return s.active_forces[1]; }),
-      column("spring_elongation", "geometry", "spring_elongation", -1,
-             [](const Snapshot& s) { return s.spring_elongation; }),
-  });
+                        column("energy_minus_work", "derived", "", -1,
+                               [](const Snapshot& s) { return s.energy.total() - s.motor_work; }),
+                        column("F1", "equations", "active_forces", 0,
+                               [](const Snapshot& s) { return s.active_forces[0]; }),
+                        column("F2", "equations", "active_forces", 1,
+                               [](const Snapshot& s) { return s.active_forces[1]; }),
+                        column("spring_elongation", "geometry", "spring_elongation", -1,
+                               [](const Snapshot& s) { return s.spring_elongation; }),
+                    });
   // The loads' powers [W], power_<load> for each name of the model's load list (Σ = dT/dt). The
   // motor's comes here, where its older name motor_power stood; the others follow.
   auto loadPower = [](int n) {
@@ -68,45 +71,44 @@ std::vector<CsvColumn> makeColumns() {
   };
   const auto loadPowerColumn = [&](int n, std::string formerly) {
     const std::string load = kLoadInfo[n].name;
-    return CsvColumn{"power_" + load, "power", load,       "load_powers",
-                     n,               loadPower(n), std::move(formerly)};
+    return CsvColumn{"power_" + load,    "power", load, "load_powers", n, loadPower(n),
+                     std::move(formerly)};
   };
   const int motor = static_cast<int>(LoadName::kMotor);
   c.push_back(loadPowerColumn(motor, "motor_power"));
-  c.insert(c.end(),
-           {
-               column("dissipated_energy", "ledger", "dissipated_energy", -1,
-                      [](const Snapshot& s) { return s.dissipated_energy; }),
-               column("energy_balance", "ledger", "energy_balance", -1,
-                      [](const Snapshot& s) { return s.energyBalance(); }),
-               column("commanded_torque", "command", "commanded_torque", -1,
-                      [](const Snapshot& s) { return s.command.commanded; }),
-               column("contact_impacts", "contact", "contact_impacts", -1,
-                      [](const Snapshot& s) { return static_cast<double>(s.contact_impacts); }),
-               // Reaction forces (Kane's method with auxiliary speeds), frame (0) [N].
-               column("pin_o_x", "reaction", "pin_o_force", 0,
-                      [](const Snapshot& s) { return s.constraint_forces.pin_o.x(); }),
-               column("pin_o_y", "reaction", "pin_o_force", 1,
-                      [](const Snapshot& s) { return s.constraint_forces.pin_o.y(); }),
-               column("pin_a_x", "reaction", "pin_a_force", 0,
-                      [](const Snapshot& s) { return s.constraint_forces.pin_a.x(); }),
-               column("pin_a_y", "reaction", "pin_a_force", 1,
-                      [](const Snapshot& s) { return s.constraint_forces.pin_a.y(); }),
-               column("pin_b_x", "reaction", "pin_b_force", 0,
-                      [](const Snapshot& s) { return s.constraint_forces.pin_b.x(); }),
-               column("pin_b_y", "reaction", "pin_b_force", 1,
-                      [](const Snapshot& s) { return s.constraint_forces.pin_b.y(); }),
-               column(
-                   "rail_force_slider3", "reaction", "rail_force_slider3", -1,
-                   [](const Snapshot& s) { return s.constraint_forces.rail_slider3; },
-                   "rail_slider3"),
-               column(
-                   "rail_force_slider4", "reaction", "rail_force_slider4", -1,
-                   [](const Snapshot& s) { return s.constraint_forces.rail_slider4; },
-                   "rail_slider4"),
-               column("spring_force", "reaction", "spring_force", -1,
-                      [](const Snapshot& s) { return s.constraint_forces.spring; }),
-           });
+  c.insert(
+      c.end(),
+      {
+          column("dissipated_energy", "ledger", "dissipated_energy", -1,
+                 [](const Snapshot& s) { return s.dissipated_energy; }),
+          column("energy_balance", "ledger", "energy_balance", -1,
+                 [](const Snapshot& s) { return s.energyBalance(); }),
+          column("commanded_torque", "command", "commanded_torque", -1,
+                 [](const Snapshot& s) { return s.command.commanded; }),
+          column("contact_impacts", "contact", "contact_impacts", -1,
+                 [](const Snapshot& s) { return static_cast<double>(s.contact_impacts); }),
+          // Reaction forces (Kane's method with auxiliary speeds), frame (0) [N].
+          column("pin_o_x", "reaction", "pin_o_force", 0,
+                 [](const Snapshot& s) { return s.constraint_forces.pin_o.x(); }),
+          column("pin_o_y", "reaction", "pin_o_force", 1,
+                 [](const Snapshot& s) { return s.constraint_forces.pin_o.y(); }),
+          column("pin_a_x", "reaction", "pin_a_force", 0,
+                 [](const Snapshot& s) { return s.constraint_forces.pin_a.x(); }),
+          column("pin_a_y", "reaction", "pin_a_force", 1,
+                 [](const Snapshot& s) { return s.constraint_forces.pin_a.y(); }),
+          column("pin_b_x", "reaction", "pin_b_force", 0,
+                 [](const Snapshot& s) { return s.constraint_forces.pin_b.x(); }),
+          column("pin_b_y", "reaction", "pin_b_force", 1,
+                 [](const Snapshot& s) { return s.constraint_forces.pin_b.y(); }),
+          column(
+              "rail_force_slider3", "reaction", "rail_force_slider3", -1,
+              [](const Snapshot& s) { return s.constraint_forces.rail_slider3; }, "rail_slider3"),
+          column(
+              "rail_force_slider4", "reaction", "rail_force_slider4", -1,
+              [](const Snapshot& s) { return s.constraint_forces.rail_slider4; }, "rail_slider4"),
+          column("spring_force", "reaction", "spring_force", -1,
+                 [](const Snapshot& s) { return s.constraint_forces.spring; }),
+      });
   for (int n = 0; n < kNumLoadNames; ++n)
     if (n != motor) c.push_back(loadPowerColumn(n, ""));
   // Each body's kinetic energy [J] (Σ = T): the message's body_kinetic_energy array.
@@ -120,27 +122,28 @@ std::vector<CsvColumn> makeColumns() {
   // real_time_factor (the node's pacing, not the mechanism's) and load_names (the powers' keys).
   // Counts and flags as numbers (a bool as 0 or 1).
   const auto count = [](std::uint64_t n) { return static_cast<double>(n); };
-  c.insert(c.end(),
-           {
-               column("F1_star", "equations", "inertia_forces", 0,
-                      [](const Snapshot& s) { return s.inertia_forces[0]; }),
-               column("F2_star", "equations", "inertia_forces", 1,
-                      [](const Snapshot& s) { return s.inertia_forces[1]; }),
-               column("parameter_energy", "ledger", "parameter_energy", -1,
-                      [](const Snapshot& s) { return s.parameter_energy; }),
-               column("parameter_changes", "events", "parameter_changes", -1,
-                      [count](const Snapshot& s) { return count(s.parameter_changes); }),
-               column("slider_separation", "geometry", "slider_separation", -1,
-                      [](const Snapshot& s) { return s.slider_separation; }),
-               column("slider_crossings", "contact", "slider_crossings", -1,
-                      [count](const Snapshot& s) { return count(s.slider_crossings); }),
-               column("resting_contact", "flags", "resting_contact", -1,
-                      [](const Snapshot& s) { return s.resting_contact ? 1.0 : 0.0; }),
-               column("contact_force", "contact", "contact_force", -1,
-                      [](const Snapshot& s) { return s.contact_force; }),
-               column("reactions_determinate", "flags", "reactions_determinate", -1,
-                      [](const Snapshot& s) { return s.constraint_forces.determinate ? 1.0 : 0.0; }),
-           });
+  c.insert(
+      c.end(),
+      {
+          column("F1_star", "equations", "inertia_forces", 0,
+                 [](const Snapshot& s) { return s.inertia_forces[0]; }),
+          column("F2_star", "equations", "inertia_forces", 1,
+                 [](const Snapshot& s) { return s.inertia_forces[1]; }),
+          column("parameter_energy", "ledger", "parameter_energy", -1,
+                 [](const Snapshot& s) { return s.parameter_energy; }),
+          column("parameter_changes", "events", "parameter_changes", -1,
+                 [count](const Snapshot& s) { return count(s.parameter_changes); }),
+          column("slider_separation", "geometry", "slider_separation", -1,
+                 [](const Snapshot& s) { return s.slider_separation; }),
+          column("slider_crossings", "contact", "slider_crossings", -1,
+                 [count](const Snapshot& s) { return count(s.slider_crossings); }),
+          column("resting_contact", "flags", "resting_contact", -1,
+                 [](const Snapshot& s) { return s.resting_contact ? 1.0 : 0.0; }),
+          column("contact_force", "contact", "contact_force", -1,
+                 [](const Snapshot& s) { return s.contact_force; }),
+          column("reactions_determinate", "flags", "reactions_determinate", -1,
+                 [](const Snapshot& s) { return s.constraint_forces.determinate ? 1.0 : 0.0; }),
+      });
   return c;
 }
 

@@ -24,6 +24,7 @@
 #include "kane_sim/cli/simulate_options.h"
 #include "kane_sim/config/input_file.h"
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/format_number.h"
 #include "kane_sim/ros/bag_writer.h"
 #include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/csv_format.h"
@@ -143,7 +144,8 @@ int runReplay(const Options& options, const kane_sim::Config& config) {
             << (r.uncompared > 0 ? ", " + std::to_string(r.uncompared) + " not compared: gaps"
                                  : std::string())
             << "); largest difference " << num(r.largest);
-  if (r.largest > 0) std::cout << " (" << r.largest_of << " at t = " << num(r.largest_at) << " s)";
+  if (r.largest > 0)
+    std::cout << " (" << r.largest_of << " at t = " << kane_sim::formatTime(r.largest_at) << " s)";
   std::cout << "\n";
   if (r.inputs_after_last_state > 0)
     std::cerr << "note: " << r.inputs_after_last_state << " inputs arrived after the bag's last "

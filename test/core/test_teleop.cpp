@@ -184,5 +184,16 @@ TEST(FormatNumber, ShortestFormAndOneNan) {
   EXPECT_EQ(formatNumber(-INFINITY), "-inf");
 }
 
+// Times in messages read as the grid's: a sim time summed step by step prints 19.99.
+TEST(FormatNumber, TimesToTheNanosecond) {
+  double t = 0.0;
+  for (int i = 0; i < 1999; ++i) t += 0.01;
+  ASSERT_NE(formatNumber(t), "19.99");  // the sum's own rounding shows
+  EXPECT_EQ(formatTime(t), "19.99");
+  EXPECT_EQ(formatTime(1e-9), "1e-09");
+  EXPECT_EQ(formatTime(std::nan("")), "nan");
+  EXPECT_EQ(formatTime(1e300), "1e+300");
+}
+
 }  // namespace
 }  // namespace kane_sim

@@ -111,8 +111,8 @@ struct RestingContact {
 // an energy column): gravity's V_g = -Σ M g (r · i), zero at the level of O; the spring's
 // V_s = ½ k e²; an elastic law's ½ c (x - x0)². Sums run in the load list's order.
 struct EnergyTerms {
-  double kinetic = 0.0;                             // T [J]
-  std::array<double, kNumLoadNames> potential{};    // [J] by LoadName; 0 for the other loads
+  double kinetic = 0.0;                           // T [J]
+  std::array<double, kNumLoadNames> potential{};  // [J] by LoadName; 0 for the other loads
 
   double operator[](LoadName name) const { return potential[static_cast<int>(name)]; }
   double& operator[](LoadName name) { return potential[static_cast<int>(name)]; }

@@ -234,7 +234,7 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
                         " Hz: --config is not the node's");
     for (const double v : {m.q[0], m.q[1], m.u[0], m.u[1]})
       if (!std::isfinite(v))
-        throw ReplayError("the state at t = " + kane_sim::formatNumber(m.sim_time) + " s on " +
+        throw ReplayError("the state at t = " + kane_sim::formatTime(m.sim_time) + " s on " +
                           result.state_topic + " holds " + kane_sim::formatNumber(v) +
                           ": the node never publishes one; the bag is damaged");
   }
@@ -356,7 +356,7 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
       }
       if (!driver->step())
         throw ReplayError("the replay refused a step at t = " +
-                          kane_sim::formatNumber(driver->time()) + " s, where the node went on: " +
+                          kane_sim::formatTime(driver->time()) + " s, where the node went on: " +
                           (checkpoints.empty()
                                ? std::string("--config is not the node's")
                                : "the checkpoint it started from (tick " +
@@ -387,12 +387,11 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
   for (const Blind& b : blinds) {
     std::string text = seqRange(b.gap.first, b.gap.last) + " of " + result.input_topic +
                        " were not recorded (a gap in the bag): compared up to t = " +
-                       kane_sim::formatNumber(static_cast<double>(b.after_tick) / rate) +
+                       kane_sim::formatTime(static_cast<double>(b.after_tick) / rate) +
                        " s, the last input before them";
     if (b.states > 0)
-      text += "; " + std::to_string(b.states) +
-              " states from t = " + kane_sim::formatNumber(b.from) + " to " +
-              kane_sim::formatNumber(b.to) + " s not compared";
+      text += "; " + std::to_string(b.states) + " states from t = " + kane_sim::formatTime(b.from) +
+              " to " + kane_sim::formatTime(b.to) + " s not compared";
     text += b.resync == kNone ? " (no later ~checkpoint holds the missing inputs)"
                               : "; re-synchronised at the checkpoint of tick " +
                                     std::to_string(checkpoints[b.resync].tick);
