@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "kane_sim/cli/progress.h"
 #include "kane_sim/cli/simulate_options.h"
 #include "kane_sim/config/input_file.h"
 #include "kane_sim/config/load_config.h"
@@ -83,6 +84,7 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
   std::uint64_t steps = 0;
   size_t failed = 0, written = 0;
   bool write_failed = false;
+  kane_sim::cli::Progress progress("sweep", static_cast<double>(plan.cases.size()), "cases");
   // Each row as its case finishes (in case order), flushed: a crash keeps them in FILE.partial.
   const auto sink = [&](size_t i, const kane_sim::SweepResult& r) {
     kane_sim::writeSweepCsvRow(*out, plan, i, r);
@@ -90,11 +92,15 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
     write_failed = write_failed || !*out;
     ++written;
     steps += r.steps;
-    if (r.status != "ok" && failed++ < 5)
+    if (r.status != "ok" && failed++ < 5) {
+      progress.clear();
       std::cerr << "warning: case " << i << ": " << r.error << "\n";
+    }
+    progress.update(static_cast<double>(written));
   };
   const auto wall_start = std::chrono::steady_clock::now();
   kane_sim::runSweep(base, plan, settings, sink);
+  progress.finish();
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   if (write_failed) throw OutputError("writing the CSV failed (disk full?)");
@@ -193,11 +199,15 @@ int run(const Options& options) {
   // The same driver as the node: the profile is a stream of commands, clamped alike; each
   // kind of event is printed once.
   std::set<kane_sim::SimEvent::Kind> reported;
-  kane_sim::SimDriver driver(config, [&reported](const kane_sim::SimEvent& event) {
-    if (event.kind == kane_sim::SimEvent::Kind::kStepRefused)
+  kane_sim::cli::Progress progress("simulate", options.duration, "s");
+  kane_sim::SimDriver driver(config, [&reported, &progress](const kane_sim::SimEvent& event) {
+    if (event.kind == kane_sim::SimEvent::Kind::kStepRefused) {
+      progress.clear();
       std::cerr << "error: " << event.message << "\n";
-    else if (reported.insert(event.kind).second)
+    } else if (reported.insert(event.kind).second) {
+      progress.clear();
       std::cerr << "warning: " << event.message << " (at t = " << event.time << " s)\n";
+    }
   });
 
   Outputs out(options, config);
@@ -222,7 +232,9 @@ int run(const Options& options) {
       [&](const kane_sim::SimDriver& d) {
         out.write(d.snapshot());
         ++outputs;
+        progress.update(d.time());
       });
+  progress.finish();
   if (end != kane_sim::RunEnd::kFinished) {
     out.finish();  // what was simulated up to the refusal or the signal stays readable
     if (end == kane_sim::RunEnd::kStepRefused) return kExitStepRefused;

@@ -308,7 +308,7 @@ def test_randomised_physics_from_a_table_is_the_loaders_configs_bit_for_bit(tmp_
     assert fast.values("command.mode") == ["effort"] * n
     for bad, words in ((-1.0, "mechanism 7: config key 'mechanism.rod_mass' must be > 0, got -1"),
                        (np.nan, "mechanism 7: config key 'mechanism.rod_mass' must be finite"),
-                       (1e308, "mechanism 7: config key 'initial_state'")):
+                       (1e308, "mechanism 7: config key 'mechanism.rod_mass' = 1e\\+308 is beyond the mechanism's scale")):
         masses = np.ones(n)
         masses[7] = bad
         for extra in ({}, {"command.timeout": 0.5}):

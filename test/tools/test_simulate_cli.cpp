@@ -314,12 +314,12 @@ TEST(SimulateCli, SweepHostileInput) {
 RunResult interruptOnceUnderWay(const std::string& args, const std::string& csv, int lines,
                                 std::string* before) {
   const std::string partial = csv + ".partial";
-  const std::string command =
-      "( " + std::string(KANE_SIM_SIMULATE_EXE) + " " + args +
-      " & pid=$!; i=0; while [ $i -lt 12000 ] && "
-      "[ \"$(cat " + partial + " 2>/dev/null | wc -l)\" -lt " + std::to_string(lines) +
-      " ]; do sleep 0.01; i=$((i+1)); done; cat " + csv + " > " + csv +
-      ".before; kill -INT $pid; wait $pid )";
+  const std::string command = "( " + std::string(KANE_SIM_SIMULATE_EXE) + " " + args +
+                              " & pid=$!; i=0; while [ $i -lt 12000 ] && "
+                              "[ \"$(cat " +
+                              partial + " 2>/dev/null | wc -l)\" -lt " + std::to_string(lines) +
+                              " ]; do sleep 0.01; i=$((i+1)); done; cat " + csv + " > " + csv +
+                              ".before; kill -INT $pid; wait $pid )";
   const RunResult r = kane_sim::test::runCommand(command);
   std::ifstream in(csv + ".before");
   before->assign(std::istreambuf_iterator<char>(in), {});
@@ -372,6 +372,32 @@ TEST(SimulateCli, InterruptedRunsKeepWhatTheyComputed) {
   ASSERT_GT(parsed.size(), 100u);
   for (size_t i = 0; i < parsed.size(); ++i) EXPECT_NEAR(parsed[i][0], i / 10.0, 1e-9);
   EXPECT_FALSE(std::ifstream(csv + ".partial").good()) << "renamed into place";
+}
+
+// Long work shows its progress on a terminal (util-linux's `script` gives simulate one): the
+// percentage of sim time or cases, rewritten in place and erased at the end; without a terminal
+// (a pipe, as here and in every log) not a byte of it. The first update draws at once, so even a
+// machine that finishes in an instant shows one line.
+TEST(SimulateCli, ProgressOnATerminalOnly) {
+  if (std::system("command -v script >/dev/null 2>&1") != 0) GTEST_SKIP() << "needs script";
+  for (const std::string args :
+       {" --duration 2000 --output-rate 1", " --duration 1 --sweep mechanism.gravity=1:9:40"}) {
+    const std::string what = args.find("--sweep") == std::string::npos ? "simulate: " : "sweep: ";
+    const RunResult tty =
+        kane_sim::test::runCommand("script -qec '" + std::string(KANE_SIM_SIMULATE_EXE) + " " +
+                                   kConfig + args + " >/dev/null' /dev/null");
+    EXPECT_EQ(tty.exit_code, 0) << tty.out << tty.err;
+    EXPECT_NE(tty.out.find("\r\033[K" + what), std::string::npos) << args << tty.out;
+    EXPECT_NE(tty.out.find(" %"), std::string::npos) << tty.out;
+    // erased before the summary line
+    EXPECT_NE(tty.out.find("\r\033[K" + std::string(what == "sweep: " ? "swept" : "simulated")),
+              std::string::npos)
+        << tty.out;
+    const RunResult piped = runSimulate(kConfig + args);
+    EXPECT_EQ(piped.exit_code, 0) << piped.err;
+    EXPECT_EQ(piped.err.find('\r'), std::string::npos) << piped.err;
+    EXPECT_EQ(piped.err.find(what), std::string::npos) << piped.err;
+  }
 }
 
 // No --config: the package's config/mechanism.yaml, said in one line (it exited 2 before).
