@@ -18,7 +18,8 @@ set(KANE_SIM_SIM_SOURCES
   src/sim/sim_driver.cpp
   src/sim/held_steps.cpp
   src/sim/contact.cpp
-  src/sim/energy_ledger.cpp
+  src/sim/simulator_parameters.cpp
+  src/sim/simulator_snapshot.cpp
   src/sim/output_grid.cpp
   src/sim/reconfiguration.cpp
   src/sim/simulator.cpp

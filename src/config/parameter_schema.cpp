@@ -26,10 +26,11 @@ struct Row {
     spec.symbol = s;
     return *this;
   }
-  // What the parameter is (ParameterRole); physical roles name their constant in the equations.
-  Row& role(ParameterRole r, const char* equation_symbol = "") {
+  // What the parameter is (ParameterRole); physical roles name their constant in the equations,
+  // by default the row's symbol (written once: .symbol("c_O").role(kDissipative)).
+  Row& role(ParameterRole r, const char* equation_symbol = nullptr) {
     spec.role = r;
-    spec.equation_symbol = equation_symbol;
+    spec.equation_symbol = equation_symbol ? equation_symbol : inEquations(r) ? spec.symbol : "";
     return *this;
   }
   Row& required() {
@@ -169,36 +170,36 @@ std::vector<ParameterSpec> declareParameters() {
   std::vector<ParameterSpec> parameters = {
       // ---- mechanism: the textbook's parameters --------------------------------------------
       row("mechanism", "rod_mass", KANE_SIM_FIELD(mechanism.rod_mass), "kg", kPositive)
-          .symbol("m").role(ParameterRole::kInertial, "m").required().reconfigure(physical("rod_mass", 0.0, 1e3))
+          .symbol("m").role(ParameterRole::kInertial).required().reconfigure(physical("rod_mass", 0.0, 1e3))
           .doc("mass of each rod (OA and AB)"),
       row("mechanism", "rod_half_length", KANE_SIM_FIELD(mechanism.rod_half_length), "m", kPositive)
-          .symbol("L").role(ParameterRole::kGeometric, "L").required()
+          .symbol("L").role(ParameterRole::kGeometric).required()
           .doc("half the length of each rod (2L long)"),
       row("mechanism", "slider3_mass", KANE_SIM_FIELD(mechanism.slider3_mass), "kg", kPositive)
-          .symbol("M1").role(ParameterRole::kInertial, "M1").required().reconfigure(physical("slider3_mass", 0.0, 1e3))
+          .symbol("M1").role(ParameterRole::kInertial).required().reconfigure(physical("slider3_mass", 0.0, 1e3))
           .doc("mass of slider 3 at B"),
       row("mechanism", "slider4_mass", KANE_SIM_FIELD(mechanism.slider4_mass), "kg", kPositive)
-          .symbol("M2").role(ParameterRole::kInertial, "M2").required().reconfigure(physical("slider4_mass", 0.0, 1e3))
+          .symbol("M2").role(ParameterRole::kInertial).required().reconfigure(physical("slider4_mass", 0.0, 1e3))
           .doc("mass of slider 4 at C"),
       row("mechanism", "spring_stiffness", KANE_SIM_FIELD(mechanism.spring_stiffness), "N/m",
               kNonNegative)
-          .symbol("k").role(ParameterRole::kStiffness, "k").required().reconfigure(physical("spring_stiffness", 0.0, 1e7))
+          .symbol("k").role(ParameterRole::kStiffness).required().reconfigure(physical("spring_stiffness", 0.0, 1e7))
           .doc("stiffness of the spring between B and C"),
       row("mechanism", "gravity", KANE_SIM_FIELD(mechanism.gravity), "m/s²", kAny)
-          .symbol("g").role(ParameterRole::kGravity, "g").required().reconfigure(physical("gravity", -100.0, 100.0))
+          .symbol("g").role(ParameterRole::kGravity).required().reconfigure(physical("gravity", -100.0, 100.0))
           .doc("gravity along +i (down the rail)"),
       row("mechanism", "rod_inertia", KANE_SIM_FIELD(mechanism.rod_inertia), "kg m²", kPositive)
           .symbol("I1z = I2z").role(ParameterRole::kInertial, "I").defaultText("m (2L)²/12")
           .doc("central moment of inertia of each rod about k"),
       row("mechanism", "crank_spring_stiffness", KANE_SIM_FIELD(mechanism.crank_spring_stiffness),
               "N m/rad", kNonNegative)
-          .symbol("k_t").role(ParameterRole::kStiffness, "k_t")
+          .symbol("k_t").role(ParameterRole::kStiffness)
           .reconfigure(physical("crank_spring_stiffness", 0.0, 1e4))
           .doc("a torsional spring at pin O: −k_t (q1 − q1_0) on rod 1, energy ½ k_t (q1 − q1_0)²; "
               "0 = none (the textbook's)"),
       row("mechanism", "crank_spring_rest_angle", KANE_SIM_FIELD(mechanism.crank_spring_rest_angle),
               "rad", kAny)
-          .symbol("q1_0").role(ParameterRole::kLoadShape, "q1_0")
+          .symbol("q1_0").role(ParameterRole::kLoadShape)
           .reconfigure(physical("crank_spring_rest_angle", -10.0, 10.0))
           .doc("the torsional spring's rest angle (q1 counts turns: 2π is a turn away)"),
       // ---- initial_state: where the motion starts; the spring is unstretched there ---------
@@ -298,49 +299,49 @@ std::vector<ParameterSpec> declareParameters() {
       // ---- damping: viscous, at the joints joint_states names, and beside the spring ----------
       row("damping", "crank_joint", KANE_SIM_FIELD(mechanism.damping.crank), "N m s/rad",
               kNonNegative)
-          .symbol("c_O").role(ParameterRole::kDissipative, "c_O").reconfigure(physical("crank_damping", 0.0, 1e4))
+          .symbol("c_O").role(ParameterRole::kDissipative).reconfigure(physical("crank_damping", 0.0, 1e4))
           .doc("pin O: −c_O u1 on rod 1"),
       row("damping", "coupler_joint", KANE_SIM_FIELD(mechanism.damping.coupler), "N m s/rad",
               kNonNegative)
-          .symbol("c_A").role(ParameterRole::kDissipative, "c_A").reconfigure(physical("coupler_damping", 0.0, 1e4))
+          .symbol("c_A").role(ParameterRole::kDissipative).reconfigure(physical("coupler_damping", 0.0, 1e4))
           .doc("pin A: on the relative rate of rods 2 and 1"),
       row("damping", "slider3_joint", KANE_SIM_FIELD(mechanism.damping.slider3), "N s/m",
               kNonNegative)
-          .symbol("c_B").role(ParameterRole::kDissipative, "c_B").reconfigure(physical("slider3_damping", 0.0, 1e4))
+          .symbol("c_B").role(ParameterRole::kDissipative).reconfigure(physical("slider3_damping", 0.0, 1e4))
           .doc("slider 3 on the rail"),
       row("damping", "slider4_joint", KANE_SIM_FIELD(mechanism.damping.slider4), "N s/m",
               kNonNegative)
-          .symbol("c_C").role(ParameterRole::kDissipative, "c_C").reconfigure(physical("slider4_damping", 0.0, 1e4))
+          .symbol("c_C").role(ParameterRole::kDissipative).reconfigure(physical("slider4_damping", 0.0, 1e4))
           .doc("slider 4 on the rail"),
       row("damping", "spring", KANE_SIM_FIELD(mechanism.damping.spring), "N s/m", kNonNegative)
-          .symbol("c_S").role(ParameterRole::kDissipative, "c_S").reconfigure(physical("spring_damping", 0.0, 1e4))
+          .symbol("c_S").role(ParameterRole::kDissipative).reconfigure(physical("spring_damping", 0.0, 1e4))
           .doc("beside the spring: −c_S (v_C − v_B) on slider 4, the opposite on slider 3"),
       // ---- friction: Coulomb, smoothed, at the joints joint_states names ----------------------
       row("friction", "crank_joint", KANE_SIM_FIELD(mechanism.friction.crank), "N m",
               kNonNegative)
-          .symbol("F_O").role(ParameterRole::kDissipative, "F_O")
+          .symbol("F_O").role(ParameterRole::kDissipative)
           .reconfigure(physical("crank_friction", 0.0, 1e3))
           .doc("pin O: −F_O tanh(u1 / v_s) on rod 1"),
       row("friction", "coupler_joint", KANE_SIM_FIELD(mechanism.friction.coupler), "N m",
               kNonNegative)
-          .symbol("F_A").role(ParameterRole::kDissipative, "F_A")
+          .symbol("F_A").role(ParameterRole::kDissipative)
           .reconfigure(physical("coupler_friction", 0.0, 1e3))
           .doc("pin A: on the relative rate of rods 2 and 1"),
       row("friction", "slider3_joint", KANE_SIM_FIELD(mechanism.friction.slider3), "N",
               kNonNegative)
-          .symbol("F_B").role(ParameterRole::kDissipative, "F_B")
+          .symbol("F_B").role(ParameterRole::kDissipative)
           .reconfigure(physical("slider3_friction", 0.0, 1e4))
           .doc("slider 3 on the rail"),
       row("friction", "slider4_joint", KANE_SIM_FIELD(mechanism.friction.slider4), "N",
               kNonNegative)
-          .symbol("F_C").role(ParameterRole::kDissipative, "F_C")
+          .symbol("F_C").role(ParameterRole::kDissipative)
           .reconfigure(physical("slider4_friction", 0.0, 1e4))
           .doc("slider 4 on the rail"),
       // Below 1e-9 of a joint's rate tanh(v / v_s) is a step no fixed step can follow; the
       // stiffness check (rk4) bounds it by the coefficients and the rate as well.
       row("friction", "velocity_scale", KANE_SIM_FIELD(mechanism.friction.velocity_scale),
               "rad/s or m/s", {ValueRule::kRange, 1e-9, 1e3, "rad/s or m/s"})
-          .symbol("v_s").role(ParameterRole::kLoadShape, "v_s")
+          .symbol("v_s").role(ParameterRole::kLoadShape)
           .reconfigure(physical("friction_velocity_scale", 1e-6, 1.0))
           .doc("the smoothing of F = −F_c tanh(v / v_s): below v_s friction acts as a damper of "
               "F_c / v_s; no stiction (a load under F_c creeps at about v_s × load / F_c)")

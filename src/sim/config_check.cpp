@@ -26,16 +26,16 @@ std::string dampersOn(const Config& c) {
   return text;
 }
 
-// When the equations are not finite at `where` and a constant of them is beyond the
-// mechanism's scale (k = 1e308 makes u' overflow at any state), that constant is what to fix:
-// refused naming it, not the state.
-void refuseBeyondScale(const Config& c, const std::string& where) {
+// When the equations are not finite (`consequence` says where) and a constant of them is beyond
+// the mechanism's scale (k = 1e308 makes u' overflow at any state), that constant is what to
+// fix: refused naming it, not the state.
+void refuseBeyondScale(const Config& c, const std::string& consequence) {
   for (const ParameterSpec& p : parameterSchema())
     if (inEquations(p.role) && p.field.number && !(std::abs(numericValue(p, c)) <= 1e100))
       throw ConfigError(p.path(), "= " + formatNumber(numericValue(p, c)) +
-                                      " is beyond the mechanism's scale: with it " + where +
-                                      " gives non-finite equations; use values of the "
-                                      "mechanism's size (at most 1e100)");
+                                      " is beyond the mechanism's scale (at most 1e100): with "
+                                      "it " +
+                                      consequence);
 }
 
 // What to do when rk4 at the configured rate cannot follow the fastest rate: a physics_rate
@@ -84,7 +84,8 @@ void checkIntegrable(const Config& c) {
   if (std::isfinite(stiffest.rate) && !(initial <= stiffest.rate))
     stiffest = {initial, c.initial_state.q1, c.initial_state.u1};
   if (!std::isfinite(stiffest.rate)) {
-    refuseBeyondScale(c, "q1 = " + formatNumber(stiffest.q1) + " rad");
+    refuseBeyondScale(
+        c, "the equations of motion are not finite at q1 = " + formatNumber(stiffest.q1) + " rad");
     throw ConfigError(
         "mechanism",
         "gives equations of motion that are not finite at q1 = " + formatNumber(stiffest.q1) +
@@ -127,8 +128,7 @@ void checkIntegrable(const Config& c) {
 void checkSimulatable(const Config& config) {
   const Status usable = Simulator(config).checkUsable(config.initial_state);
   if (!usable.ok) {
-    refuseBeyondScale(config,
-                      "the initial state " + usable.error.substr(0, usable.error.find(" gives")));
+    refuseBeyondScale(config, "the initial state " + usable.error);
     throw ConfigError("initial_state", "is not a state to start from: " + usable.error);
   }
   checkIntegrable(config);

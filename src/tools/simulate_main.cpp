@@ -139,8 +139,8 @@ int runReplay(const Options& options, const kane_sim::Config& config) {
                 << options.config_path << " is not used\n";
   }
   if (r.interrupted) {
-    std::cerr << "interrupted at t = " << num(r.interrupted_at) << " s: compared " << r.compared
-              << " states of " << r.state_topic << " up to there, largest difference "
+    std::cerr << "interrupted at t = " << kane_sim::formatTime(r.interrupted_at) << " s: compared "
+              << r.compared << " states of " << r.state_topic << " up to there, largest difference "
               << num(r.largest) << "\n";
     return kExitSignalBase + g_signal.load();
   }
@@ -206,7 +206,8 @@ int run(const Options& options) {
       std::cerr << "error: " << event.message << "\n";
     } else if (reported.insert(event.kind).second) {
       progress.clear();
-      std::cerr << "warning: " << event.message << " (at t = " << event.time << " s)\n";
+      std::cerr << "warning: " << event.message << " (at t = " << kane_sim::formatTime(event.time)
+                << " s)\n";
     }
   });
 
@@ -238,8 +239,8 @@ int run(const Options& options) {
   if (end != kane_sim::RunEnd::kFinished) {
     out.finish();  // what was simulated up to the refusal or the signal stays readable
     if (end == kane_sim::RunEnd::kStepRefused) return kExitStepRefused;
-    std::cerr << "interrupted at t = " << driver.time() << " s: kept the " << outputs
-              << " outputs simulated until then\n";
+    std::cerr << "interrupted at t = " << kane_sim::formatTime(driver.time()) << " s: kept the "
+              << outputs << " outputs simulated until then\n";
     return kExitSignalBase + g_signal.load();
   }
   out.finish();

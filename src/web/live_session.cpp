@@ -28,7 +28,7 @@ void LiveSession::rebuild(const Config& config) {
   config_ = config;
   robot_ = describeRobot(config_);
   driver_ = std::make_unique<SimDriver>(config_, [this](const SimEvent& event) {
-    events_.push_back(event.message + " (at t = " + formatNumber(event.time) + " s)");
+    events_.push_back(event.message + " (at t = " + formatTime(event.time) + " s)");
     if (events_.size() > kMaxEvents) events_.pop_front();
   });
 }

@@ -35,7 +35,7 @@ CaseTable runCase(const std::string& yaml_text, const std::string& config_name, 
     if (event.kind == SimEvent::Kind::kStepRefused)
       table.refused = event.message;
     else if (reported.insert(event.kind).second)
-      table.warnings.push_back(event.message + " (at t = " + formatNumber(event.time) + " s)");
+      table.warnings.push_back(event.message + " (at t = " + formatTime(event.time) + " s)");
   });
   const RunEnd end = runOnGrid(
       driver, profileOrHold(driver, profile), grid, stop, [](const SimDriver&) {},

@@ -29,11 +29,18 @@ const page = {
   torqueLimit: Infinity,
 };
 
+// A message at the top of the list; one already shown is moved up and counted ("(×336)")
+// instead of repeated, so a warning that comes every frame cannot push the others out.
 function message(kind, text) {
-  const div = document.createElement("div");
-  div.className = kind;
-  div.textContent = text;
   const box = $("messages");
+  const same = [...box.children].find((d) => d.dataset.text === text && d.className === kind);
+  const div = same || document.createElement("div");
+  div.className = kind;
+  div.dataset.text = text;
+  div.dataset.count = same ? Number(same.dataset.count) + 1 : 1;
+  div.textContent = div.dataset.count > 1 ? `${text} (×${div.dataset.count})` : text;
+  div.title = "click to dismiss";
+  div.onclick = () => div.remove();
   box.prepend(div);
   while (box.children.length > 8) box.lastChild.remove();
 }
@@ -94,8 +101,8 @@ async function openConfig(yaml, name) {
   $("config").value = yaml;
   $("mode").value = reply.schema.mode === "position" ? "position" : "effort";
   buildParameters(reply.schema);
+  page.torqueLimit = parseTorqueLimit(reply.yaml);  // before the slider's range is set from it
   setCommandRange();
-  page.torqueLimit = parseTorqueLimit(reply.yaml);
   await control({ running: page.running, command: Number($("command-value").value) || 0 });
   return "";
 }
@@ -125,6 +132,13 @@ function setCommand(value) {
   if (!isFinite(value)) {
     message("error", `the command must be a finite number, got '${value}'`);
     return;
+  }
+  // In effort mode the drive applies at most command.torque_limit: the field shows what is
+  // applied, and says once that it was clamped (the driver's own warning would come each frame).
+  const limit = page.torqueLimit;
+  if ($("mode").value !== "position" && isFinite(limit) && Math.abs(value) > limit) {
+    message("warning", `torque ${value} N m clamped to ${Math.sign(value) * limit} N m (command.torque_limit)`);
+    value = Math.sign(value) * limit;
   }
   $("command").value = value;
   $("command-value").value = value;

@@ -263,6 +263,13 @@ def test_the_parameter_panel_refuses_with_the_loaders_words(page):
     messages = page.call("return new Promise((r) => setTimeout(() => r("
                          "document.getElementById('messages').textContent), 300))")
     assert "mechanism.spring_stiffness" in messages and "-5" in messages, messages
+    # On screen, wherever the page is scrolled, at a laptop's 1400x900 too.
+    page.driver.set_window_size(1400, 900)
+    page.driver.execute_script("window.scrollTo(0, 0)")
+    box = page.call("const r = document.getElementById('messages').firstChild"
+                    ".getBoundingClientRect(); return [r.top, r.bottom, window.innerHeight]")
+    page.driver.set_window_size(1600, 1000)  # the fixture's size, for the tests after this one
+    assert 0 <= box[0] < box[1] <= box[2], box
     assert field.get_attribute("value") == "200"
     page.driver.execute_script(enter, field, "300")
     config = page.call("return new Promise((r) => setTimeout(() => r("
@@ -339,18 +346,38 @@ def test_a_csv_that_cannot_be_replayed_is_named(page, text, words):
     assert "rejected" in out and words in out["rejected"], out
 
 
-def share_url(page_url, state):
+def share_url(page_url, state, checksum=True):
+    """A share link as the page writes one: the state's JSON and its CRC-32 (zlib's is the same
+    IEEE polynomial), deflate-raw, base64url; checksum=False: the bare state, no envelope."""
     import base64
     import json
     import zlib
+    run = json.dumps(state)
+    envelope = json.dumps({"run": run, "crc32": "%08x" % zlib.crc32(run.encode())}) if checksum \
+        else run
     packer = zlib.compressobj(wbits=-15)
-    packed = packer.compress(json.dumps(state).encode()) + packer.flush()
+    packed = packer.compress(envelope.encode()) + packer.flush()
     return page_url + "#run=" + base64.urlsafe_b64encode(packed).decode().rstrip("=")
+
+
+def _good_state():
+    return {"config": open(config_path()).read(), "duration": "1", "outputRate": "100",
+            "torqueKind": "none", "torqueText": ""}
+
+
+def _tampered(page_url):
+    """A good link with one character in its middle changed, as a mangled paste does."""
+    url = share_url(page_url, _good_state())
+    head, fragment = url.split("#run=")
+    middle = len(fragment) // 2
+    other = "A" if fragment[middle] != "A" else "B"
+    return head + "#run=" + fragment[:middle] + other + fragment[middle + 1:]
 
 
 @pytest.mark.parametrize("fragment,words", [
     ("AAAAbbbbCCCC", "not a kane_sim share link"), ("@@@!!!", "characters a share link never"),
     (None, "config is refused"), ({"config": 5}, "no config text"), (5, "no run"),
+    ("tampered", "changed"), ("no checksum", "carries no checksum"),
 ])
 def test_a_bad_share_link_opens_the_defaults_and_says_why(browser, page_url, fragment, words):
     if fragment is None:  # a config the loader refuses
@@ -358,6 +385,10 @@ def test_a_bad_share_link_opens_the_defaults_and_says_why(browser, page_url, fra
         cfg["mechanism"]["rod_mass"] = -1
         url = share_url(page_url, {"config": yaml.safe_dump(cfg), "duration": "1",
                                    "outputRate": "100", "torqueKind": "none", "torqueText": ""})
+    elif fragment == "tampered":
+        url = _tampered(page_url)
+    elif fragment == "no checksum":
+        url = share_url(page_url, _good_state(), checksum=False)
     elif isinstance(fragment, str):
         url = page_url + "#run=" + fragment
     else:
@@ -368,6 +399,24 @@ def test_a_bad_share_link_opens_the_defaults_and_says_why(browser, page_url, fra
     assert words in messages and "the default config is loaded" in messages, messages
     assert page.call("return window.kaneSim.live()")["running"]
     assert not page.console_errors()
+
+
+def test_a_torque_beyond_the_limit_is_shown_clamped_and_said_once(page):
+    """1e9 N m typed into the live torque: the field shows the 50 N m applied (the config's
+    command.torque_limit), the slider's range is that limit from the first load, and the clamp
+    is one message, counted, that does not push the others out while it goes on."""
+    limit = yaml.safe_load(open(config_path()))["command"]["torque_limit"]
+    assert page.call("return Number(document.getElementById('command').max)") == limit
+    for _ in range(3):
+        page.driver.execute_script("const f = document.getElementById('command-value');"
+                                   "f.value = '1e9'; f.dispatchEvent(new Event('change'))")
+    page.call("return new Promise((r) => setTimeout(r, 1000))")  # frames go by
+    assert page.call("return Number(document.getElementById('command-value').value)") == limit
+    texts = page.call("return [...document.getElementById('messages').children]"
+                      ".map((d) => d.textContent)")
+    clamps = [t for t in texts if "clamped" in t]
+    assert len(clamps) <= 2, texts  # the page's own note, and at most one of the driver's
+    assert any("1000000000 N m clamped to %g N m" % limit in t and "(×3)" in t for t in clamps), texts
 
 
 def test_switching_the_drive_goes_on_from_the_same_instant(page):

@@ -1,19 +1,8 @@
-// What Simulator books and reports: the energy ledger (E + D - W - parameter_energy, with a
-// parameter change's jump booked as parameter_energy) and the snapshot of the state, its
-// equations, energies and contact, computed once per publish.
+// What Simulator reports: the snapshot of the state, its equations, energies, powers, reactions
+// and contact, computed once per publish, and the joints as joint_states names them.
 #include "kane_sim/sim/simulator.h"
 
 namespace kane_sim {
-
-void Simulator::setParameters(const MechanismParameters& parameters) {
-  const double before = model_.energy(state_).total();
-  model_ = MechanismModel(parameters, model_.springRestLength());
-  generated_ = GeneratedMechanism(model_);
-  if (!parameters.contact.enabled) resting_contact_ = resting_contact_at_start_of_step_ = false;
-  parameter_energy_ += model_.energy(state_).total() - before;
-  ++parameter_changes_;
-  last_derivative_valid_ = false;
-}
 
 Snapshot Simulator::snapshot() const {
   const MechanismKinematics k = model_.kinematics(state_);
