@@ -53,8 +53,8 @@ double MechanismModel::siteLoad(const LoadInfo& load, double rate, double coordi
       return c * rate;
     case LoadLaw::kCoulomb:  // F_c tanh(v / v_s); none at all when off, whatever v_s
       return c == 0.0 ? 0.0 : c * math::tanh(rate / constants_.friction_velocity_scale);
-    case LoadLaw::kElastic:  // c (x - x0)
-      return c * (coordinate - (&constants_.rod_mass)[load.rest]);
+    case LoadLaw::kElastic:  // c (x - x0); none at all when off, wherever its rest
+      return c == 0.0 ? 0.0 : c * (coordinate - (&constants_.rod_mass)[load.rest]);
     case LoadLaw::kNone:
       break;
   }
@@ -62,9 +62,10 @@ double MechanismModel::siteLoad(const LoadInfo& load, double rate, double coordi
 }
 
 double MechanismModel::sitePotential(const LoadInfo& load, double coordinate) const {
-  if (load.law != LoadLaw::kElastic) return 0.0;
+  const double c = resistanceCoefficient(load);
+  if (load.law != LoadLaw::kElastic || c == 0.0) return 0.0;
   const double stretch = coordinate - (&constants_.rod_mass)[load.rest];  // x - x0
-  return 0.5 * resistanceCoefficient(load) * stretch * stretch;
+  return 0.5 * c * stretch * stretch;
 }
 
 namespace {

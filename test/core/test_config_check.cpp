@@ -135,6 +135,33 @@ TEST(ConfigCheck, AnOverflowingConstantIsNamedNotTheInitialState) {
   }
 }
 
+// The crank's torsional spring, attacked: every non-finite or negative stiffness and every
+// non-finite rest angle is refused naming its key; a rest angle beyond the mechanism's scale is
+// harmless while the spring is off and named once it is on.
+TEST(ConfigCheck, TorsionalSpringHostileValuesAreRefusedNamingTheKey) {
+  const std::pair<const char*, const char*> refused[] = {
+      {"crank_spring_stiffness", "-1"},    {"crank_spring_stiffness", ".nan"},
+      {"crank_spring_stiffness", ".inf"},  {"crank_spring_stiffness", "'stiff'"},
+      {"crank_spring_rest_angle", ".nan"}, {"crank_spring_rest_angle", "-.inf"},
+      {"crank_spring_rest_angle", "''"}};
+  for (const auto& [key, value] : refused) {
+    YAML::Node root = defaultYaml();
+    root["mechanism"][key] = YAML::Load(value);
+    try {
+      loadConfig(root);
+      ADD_FAILURE() << key << " " << value << " accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(e.key(), std::string("mechanism.") + key) << e.what();
+    }
+  }
+  YAML::Node root = defaultYaml();
+  root["mechanism"]["crank_spring_rest_angle"] = 1e200;
+  EXPECT_NO_THROW(loadSimulationConfig(root)) << "off: its rest plays no part";
+  root["mechanism"]["crank_spring_stiffness"] = 5.0;
+  expectError(root, "mechanism.crank_spring_rest_angle",
+              "= 1e+200 is beyond the mechanism's scale");
+}
+
 // k = 1e9 N/m on the 0.8 kg slider: a mode near 43 000 rad/s, so rk4 at 1 kHz (ω h ≈ 43, far
 // past its stability limit 2.78) would diverge within milliseconds. Refused at start-up with
 // the limit and the fix; dopri5 or a fast enough rate are accepted.

@@ -83,11 +83,44 @@ export class MechanismView {
     g.arc(Ox, Oy, 5, 0, 2 * Math.PI);
     g.fill();
     this.torqueArrow(Ox, Oy, torque, torqueLimit, scale);
+    this.labels(o, px);
     if (label) {
       g.fillStyle = "#1d2430";
       g.font = "13px monospace";
       g.fillText(label, 10, this.canvas.height - 10);
     }
+  }
+
+  // The textbook's names on the drawing: the points O, A, B, C, the coordinates q1 (the crank's
+  // angle from the rail) and q2 (C's distance down the rail), and the frame: x down the rail,
+  // gravity along +x.
+  labels(origins, px) {
+    const g = this.context;
+    const at = (suffix) => {
+      const key = Object.keys(origins).find((k) => k.endsWith(suffix));
+      return key ? px(origins[key][0], origins[key][1]) : null;
+    };
+    const O = px(0, 0), A = at("rod2"), B = at("slider3"), C = at("slider4");
+    g.font = "bold 13px sans-serif";
+    g.fillStyle = "#1d2430";
+    const mark = (p, name, dx, dy) => { if (p) g.fillText(name, p[0] + dx, p[1] + dy); };
+    mark(O, "O", -18, -6);
+    mark(A, "A", A && A[0] >= O[0] ? 8 : -18, 4);
+    mark(B, "B", 14, 4);
+    mark(C, "C", 14, 4);
+    g.font = "italic 12px sans-serif";
+    g.fillStyle = "#3a6ee8";
+    if (A) mark([(O[0] + A[0]) / 2, (O[1] + A[1]) / 2], "q1", A[0] >= O[0] ? -22 : 8, 0);
+    if (C) mark([O[0], (O[1] + C[1]) / 2], "q2", -26, 0);
+    // The frame and gravity, in the corner.
+    const x0 = this.canvas.width - 70, y0 = 20;
+    g.strokeStyle = "#1d2430";
+    g.fillStyle = "#1d2430";
+    g.lineWidth = 1.5;
+    g.beginPath(); g.moveTo(x0, y0); g.lineTo(x0, y0 + 34); g.stroke();
+    g.beginPath(); g.moveTo(x0 - 4, y0 + 28); g.lineTo(x0, y0 + 36); g.lineTo(x0 + 4, y0 + 28); g.fill();
+    g.font = "12px sans-serif";
+    g.fillText("x, g", x0 + 7, y0 + 30);
   }
 
   spring([x0, y0], [x1, y1]) {

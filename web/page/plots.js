@@ -47,7 +47,16 @@ export class Plots {
 
   panel(canvas, title, data, curves, window, cursor) {
     const g = canvas.getContext("2d");
-    const W = canvas.width, H = canvas.height, left = 60, right = 150, top = 14, bottom = 16;
+    // Drawn at the size it is shown (CSS pixels times the screen's density): its 11 px text stays
+    // 11 px on a phone's 400 px as on a desktop, instead of a 700 px drawing scaled down.
+    const density = globalThis.devicePixelRatio || 1;
+    const W = canvas.clientWidth || canvas.width, H = canvas.clientHeight || canvas.height;
+    if (canvas.width !== Math.round(W * density) || canvas.height !== Math.round(H * density)) {
+      canvas.width = Math.round(W * density);
+      canvas.height = Math.round(H * density);
+    }
+    g.setTransform(density, 0, 0, density, 0, 0);
+    const left = 60, right = Math.min(150, Math.round(0.3 * W)), top = 14, bottom = 16;
     g.clearRect(0, 0, W, H);
     g.font = "11px sans-serif";
     g.fillStyle = "#1d2430";
@@ -70,18 +79,33 @@ export class Plots {
       }
     }
     if (!(hi >= lo)) { lo = -1; hi = 1; }
-    if (hi - lo < 1e-12 * Math.max(1, Math.abs(hi))) { hi += 1e-12; lo -= 1e-12; }
+    // A constant signal (a load that is off, a held torque) gets a range around its value, not
+    // one of rounding's width: its axis reads "1.5 … 2.5", not "2 / 2" or "±1e-12".
+    if (hi - lo <= 1e-9 * Math.max(1, Math.abs(hi))) {
+      const centre = (hi + lo) / 2, span = centre !== 0 ? Math.abs(centre) / 2 : 1;
+      lo = centre - span; hi = centre + span;
+    }
     const pad = (hi - lo) * 0.08;
     lo -= pad; hi += pad;
     const X = (x) => left + ((x - t0) / Math.max(t1 - t0, 1e-9)) * (W - left - right);
     const Y = (y) => top + (1 - (y - lo) / (hi - lo)) * (H - top - bottom);
+    // Gridlines and labels at round values (1, 2 or 5 times a power of ten) on both axes.
+    g.strokeStyle = "#eceef3";
+    g.fillStyle = "#555";
+    g.lineWidth = 1;
+    for (const v of niceTicks(lo, hi, 4)) {
+      const y = Y(v);
+      g.beginPath(); g.moveTo(left, y); g.lineTo(W - right, y); g.stroke();
+      g.fillText(tick(v), 2, y + 4);
+    }
+    const times = niceTicks(t0, t1, 6);
+    times.forEach((v, i) => {
+      const x = X(v);
+      g.beginPath(); g.moveTo(x, top); g.lineTo(x, H - bottom); g.stroke();
+      g.fillText(i === times.length - 1 ? `${tick(v)} s` : tick(v), x - 8, H - 3);
+    });
     g.strokeStyle = "#ccd";
     g.strokeRect(left, top, W - left - right, H - top - bottom);
-    g.fillStyle = "#555";
-    g.fillText(tick(hi - pad), 2, top + 10);
-    g.fillText(tick(lo + pad), 2, H - bottom);
-    g.fillText(`${tick(t0)} s`, left, H - 3);
-    g.fillText(`${tick(t1)} s`, W - right - 40, H - 3);
     curves.forEach(([key, label], c) => {
       const ys = data[key] || (key === "sum" ? sumOfPowers(data, curves) : null);
       if (!ys) return;
@@ -135,6 +159,17 @@ function powerCurves(data) {
 function sumOfPowers(data, curves) {
   const keys = curves.map(([k]) => k).filter((k) => k !== "sum");
   return data.t.map((_, i) => keys.reduce((s, k) => s + data[k][i], 0));
+}
+
+// Round values in [lo, hi], about `count` of them: steps of 1, 2 or 5 times a power of ten.
+export function niceTicks(lo, hi, count) {
+  if (!(hi > lo) || !isFinite(hi - lo)) return [];
+  const raw = (hi - lo) / count, power = Math.pow(10, Math.floor(Math.log10(raw)));
+  const step = [1, 2, 5, 10].map((m) => m * power).find((s) => s >= 0.75 * raw);
+  const out = [];
+  for (let v = Math.ceil(lo / step) * step; v <= hi + 1e-9 * step; v += step)
+    out.push(Math.abs(v) < 1e-9 * step ? 0 : Number(v.toPrecision(12)));
+  return out;
 }
 
 function tick(v) {

@@ -307,6 +307,24 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
     return checkpoint < checkpoints.size() && checkpoints[checkpoint].tick <= driver->ticks() &&
            (next == inputs.size() || logs[next].seq >= checkpoints[checkpoint].next_input);
   };
+  // What arrived at this very tick acts from the next step on, in the node as here: applied
+  // now (after the state is compared: it does not change it), so that a gap that follows
+  // finds every input before it replayed and counted.
+  const auto applyInputsAtThisTick = [&] {
+    while (true) {
+      if (checkpointDue()) {
+        driver = driverAt(checkpoints[checkpoint++], result.checkpoint_topic);
+        ++result.resynchronised;
+      } else if (next < inputs.size() && inputs[next].tick <= driver->ticks()) {
+        driver->apply(inputs[next++]);
+        ++result.inputs;
+      } else {
+        break;
+      }
+    }
+  };
+  const std::uint64_t last_state_tick =
+      states.empty() ? 0 : static_cast<std::uint64_t>(std::llround(states.back().sim_time * rate));
   for (const kane_sim::MechanismState& m : states) {
     result.parameter_changes =
         std::max<std::uint64_t>(result.parameter_changes, m.parameter_changes);
@@ -382,8 +400,13 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
       }
     }
     ++result.compared;
+    applyInputsAtThisTick();
   }
-  result.inputs_after_last_state = inputs.size() - next;
+  // Inputs after the bag's last state (nothing to compare them with): those past its tick, not
+  // those a gap left unreplayed (the gaps' messages name them).
+  result.inputs_after_last_state = static_cast<std::size_t>(
+      std::count_if(inputs.begin() + static_cast<std::ptrdiff_t>(next), inputs.end(),
+                    [&](const auto& input) { return input.tick > last_state_tick; }));
   for (const Blind& b : blinds) {
     std::string text = seqRange(b.gap.first, b.gap.last) + " of " + result.input_topic +
                        " were not recorded (a gap in the bag): compared up to t = " +
