@@ -20,9 +20,12 @@ def __getattr__(name):
     if name in _CORE:
         from kane_sim import core
         return getattr(core, name)
-    if name in ("BatchSimulator", "VectorEnv"):
+    if name == "BatchSimulator":
         from kane_sim import batch
-        return getattr(batch, name)
+        return batch.BatchSimulator
+    if name == "VectorEnv":
+        from kane_sim import vector_env
+        return vector_env.VectorEnv
     if name == "animate":
         from kane_sim.animation import animate
         return animate

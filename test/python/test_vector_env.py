@@ -258,7 +258,7 @@ def test_float32_action_bounds_are_ones_the_mechanisms_accept():
 
 def test_with_gymnasium_installed_it_is_a_gymnasium_vector_env(monkeypatch):
     import importlib
-    import kane_sim.batch as batch
+    import kane_sim.vector_env as batch
     gym = types.ModuleType("gymnasium")
     gym.spaces = types.ModuleType("gymnasium.spaces")
     gym.vector = types.ModuleType("gymnasium.vector")

@@ -310,8 +310,13 @@ async function shareLink() {
 // ---- recordings: bags, CSVs, runs -------------------------------------------------------------
 
 function showRecording(recording, label) {
+  if (page.replay && page.replay.timer) clearInterval(page.replay.timer);
   page.replay = { recording, index: 0, playing: false, label, timer: null };
+  // One set of controls for what is shown: the recording's (Play, Step, its time, Live) while it
+  // is on show; the live mechanism's (Run/Pause, Step, Reset, speed, the drive) again after.
   $("replay").hidden = false;
+  $("controls").hidden = true;
+  $("command-row").hidden = true;
   const n = recording.joints ? recording.joints.t.length : recording.data.t.length;
   $("replay-time").max = Math.max(n - 1, 0);
   $("replay-time").value = 0;
@@ -356,7 +361,18 @@ function closeReplay() {
   if (page.replay && page.replay.timer) clearInterval(page.replay.timer);
   page.replay = null;
   $("replay").hidden = true;
+  $("controls").hidden = false;
+  $("command-row").hidden = false;
   page.view.refit();
+}
+
+function stepReplay() {
+  const r = page.replay;
+  if (!r) return;
+  if (r.timer) playReplay();  // a step pauses, as the live Step does
+  const i = Math.min(r.index + 1, Number($("replay-time").max));
+  $("replay-time").value = i;
+  drawReplay(i);
 }
 
 function playReplay() {
@@ -438,6 +454,7 @@ function wire() {
   $("share").onclick = shareLink;
   $("replay-time").oninput = () => drawReplay(Number($("replay-time").value));
   $("replay-play").onclick = playReplay;
+  $("replay-step").onclick = stepReplay;
   $("replay-close").onclick = closeReplay;
   $("open-file").onchange = (e) => { if (e.target.files[0]) openFile(e.target.files[0]); e.target.value = ""; };
   // Anywhere on the page takes a dropped file (the drop zone's events bubble up to the body).

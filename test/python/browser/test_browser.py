@@ -204,6 +204,20 @@ def test_a_bag_opens_with_every_joint_state(page, tmp_path, config):
     assert shown["last"] == last
 
 
+def test_one_set_of_controls_for_what_is_shown(page, tmp_path):
+    """A bag on show: the recording's controls (Play, Step, its time, Live), not the hidden live
+    mechanism's; Step moves the recording one sample; Live brings the live controls back."""
+    open_bag(page, open(make_bag(tmp_path), "rb").read())
+    shown = lambda id_: page.call("return !document.getElementById(args[0]).hidden", id_)  # noqa
+    assert shown("replay") and not shown("controls") and not shown("command-row")
+    before = page.call("return window.kaneSim.shown().at")
+    page.driver.find_element("id", "replay-step").click()
+    after = page.call("return new Promise((r) => setTimeout(() => r(window.kaneSim.shown().at), 300))")
+    assert after > before, (before, after)
+    page.driver.find_element("id", "replay-close").click()
+    assert shown("controls") and shown("command-row") and not shown("replay")
+
+
 def test_a_bag_of_mechanism_states_only_replays(page, tmp_path):
     path = make_bag(tmp_path)
     only = str(tmp_path / "states.bag")

@@ -1,0 +1,399 @@
+"""kane_sim.VectorEnv: a batch of mechanisms (kane_sim.BatchSimulator) in the shape Gymnasium's
+vector environments have (observations, rewards, terminations, truncations, infos; autoreset),
+a subclass of gymnasium.vector.VectorEnv when Gymnasium is installed, with its own Box and
+AutoresetMode otherwise.
+
+    env = kane_sim.VectorEnv(256, max_episode_steps=500)
+    obs, info = env.reset(seed=0)
+    obs, reward, terminated, truncated, info = env.step(actions)
+"""
+import enum
+
+import numpy as np
+
+from kane_sim import _core, columns
+from kane_sim.batch import BatchSimulator, _real_array
+
+
+class AutoresetMode(enum.Enum):
+    """Gymnasium's gymnasium.vector.AutoresetMode (the same names and values), for when
+    Gymnasium is not installed; with it, VectorEnv's metadata holds Gymnasium's own member."""
+    NEXT_STEP = "NextStep"
+    SAME_STEP = "SameStep"
+    DISABLED = "Disabled"
+
+
+def _gymnasium():
+    """gymnasium when it is importable (spaces and AutoresetMode are then its own), else None."""
+    try:
+        import gymnasium
+        import gymnasium.spaces  # noqa: F401
+        import gymnasium.vector  # noqa: F401
+        return gymnasium
+    except ImportError:
+        return None
+
+
+class Box:
+    """A stand-in for gymnasium.spaces.Box when Gymnasium is not installed: shape, dtype, low,
+    high, sample() (uniform where bounded, normal where not, as Gymnasium's), contains(),
+    seed()."""
+
+    def __init__(self, low, high, shape, dtype):
+        self.shape, self.dtype = tuple(shape), np.dtype(dtype)
+        self.low = np.broadcast_to(np.asarray(low, dtype=self.dtype), self.shape).copy()
+        self.high = np.broadcast_to(np.asarray(high, dtype=self.dtype), self.shape).copy()
+        self.np_random = np.random.default_rng()
+
+    def seed(self, seed=None):
+        self.np_random = np.random.default_rng(seed)
+        return [seed]
+
+    def sample(self):
+        bounded = np.isfinite(self.low) & np.isfinite(self.high)
+        x = self.np_random.normal(size=self.shape)
+        u = self.np_random.uniform(np.where(bounded, self.low, 0.0),
+                                   np.where(bounded, self.high, 1.0))
+        return np.where(bounded, u, x).astype(self.dtype)
+
+    def contains(self, x):
+        x = np.asarray(x)
+        return x.shape == self.shape and bool(np.all((x >= self.low) & (x <= self.high)))
+
+    def __contains__(self, x):
+        return self.contains(x)
+
+    def __repr__(self):
+        return "Box(%s, %s, %s, %s)" % (self.low.min(), self.high.max(), self.shape, self.dtype)
+
+
+def _inward(values, dtype, toward):
+    """values in `dtype`, rounded toward `toward` (+inf for a lower bound, -inf for an upper):
+    float32's nearest of 6283185.307 is 6283185.5, a setpoint the servo refuses."""
+    v = np.asarray(values, dtype=float)
+    cast = v.astype(dtype)
+    beyond = (cast < v) if toward > 0 else (cast > v)
+    return np.where(beyond & np.isfinite(v), np.nextafter(cast, np.array(toward, dtype)), cast)
+
+
+def _box(low, high, shape, dtype):
+    low = np.broadcast_to(_inward(low, dtype, np.inf), shape)
+    high = np.broadcast_to(_inward(high, dtype, -np.inf), shape)
+    gym = _gymnasium()
+    if gym is not None:
+        return gym.spaces.Box(np.broadcast_to(np.asarray(low, dtype=dtype), shape),
+                              np.broadcast_to(np.asarray(high, dtype=dtype), shape),
+                              shape=shape, dtype=dtype)
+    return Box(low, high, shape, dtype)
+
+
+def _autoreset_mode(mode):
+    """Gymnasium's AutoresetMode member (or this module's when Gymnasium is absent) for a member
+    of either, its value ("NextStep") or its name in any case ("next_step")."""
+    gym = _gymnasium()
+    modes = gym.vector.AutoresetMode if gym is not None else AutoresetMode
+    text = getattr(mode, "value", mode)
+    if isinstance(text, str):
+        for member in modes:
+            if text in (member.value, member.name) or text.upper() == member.name:
+                return member
+    raise ValueError("VectorEnv: autoreset_mode must be one of next_step, same_step, disabled "
+                     "(or Gymnasium's AutoresetMode), got %r" % (mode,))
+
+
+START_NOISE_KEYS = ("q1", "q2", "u1", "u2")
+# Gymnasium's wrappers (RecordEpisodeStatistics, ClipAction, NormalizeObservation) assert
+# isinstance(env, gymnasium.vector.VectorEnv): with Gymnasium installed, VectorEnv is one.
+_VECTOR_ENV_BASE = _gymnasium().vector.VectorEnv if _gymnasium() is not None else object
+
+
+class VectorEnv(_VECTOR_ENV_BASE):
+    """n mechanisms in the shape of Gymnasium 1.x's vector environments
+    (gymnasium.vector.VectorEnv; Gymnasium is not needed, its spaces are used when installed).
+
+    reset(seed=None, options=None) -> (obs, info); step(actions) -> (obs, reward, terminated,
+    truncated, info), each an array over the mechanisms. obs: the states (n, 4), or with
+    sensors the readings' positions and velocities (n, 8; the true joints until a mechanism's
+    first reading arrives), as `dtype` (float64, or np.float32 on request). actions: (n,) or
+    (n, 1) (what a Box(shape=(1,)) policy emits): a torque [N m] (servo modes: the setpoint),
+    held for `substeps` physics steps. reward: reward(obs, actions) -> (n,) finite reals
+    (default: the crank's speed u1 minus 1e-3 times the square of the torque delivered, the
+    action clamped to command.torque_limit; in servo modes u1 alone). An episode is truncated
+    after max_episode_steps actions.
+
+    Spaces: single_observation_space, single_action_space (shape (1,), the range every
+    mechanism accepts), observation_space and action_space (batched, per-mechanism ranges);
+    action_low / action_high: each mechanism's range (effort: the torque limit; velocity: what
+    the servo follows; position: a million turns).
+
+    autoreset_mode (metadata["autoreset_mode"], Gymnasium's AutoresetMode): "next_step" (the
+    default: the step after a mechanism's episode ended resets it and returns its first
+    observation, reward 0 and both flags false; its action is ignored), "same_step" (the ending
+    step resets it at once and returns the new episode's first observation; the ended one's last
+    is in info["final_obs"], with info["_final_obs"] the mask) or "disabled" (reset them with
+    reset(options={"reset_mask": mask}); stepping one that ended is refused).
+
+    reset: seed an int (each mechanism's sensor noise from seed + i, and the random starts'
+    generator) or a list of n ints (each mechanism's own); options {"reset_mask": bools} resets
+    only those, {"states": (n, 4)} starts them from the given states instead of the config's.
+    start_noise {"q1": a, "q2": b, "u1": c, "u2": d} draws every start (reset and autoreset)
+    uniformly within +- those of the config's initial state, from reset's seed (a draw the
+    simulator refuses, such as sliders crossed, is drawn again, up to 100 times).
+
+    info: "times" (each mechanism's sim time), "reasons" (why a mechanism terminated) when one
+    did, each with its "_key" mask as Gymnasium's vector infos. close() (and `with VectorEnv(...)
+    as env:`) ends it: later calls are refused."""
+
+    def __init__(self, n, config=None, params=None, reward=None, substeps=10,
+                 max_episode_steps=1000, autoreset_mode="next_step", dtype=np.float64,
+                 start_noise=None, **batch):
+        if isinstance(substeps, bool) or not isinstance(substeps, (int, np.integer)) or \
+                substeps < 1:
+            raise ValueError("VectorEnv: substeps must be a whole number >= 1, got %r"
+                             % (substeps,))
+        if isinstance(max_episode_steps, bool) or \
+                not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
+            raise ValueError("VectorEnv: max_episode_steps must be a whole number >= 1, got %r"
+                             % (max_episode_steps,))
+        if reward is not None and not callable(reward):
+            raise TypeError("VectorEnv: reward must be callable reward(obs, actions), got %r"
+                            % (reward,))
+        try:
+            self.dtype = np.dtype(dtype)
+        except TypeError:
+            raise TypeError("VectorEnv: dtype must be np.float64 or np.float32, got %r"
+                            % (dtype,)) from None
+        if self.dtype not in (np.dtype(np.float64), np.dtype(np.float32)):
+            raise TypeError("VectorEnv: dtype must be np.float64 or np.float32, got %r"
+                            % (dtype,))
+        unknown = set(batch) - {"simd", "vector_trig", "threads"}
+        if unknown:
+            raise TypeError("VectorEnv: unknown argument %s (VectorEnv takes n, config, params, "
+                            "reward, substeps, max_episode_steps, autoreset_mode, dtype, "
+                            "start_noise, and BatchSimulator's simd, vector_trig, threads; the "
+                            "seed goes to reset(seed=...))" % ", ".join(sorted(unknown)))
+        self.start_noise = self._start_noise(start_noise)
+        self.metadata = {"autoreset_mode": _autoreset_mode(autoreset_mode)}
+        self.render_mode = None
+        self.spec = None
+        self.closed = False
+        self.sim = BatchSimulator(n, config, params, **batch)
+        self.num_envs = len(self.sim)
+        self.substeps = int(substeps)
+        self.max_episode_steps = int(max_episode_steps)
+        self.reward = reward or self._default_reward
+        self._sensors = self.sim._batch.sensors
+        # What each observation column is: the state's columns of the output table, or each
+        # joint's reading (position_<joint> then velocity_<joint>, the joint_states order).
+        joints = _core.joint_names()
+        self.observation_names = tuple(
+            ["position_" + j for j in joints] + ["velocity_" + j for j in joints]
+            if self._sensors else columns.STATE)
+        self.single_observation_shape = (len(self.observation_names),)
+        self.single_action_shape = ()
+        self._mode = np.array(self.sim.values("command.mode"))
+        self._effort = self._mode == "effort"
+        # The command's range: effort the torque limit; velocity the servo's refusal (0.5 rad a
+        # physics step); position a million turns.
+        self.action_high = np.where(
+            self._effort, self.sim.values("command.torque_limit"),
+            np.where(self._mode == "velocity", 0.5 * self.sim.values("simulation.physics_rate"),
+                     2e6 * np.pi))
+        self.action_low = -self.action_high
+        self._initial = np.column_stack([self.sim.values("initial_state." + k)
+                                         for k in START_NOISE_KEYS])
+        obs_dim = len(self.observation_names)
+        self.single_observation_space = _box(-np.inf, np.inf, (obs_dim,), self.dtype)
+        self.single_action_space = _box(self.action_low.max(), self.action_high.min(), (1,),
+                                        self.dtype)
+        self.observation_space = _box(-np.inf, np.inf, (self.num_envs, obs_dim), self.dtype)
+        self.action_space = _box(self.action_low[:, None], self.action_high[:, None],
+                                 (self.num_envs, 1), self.dtype)
+        self._rng = np.random.default_rng()
+        self._seeds = None  # per mechanism, after reset(seed=[...])
+        self._draws = np.zeros(self.num_envs, dtype=np.int64)
+        self._steps = np.zeros(self.num_envs, dtype=np.int64)
+        self._ended = np.zeros(self.num_envs, dtype=bool)
+        self._started = False
+
+    @staticmethod
+    def _start_noise(noise):
+        if noise is None:
+            return None
+        if not isinstance(noise, dict):
+            raise TypeError("VectorEnv: start_noise must be a dict such as {'q1': 0.1}, got %r"
+                            % (noise,))
+        out = np.zeros(4)
+        for key, value in noise.items():
+            if key not in START_NOISE_KEYS:
+                raise ValueError("VectorEnv: start_noise takes %s, got %r"
+                                 % (", ".join(START_NOISE_KEYS), key))
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating,
+                                                                 np.integer)) \
+                    or not (np.isfinite(value) and 0 <= value <= 1e3):
+                raise ValueError("VectorEnv: start_noise[%r] must be a half-width in [0, 1e3], "
+                                 "got %r" % (key, value))
+            out[START_NOISE_KEYS.index(key)] = float(value)
+        return out
+
+    def _default_reward(self, obs, actions):
+        u1 = obs[:, self.observation_names.index("velocity_crank_joint" if self._sensors else "u1")]
+        delivered = np.clip(actions, self.action_low, self.action_high)
+        return u1 - 1e-3 * np.where(self._effort, np.square(delivered), 0.0)
+
+    @property
+    def unwrapped(self):
+        return self
+
+    def render(self):
+        raise NotImplementedError("VectorEnv draws nothing: kane_sim.animate(result) draws a "
+                                  "run, rviz the node")
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def close(self, **kwargs):
+        """Ends the environment (Gymnasium's API): later reset and step calls are refused."""
+        self.closed = True
+
+    def _open(self, call):
+        if self.closed:
+            raise RuntimeError("%s: the VectorEnv is closed" % call)
+
+    def _observe(self):
+        obs = np.hstack(self.sim.readings()) if self._sensors else self.sim.states
+        return obs.astype(self.dtype, copy=False)
+
+    def _start(self, mask, states=None):
+        """The chosen mechanisms back to their start: the config's initial state, the given
+        states, or a draw within start_noise of the initial state."""
+        self.sim.reset(mask)
+        if states is None and self.start_noise is not None and mask.any():
+            chosen = np.flatnonzero(mask)
+            x = self._initial.copy()
+            pending = chosen
+            for _ in range(100):
+                x[pending] = self._initial[pending] + self._draw(pending)
+                refused = [i for i in pending if not self._accepted(i, x[i])]
+                if not refused:
+                    break
+                pending = np.array(refused)
+            else:
+                raise ValueError("start_noise: 100 draws for mechanism %d were all refused "
+                                 "(the sliders crossed, or too fast for rk4): narrow it"
+                                 % pending[0])
+            states = x
+        if states is not None:
+            self.sim.set_states(states, mask)
+        self._steps[mask] = 0
+        self._ended[mask] = False
+
+    def _draw(self, chosen):
+        """Uniform offsets within start_noise for the chosen mechanisms: from the env's
+        generator (an int seed), or each from its own seed and how many starts it has drawn (a
+        list of seeds: mechanism i's starts depend on seed[i] alone, as Gymnasium's)."""
+        if self._seeds is None:
+            return self._rng.uniform(-self.start_noise, self.start_noise, size=(len(chosen), 4))
+        out = np.empty((len(chosen), 4))
+        for k, i in enumerate(chosen):
+            rng = np.random.default_rng([int(self._seeds[i]), int(self._draws[i])])
+            self._draws[i] += 1
+            out[k] = rng.uniform(-self.start_noise, self.start_noise)
+        return out
+
+    def _accepted(self, i, x):
+        return self.sim._batch.check_state(int(i), [float(v) for v in x]) == ""
+
+    def reset(self, seed=None, options=None):
+        """All mechanisms (or those of options["reset_mask"]) back to their start. Returns
+        (obs, info)."""
+        self._open("reset")
+        if options is not None and not isinstance(options, dict):
+            raise TypeError("reset: options must be a dict ({'reset_mask': bools, 'states': "
+                            "(n, 4)}), got %r" % (options,))
+        options = dict(options or {})
+        unknown = set(options) - {"reset_mask", "mask", "states"}
+        if unknown:
+            raise ValueError("reset: options takes reset_mask and states, got %s"
+                             % ", ".join(sorted(unknown)))
+        mask = options.get("reset_mask", options.get("mask"))
+        m = np.ones(self.num_envs, dtype=bool) if mask is None else np.asarray(mask)
+        if m.dtype != bool or m.shape != (self.num_envs,):
+            raise TypeError("reset: reset_mask must be %d booleans, got %s of %s"
+                            % (self.num_envs, m.shape, m.dtype))
+        states = options.get("states")
+        if states is not None:  # every chosen state checked before anything moves
+            states = _real_array("reset: options['states']", states, self.num_envs)
+            self.sim.check_states(states, m)
+        if seed is not None:
+            self.sim.reset(m, seed)  # the sensors' noise afresh; validates the seed
+            if np.ndim(seed) == 0:
+                self._rng, self._seeds = np.random.default_rng(seed), None
+            else:  # each mechanism its own stream of starts: seed[i] and its start count
+                self._seeds = np.array([int(v) for v in seed])
+                self._draws = np.zeros(self.num_envs, dtype=np.int64)
+        self._start(m, states)
+        self._started = True
+        return self._observe(), {}
+
+    def _actions(self, actions):
+        a = _real_array("step: actions", actions, self.num_envs)
+        if a.shape == (self.num_envs, 1):
+            a = a[:, 0]
+        if a.shape != (self.num_envs,):
+            raise ValueError("step: actions must have shape (%d,) or (%d, 1), got %s"
+                             % (self.num_envs, self.num_envs, a.shape))
+        bad = np.flatnonzero(~np.isfinite(a))
+        if bad.size:
+            raise ValueError("step: actions[%d] = %r is not finite" % (bad[0], a[bad[0]]))
+        return a
+
+    def step(self, actions):
+        self._open("step")
+        if not self._started:
+            raise RuntimeError("step: call reset() first (Gymnasium's order)")
+        a = self._actions(actions)
+        mode = self.metadata["autoreset_mode"].value
+        restart = np.zeros(self.num_envs, dtype=bool)
+        if mode == "NextStep":
+            restart = self._ended.copy()  # their episode ended last step: this step resets them
+            if restart.any():
+                self._start(restart)
+        elif mode == "Disabled" and self._ended.any():
+            ended = np.flatnonzero(self._ended)
+            raise ValueError("step: mechanisms %s ended their episode: reset them first with "
+                             "reset(options={'reset_mask': ...}) (autoreset_mode Disabled)"
+                             % ", ".join(str(i) for i in ended[:10]))
+        self.sim.step(np.where(restart, 0.0, a), self.substeps, mask=~restart)
+        obs = self._observe()
+        self._steps[~restart] += 1
+        # The physics has stepped: a reward that fails is raised with the step taken.
+        reward = np.asarray(self.reward(obs, a))
+        if reward.shape != (self.num_envs,) or reward.dtype.kind not in "iuf" or \
+                not np.all(np.isfinite(reward)):
+            raise ValueError("reward(obs, actions) must return %d finite reals, got %s of %s"
+                             % (self.num_envs, reward.shape, reward.dtype))
+        reward = np.where(restart, 0.0, reward.astype(float))
+        terminated = self.sim.terminated & ~restart
+        truncated = (self._steps >= self.max_episode_steps) & ~terminated & ~restart
+        ended = terminated | truncated
+        info = {"times": self.sim.times, "_times": np.ones(self.num_envs, dtype=bool)}
+        if terminated.any():  # n strings only when one has a reason
+            reasons = np.array(self.sim.reasons, dtype=object)
+            info["reasons"], info["_reasons"] = np.where(terminated, reasons, None), terminated
+        if mode == "SameStep" and ended.any():
+            final = np.empty(self.num_envs, dtype=object)
+            for i in np.flatnonzero(ended):
+                final[i] = obs[i].copy()
+            info["final_obs"], info["_final_obs"] = final, ended.copy()
+            info["final_info"], info["_final_info"] = np.array(
+                [{} if e else None for e in ended], dtype=object), ended.copy()
+            self._start(ended)
+            obs = self._observe()
+        else:
+            self._ended = ended
+        return obs, reward, terminated, truncated, info
