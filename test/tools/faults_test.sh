@@ -78,7 +78,7 @@ recording_survives_sigint() {
   local launch=$!
   # Recording under way (rosbag has opened its .active file and the sim publishes), then 2 s of it.
   for _ in $(seq 100); do
-    [ -s "$bag.active" ] && timeout 2 rostopic echo -n 1 /mechanism_state/sim_time >/dev/null 2>&1 && break
+    [ -s "$bag.active" ] && timeout -k 5 2 rostopic echo -n 1 /mechanism_state/sim_time >/dev/null 2>&1 && break
     sleep 0.2
   done
   sleep 2
@@ -103,11 +103,11 @@ master_dies_and_returns() {
   start_master || return 1
   local seen=no
   for _ in $(seq 12); do
-    if timeout 5 rostopic echo -n 1 /mechanism_state/sim_time >/dev/null 2>&1; then seen=yes; break; fi
+    if timeout -k 5 5 rostopic echo -n 1 /mechanism_state/sim_time >/dev/null 2>&1; then seen=yes; break; fi
     sleep 1
   done
   local service=no
-  timeout 60 rosservice call /fault_sim/step >/dev/null 2>&1 && service=yes
+  timeout -k 5 60 rosservice call /fault_sim/step >/dev/null 2>&1 && service=yes
   echo "     master back: node alive=$(kill -0 "$node_pid" 2>/dev/null && echo yes || echo no), mechanism_state received again: $seen, step service answers: $service"
   kill -0 "$node_pid" && [ "$seen" = yes ] && [ "$service" = yes ]
   local alive=$?

@@ -33,14 +33,16 @@ start() {  # start ARGS...: sim.launch in the background, wait for mechanism_sta
   roslaunch -p "$port" kane_sim sim.launch "$@" >"$work/launch.log" 2>&1 &
   launch=$!
   for _ in $(seq 100); do
-    timeout 3 rostopic echo -n 1 /mechanism_state/sim_time >/dev/null 2>&1 && return 0
+    timeout -k 5 3 rostopic echo -n 1 /mechanism_state/sim_time >/dev/null 2>&1 && return 0
     sleep 0.2
   done
   echo "     sim.launch $* published nothing:"; tail -5 "$work/launch.log"; return 1
 }
 stop() { kill -INT "$launch" 2>/dev/null; wait "$launch" 2>/dev/null; launch=""; }
+# Every timeout kills what ignores its SIGTERM 5 s later (-k): rostopic on a starved machine (one
+# core beside a CPU hog) once outlived `timeout 3` by 14 minutes.
 # first field of a topic's message, as a number
-field() { timeout 5 rostopic echo -n 1 "$1" 2>/dev/null | head -1 | tr -d '[]' | cut -d, -f"${2:-1}"; }
+field() { timeout -k 5 5 rostopic echo -n 1 "$1" 2>/dev/null | head -1 | tr -d '[]' | cut -d, -f"${2:-1}"; }
 near() { /usr/bin/python3 -c "import sys; a,b,t=map(float,sys.argv[1:]); sys.exit(abs(a-b)>t)" "$@"; }
 
 relaunch_takes_the_new_config() {
@@ -62,7 +64,7 @@ wall_clock_after_sim_time() {
   start || return 1
   local use_sim_time stamp now
   use_sim_time=$(rosparam get /use_sim_time)
-  stamp=$(timeout 5 rostopic echo -n 1 /joint_states/header/stamp/secs 2>/dev/null | head -1)
+  stamp=$(timeout -k 5 5 rostopic echo -n 1 /joint_states/header/stamp/secs 2>/dev/null | head -1)
   now=$(date +%s)
   stop
   echo "     /use_sim_time $use_sim_time, joint_states stamped $stamp s, wall clock $now s"
@@ -74,7 +76,7 @@ config_publish_clock_is_honoured() {
   start config:="$work/clock.yaml" || return 1
   local use_sim_time clock
   use_sim_time=$(rosparam get /use_sim_time)
-  clock=$(timeout 5 rostopic echo -n 1 /clock/clock/secs 2>/dev/null | head -1)
+  clock=$(timeout -k 5 5 rostopic echo -n 1 /clock/clock/secs 2>/dev/null | head -1)
   stop
   echo "     /use_sim_time $use_sim_time, /clock at $clock s"
   [ "$use_sim_time" = true ] && [ "${clock:-0}" -ge 1000000000 ]

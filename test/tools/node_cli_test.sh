@@ -26,7 +26,7 @@ check() {  # check NAME COMMAND...
 helps() {  # helps EXE: --help and -h print a usage and exit 0 at once, without a master
   local flag
   for flag in --help -h; do
-    timeout 5 "$bin/$1" "$flag" >"$work/out" 2>"$work/err" </dev/null
+    timeout -k 5 5 "$bin/$1" "$flag" >"$work/out" 2>"$work/err" </dev/null
     local code=$?
     [ "$code" -eq 0 ] || { echo "     $1 $flag: exit $code"; cat "$work/err"; return 1; }
     grep -qi "usage" "$work/out" || { echo "     $1 $flag: no usage"; cat "$work/out"; return 1; }
@@ -85,7 +85,7 @@ loop_bag_refusals() {
   local args expected
   while IFS='|' read -r args expected; do
     # shellcheck disable=SC2086
-    timeout 10 /usr/bin/python3 "$(rospack find kane_sim)/scripts/loop_bag" $args >"$work/out" 2>"$work/err"
+    timeout -k 5 10 /usr/bin/python3 "$(rospack find kane_sim)/scripts/loop_bag" $args >"$work/out" 2>"$work/err"
     local code=$?
     [ "$code" -eq 1 ] && grep -q -- "$expected" "$work/err" ||
       { echo "     loop_bag $args: exit $code"; cat "$work/err"; return 1; }
@@ -110,7 +110,7 @@ sim_time_line() {  # config_info use_sim_time prints a whole line
 check "config_info use_sim_time ends its line" sim_time_line
 
 refuses_name() {  # refuses_name EXE ARG TEXT: exit 1 with TEXT on stderr, no abort
-  timeout 5 "$bin/$1" "$2" >"$work/out" 2>"$work/err" </dev/null
+  timeout -k 5 5 "$bin/$1" "$2" >"$work/out" 2>"$work/err" </dev/null
   local code=$?
   [ "$code" -eq 1 ] && grep -q "$3" "$work/err" || { echo "     $1 $2: exit $code"; cat "$work/err"; return 1; }
 }
@@ -119,14 +119,14 @@ for exe in kane_sim_node pd_controller crank_marker teleop_key; do
   check "$exe __name:=k-s exits 1 naming it" refuses_name "$exe" "__name:=k-s" "k-s"
 done
 env_namespace() {
-  ROS_NAMESPACE=robot-a timeout 5 "$bin/kane_sim_node" >"$work/out" 2>"$work/err" </dev/null
+  ROS_NAMESPACE=robot-a timeout -k 5 5 "$bin/kane_sim_node" >"$work/out" 2>"$work/err" </dev/null
   local code=$?
   [ "$code" -eq 1 ] && grep -q "robot-a" "$work/err" || { echo "     exit $code"; cat "$work/err"; return 1; }
 }
 check "ROS_NAMESPACE=robot-a exits 1 naming it" env_namespace
 
 closed_stdin() {
-  timeout 5 "$bin/teleop_key" <&- >"$work/out" 2>"$work/err"
+  timeout -k 5 5 "$bin/teleop_key" <&- >"$work/out" 2>"$work/err"
   local code=$?
   [ "$code" -eq 1 ] && grep -q "stdin is closed" "$work/err" || { echo "     exit $code"; cat "$work/err"; return 1; }
 }

@@ -27,7 +27,7 @@ elif grep -q "cannot read" "$work/err"; then echo "ok   bad CSV refused: $(cat "
 else echo "FAIL unclear error: $(cat "$work/err")"; failures=$((failures + 1)); fi
 # A device or a pipe is refused at once (read as a bag it never ended, growing without bound).
 for tool in plot_bag bag_summary; do
-  if timeout 20 /usr/bin/python3 "$here/../../scripts/$tool" /dev/zero 2>"$work/err" >/dev/null; then
+  if timeout -k 5 20 /usr/bin/python3 "$here/../../scripts/$tool" /dev/zero 2>"$work/err" >/dev/null; then
     echo "FAIL $tool accepted /dev/zero"; failures=$((failures + 1))
   elif grep -q "not a regular file" "$work/err"; then echo "ok   $tool /dev/zero refused: $(cat "$work/err")"
   else echo "FAIL $tool /dev/zero: $(cat "$work/err")"; failures=$((failures + 1)); fi

@@ -255,7 +255,11 @@ async function runFromPanel() {
     if (result.refused) message("error", result.refused);
     const steps = result.rows.length ? result.rows[result.rows.length - 1][0] : 0;
     message("info", `ran ${steps} s of sim time in ${result.wallSeconds.toFixed(3)} s: ${result.rows.length} rows`);
-    showRecording({ kind: "run", data: tableToData(result.columns, result.rows), joints: null,
+    const data = tableToData(result.columns, result.rows);
+    // Two runs on the same plots (k = 200 against k = 1000): the previous one, dashed.
+    const overlay = $("run-overlay").checked && page.lastRun ? page.lastRun : null;
+    page.lastRun = data;
+    showRecording({ kind: "run", data, joints: null, overlay,
                     states: result.rows.length, t0: result.rows[0][0],
                     t1: result.rows[result.rows.length - 1][0], notes: [] }, "this run");
     status("ready");
@@ -345,7 +349,7 @@ async function drawReplay(index) {
   const k = nearest(rec.data.t, t);
   page.view.draw(drawing, torqueColumn ? torqueColumn[k] : 0, page.torqueLimit, `${r.label}: t = ${t.toFixed(3)} s`);
   $("replay-label").textContent = `${r.label}: ${index + 1} / ${Number($("replay-time").max) + 1}`;
-  page.plots.draw(rec.data, null, t);
+  page.plots.draw(rec.data, null, t, rec.overlay || null);
 }
 
 function nearest(ts, t) {
@@ -531,10 +535,12 @@ window.kaneSim = {
   // plots' axis}, or null when live
   shown: () => {
     if (!page.replay) return null;
-    const { data, states } = page.replay.recording;
+    const { data, states, overlay } = page.replay.recording;
     const n = data.t.length - 1;
+    const o = overlay ? overlay.t.length - 1 : -1;
     return { label: page.replay.label, states, last: [data.t[n], data.q1[n], data.q2[n]],
-             at: page.replay.t };
+             at: page.replay.t,
+             overlay: overlay ? [overlay.t[o], overlay.q1[o], overlay.q2[o]] : null };
   },
 };
 ready.catch((e) => { status("failed"); message("error", e.message); });

@@ -35,17 +35,18 @@ export class Plots {
     this.energyColumns = ["kinetic_energy", "gravitational_energy", "spring_energy", "total_energy"];
   }
 
-  // data: {t: [...], column: [...]}; window: [t0, t1] or null for all; cursor: a time to mark.
-  draw(data, window, cursor) {
+  // data: {t: [...], column: [...]}; window: [t0, t1] or null for all; cursor: a time to mark;
+  // overlay: another run's data, drawn dashed under the same curves (two runs compared).
+  draw(data, window, cursor, overlay = null) {
     PANELS.forEach(([title, unit, spec], i) => {
       let curves = spec === "power"    ? powerCurves(data)
                    : spec === "energy" ? energyCurves(data, this.energyColumns)
                                        : spec.filter(([k]) => data[k]);
-      this.panel(this.canvases[i], `${title} [${unit}]`, data, curves, window, cursor);
+      this.panel(this.canvases[i], `${title} [${unit}]`, data, curves, window, cursor, overlay);
     });
   }
 
-  panel(canvas, title, data, curves, window, cursor) {
+  panel(canvas, title, data, curves, window, cursor, overlay) {
     const g = canvas.getContext("2d");
     // Drawn at the size it is shown (CSS pixels times the screen's density): its 11 px text stays
     // 11 px on a phone's 400 px as on a desktop, instead of a 700 px drawing scaled down.
@@ -71,11 +72,13 @@ export class Plots {
     let first = 0;
     while (first < t.length - 1 && t[first] < t0) ++first;
     let lo = Infinity, hi = -Infinity;
-    for (const [key] of curves) {
-      const ys = data[key] || (key === "sum" ? sumOfPowers(data, curves) : null);
-      if (!ys) continue;
-      for (let i = first; i < ys.length; ++i) {
-        if (isFinite(ys[i])) { lo = Math.min(lo, ys[i]); hi = Math.max(hi, ys[i]); }
+    for (const source of overlay ? [data, overlay] : [data]) {
+      for (const [key] of curves) {
+        const ys = source[key] || (key === "sum" ? sumOfPowers(source, curves) : null);
+        if (!ys) continue;
+        for (let i = source === data ? first : 0; i < ys.length; ++i) {
+          if (isFinite(ys[i])) { lo = Math.min(lo, ys[i]); hi = Math.max(hi, ys[i]); }
+        }
       }
     }
     if (!(hi >= lo)) { lo = -1; hi = 1; }
@@ -106,6 +109,27 @@ export class Plots {
     });
     g.strokeStyle = "#ccd";
     g.strokeRect(left, top, W - left - right, H - top - bottom);
+    if (overlay && overlay.t) {
+      curves.forEach(([key], c) => {
+        const ys = overlay[key] || (key === "sum" ? sumOfPowers(overlay, curves) : null);
+        if (!ys || key === "sensor_q1") return;
+        g.strokeStyle = key === "sum" ? "#000" : COLORS[c % COLORS.length];
+        g.globalAlpha = 0.55;
+        g.setLineDash([5, 4]);
+        g.lineWidth = 1.2;
+        g.beginPath();
+        let started = false;
+        const stride = Math.max(1, Math.floor(overlay.t.length / (2 * (W - left - right))));
+        for (let i = 0; i < ys.length; i += stride) {
+          if (overlay.t[i] < t0 || overlay.t[i] > t1 || !isFinite(ys[i])) continue;
+          const x = X(overlay.t[i]), y = Y(ys[i]);
+          if (!started) { g.moveTo(x, y); started = true; } else g.lineTo(x, y);
+        }
+        g.stroke();
+        g.setLineDash([]);
+        g.globalAlpha = 1;
+      });
+    }
     curves.forEach(([key, label], c) => {
       const ys = data[key] || (key === "sum" ? sumOfPowers(data, curves) : null);
       if (!ys) return;

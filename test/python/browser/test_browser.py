@@ -304,6 +304,30 @@ def test_a_share_link_opens_the_same_run(page):
     assert shown["last"] == expected["rows"][-1][:3]
 
 
+def test_two_runs_overlaid(page):
+    """k = 200, then k = 1000 with the overlay ticked: the second run is shown with the first
+    drawn under it; each is simulate's run of its own config."""
+    panel = lambda k: page.driver.execute_script(  # noqa: E731
+        "const f = document.querySelector('input[data-parameter=spring_stiffness]');"
+        "f.value = arguments[0]; f.dispatchEvent(new Event('change'))", str(k))
+    def run_and_wait():
+        page.driver.find_element("id", "run").click()
+        return page.call("return new Promise((resolve) => { const poll = () => { const s = "
+                         "window.kaneSim.shown(); if (s && s.label === 'this run' && "
+                         "s.at !== undefined) resolve(s); else setTimeout(poll, 100); }; "
+                         "setTimeout(poll, 300); })")
+    panel(200)
+    first = run_and_wait()
+    assert first["overlay"] is None
+    page.driver.find_element("id", "replay-close").click()  # live again: shown() is null
+    page.driver.find_element("id", "run-overlay").click()
+    panel(1000)
+    page.call("return new Promise((r) => setTimeout(r, 300))")
+    second = run_and_wait()
+    assert second["overlay"] == first["last"], (first, second)
+    assert second["last"] != first["last"]  # a stiffer spring, another motion
+
+
 def test_a_long_run_stops_and_the_page_stays_live(page):
     started = page.call("window.__run = window.kaneSim.run({duration: 1e6, outputRate: 0.1})"
                         ".then((r) => 'finished', (e) => 'rejected: ' + e.message);"
