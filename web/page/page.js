@@ -22,6 +22,7 @@ const page = {
   liveData: { t: [] },
   replay: null,       // {recording, index, playing, label}
   lastRun: null,      // {values: Float64Array} for Download CSV
+  previousRunData: null,  // the last run panel run's columns, for the overlay of the next
   runWorker: null,
   lastPlot: 0,
   view: new MechanismView($("mechanism")),
@@ -41,6 +42,10 @@ function message(kind, text) {
   div.textContent = div.dataset.count > 1 ? `${text} (×${div.dataset.count})` : text;
   div.title = "click to dismiss";
   div.onclick = () => div.remove();
+  if (kind === "info") {  // a note goes by itself; a warning or a refusal stays until clicked
+    clearTimeout(div.expiry);
+    div.expiry = setTimeout(() => div.remove(), 8000);
+  }
   box.prepend(div);
   while (box.children.length > 8) box.lastChild.remove();
 }
@@ -257,8 +262,8 @@ async function runFromPanel() {
     message("info", `ran ${steps} s of sim time in ${result.wallSeconds.toFixed(3)} s: ${result.rows.length} rows`);
     const data = tableToData(result.columns, result.rows);
     // Two runs on the same plots (k = 200 against k = 1000): the previous one, dashed.
-    const overlay = $("run-overlay").checked && page.lastRun ? page.lastRun : null;
-    page.lastRun = data;
+    const overlay = $("run-overlay").checked && page.previousRunData ? page.previousRunData : null;
+    page.previousRunData = data;
     showRecording({ kind: "run", data, joints: null, overlay,
                     states: result.rows.length, t0: result.rows[0][0],
                     t1: result.rows[result.rows.length - 1][0], notes: [] }, "this run");
