@@ -13,7 +13,7 @@ set +u
 source "$build_dir/devel/setup.bash"
 set -u
 export ROS_HOSTNAME=localhost
-port=$((20000 + RANDOM % 20000))
+port=$((20000 + RANDOM % 12000))
 export ROS_MASTER_URI="http://localhost:$port"
 node_exe="$build_dir/devel/lib/kane_sim/kane_sim_node"
 config="$(dirname "$0")/../../config/mechanism.yaml"

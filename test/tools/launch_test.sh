@@ -15,7 +15,7 @@ source "$build_dir/devel/setup.bash"
 set -u
 export ROS_HOSTNAME=localhost
 export PATH=/usr/bin:$PATH  # the ROS tools' Python is Debian's
-port=$((20000 + RANDOM % 20000))
+port=$((20000 + RANDOM % 12000))
 export ROS_MASTER_URI="http://localhost:$port"
 work=$(mktemp -d)
 passed=0; failed=0

@@ -12,7 +12,7 @@ source "$build_dir/devel/setup.bash"
 set -u
 export ROS_HOSTNAME=localhost
 # No master listens here: anything that tried to reach one would hang until the timeout.
-export ROS_MASTER_URI="http://localhost:$((20000 + RANDOM % 20000))"
+export ROS_MASTER_URI="http://localhost:$((20000 + RANDOM % 12000))"
 bin="$build_dir/devel/lib/kane_sim"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -19,7 +19,9 @@ set +u
 source "$build_dir/devel/setup.bash"
 set -u
 export ROS_HOSTNAME=localhost
-port=$((20000 + RANDOM % 20000))  # our own master, clear of any other run
+# Our own master, clear of any other run, and below the kernel's ephemeral ports (32768 and up,
+# where an outgoing connection can hold a port: a master once found 35942 taken).
+port=$((20000 + RANDOM % 12000))
 export ROS_MASTER_URI="http://localhost:$port"
 
 # 4 s of a driven crank: the 16 s of replay below loops it several times.
