@@ -29,20 +29,32 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 GENERATOR = os.path.join(HERE, "..", "..", "codegen", "generate_equations.py")
 
-DAMPER_PROGRAM = r"""
+# What both programs start from (a C++ prelude).
+PRELUDE = r"""
+#include <cmath>
 #include <cstdio>
 #include "generated_equations.h"
 using namespace kane_sim::generated;
-int main() {
+// The shipped mechanism's constants, every load at a site off.
+Constants shipped() {
   Constants c{};
   c.rod_mass = 1; c.rod_half_length = 0.25; c.rod_inertia = 0.02; c.slider3_mass = 0.5;
   c.slider4_mass = 0.8; c.spring_stiffness = 200; c.gravity = 9.81; c.spring_rest_length = 0.3;
   c.friction_velocity_scale = 0.01;
+  return c;
+}
+// u' at one state under one torque, by the variant the constants need.
+Rates at(const Constants& c) { return ratesFor(variantFor(c), c, 0.4, 1.2, 1.5, -0.7, 2.0); }
+"""
+
+DAMPER_PROGRAM = PRELUDE + r"""
+int main() {
+  Constants c = shipped();
   const RatesVariant off = variantFor(c);
-  const Rates before = ratesFor(variantFor(c), c, 0.4, 1.2, 1.5, -0.7, 2.0);
+  const Rates before = at(c);
   c.throwaway_damping = 3.0;
   const RatesVariant on = variantFor(c);
-  const Rates after = ratesFor(variantFor(c), c, 0.4, 1.2, 1.5, -0.7, 2.0);
+  const Rates after = at(c);
   const LoadInfo& load = kLoadInfo[static_cast<int>(LoadName::kThrowawayDamper)];
   std::printf("%d %d %d %s %d %d\n", static_cast<int>(off), static_cast<int>(on),
               after.u2_dot != before.u2_dot && after.dissipated_power > before.dissipated_power,
@@ -51,20 +63,13 @@ int main() {
 }
 """
 
-SPRING_PROGRAM = r"""
-#include <cmath>
-#include <cstdio>
-#include "generated_equations.h"
-using namespace kane_sim::generated;
+SPRING_PROGRAM = PRELUDE + r"""
 int main() {
-  Constants c{};
-  c.rod_mass = 1; c.rod_half_length = 0.25; c.rod_inertia = 0.02; c.slider3_mass = 0.5;
-  c.slider4_mass = 0.8; c.spring_stiffness = 200; c.gravity = 9.81; c.spring_rest_length = 0.3;
-  c.friction_velocity_scale = 0.01;
-  const Rates before = ratesFor(variantFor(c), c, 0.4, 1.2, 1.5, -0.7, 2.0);
+  Constants c = shipped();
+  const Rates before = at(c);
   c.throwaway_stiffness = 30.0;
   c.throwaway_rest = 0.9;
-  const Rates after = ratesFor(variantFor(c), c, 0.4, 1.2, 1.5, -0.7, 2.0);
+  const Rates after = at(c);
   const double want = -30.0 * (1.2 - 0.9) / 0.8;  // slider 4 alone on q2: -k_T (q2 - x_T) / M2
   std::printf("%d %d %d\n", static_cast<int>(variantFor(c) == kEveryTerm),
               std::abs(after.u2_dot - before.u2_dot - want) < 1e-12 * 100,

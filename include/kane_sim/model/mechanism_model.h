@@ -165,7 +165,6 @@ class MechanismModel {
   // (Coulomb, smoothed) or c (x - x0) (elastic); and its potential energy, ½ c (x - x0)² for
   // an elastic law (0 for the others: they have none).
   double resistanceCoefficient(const LoadInfo& load) const;
-  double resistance(const LoadInfo& load, double rate) const { return siteLoad(load, rate, 0.0); }
   double siteLoad(const LoadInfo& load, double rate, double coordinate) const;
   double sitePotential(const LoadInfo& load, double coordinate) const;
 

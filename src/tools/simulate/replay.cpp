@@ -307,10 +307,9 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
     return checkpoint < checkpoints.size() && checkpoints[checkpoint].tick <= driver->ticks() &&
            (next == inputs.size() || logs[next].seq >= checkpoints[checkpoint].next_input);
   };
-  // What arrived at this very tick acts from the next step on, in the node as here: applied
-  // now (after the state is compared: it does not change it), so that a gap that follows
-  // finds every input before it replayed and counted.
-  const auto applyInputsAtThisTick = [&] {
+  // What arrived by the driver's tick, applied in the order the node met it: a checkpoint taken
+  // between two of those inputs is met between them.
+  const auto applyArrivedInputs = [&] {
     while (true) {
       if (checkpointDue()) {
         driver = driverAt(checkpoints[checkpoint++], result.checkpoint_topic);
@@ -353,20 +352,10 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
     if (blinded) continue;
     if (target < driver->ticks()) continue;  // before the first checkpoint, or a repeat
     while (true) {
-      // What arrived at this tick is applied before the step from it, as in the node; a
-      // checkpoint taken between two of those inputs is met between them.
-      while (driver->ticks() < target) {
-        if (checkpointDue()) {
-          driver = driverAt(checkpoints[checkpoint++], result.checkpoint_topic);
-          ++result.resynchronised;
-        } else if (next < inputs.size() && inputs[next].tick <= driver->ticks()) {
-          driver->apply(inputs[next++]);
-          ++result.inputs;
-        } else {
-          break;
-        }
-      }
+      // What arrived at this tick is applied before the step from it, as in the node (not at
+      // the target's own tick: a reset or set_state there would move the state compared).
       if (driver->ticks() >= target) break;
+      applyArrivedInputs();
       if (stop && stop->load(std::memory_order_relaxed)) {
         result.interrupted = true;
         result.interrupted_at = driver->time();
@@ -400,7 +389,9 @@ ReplayResult replayOpenBag(const rosbag::Bag& bag, const kane_sim::Config& confi
       }
     }
     ++result.compared;
-    applyInputsAtThisTick();
+    // What arrived at this very tick acts from the next step on: applied now, after the state
+    // is compared, so that a gap that follows finds every input before it replayed and counted.
+    applyArrivedInputs();
   }
   // Inputs after the bag's last state (nothing to compare them with): those past its tick, not
   // those a gap left unreplayed (the gaps' messages name them).
