@@ -1,5 +1,7 @@
 // Choosing the instruction set at run time and cutting the lanes into blocks of its width.
 #include <algorithm>
+#include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 
 #include <xsimd/config/xsimd_cpuid.hpp>
@@ -27,12 +29,37 @@ constexpr ArchEntry kArchs[] = {
 
 const ArchEntry& entry(LaneArch arch) { return kArchs[static_cast<int>(arch)]; }
 
+// KANE_SIM_SIMD_MAX=<set> makes this process behave as a CPU whose widest set is <set> (as
+// MKL_ENABLE_INSTRUCTIONS does for MKL): "auto" picks it, wider ones are refused as absent. The
+// test suite runs under each value to prove no test depends on the machine's width. Read once;
+// a value that names no set stops the program, naming it.
+LaneArch widestAllowed() {
+  static const LaneArch widest = [] {
+    const char* value = std::getenv("KANE_SIM_SIMD_MAX");
+    if (value == nullptr || *value == '\0') return LaneArch::kAvx512;
+    for (const ArchEntry& e : kArchs)
+      if (std::strcmp(value, e.name) == 0) return e.arch;
+    throw std::invalid_argument(std::string("environment variable KANE_SIM_SIMD_MAX '") + value +
+                                "' is not one of scalar, sse2, avx2, avx512");
+  }();
+  return widest;
+}
+
+// Why `arch` cannot run here: the CPU lacks it, or the cap above excludes it.
+std::string absent(LaneArch arch) {
+  if (static_cast<int>(arch) > static_cast<int>(widestAllowed()))
+    return std::string("KANE_SIM_SIMD_MAX=") + entry(widestAllowed()).name + " excludes " +
+           entry(arch).name;
+  return std::string("this CPU has no ") + entry(arch).name;
+}
+
 }  // namespace
 
 const char* laneArchName(LaneArch arch) { return entry(arch).name; }
 unsigned laneWidth(LaneArch arch) { return entry(arch).width; }
 
 bool laneArchAvailable(LaneArch arch) {
+  if (static_cast<int>(arch) > static_cast<int>(widestAllowed())) return false;
   const auto cpu = xsimd::available_architectures();  // cpuid and the OS's saved registers
   switch (arch) {
     case LaneArch::kScalar:
@@ -48,8 +75,7 @@ bool laneArchAvailable(LaneArch arch) {
 }
 
 LaneMathValues laneMathFunctions(LaneArch arch, const std::vector<double>& values) {
-  if (!laneArchAvailable(arch))
-    throw std::invalid_argument(std::string("this CPU has no ") + laneArchName(arch));
+  if (!laneArchAvailable(arch)) throw std::invalid_argument(absent(arch));
   LaneMathValues out;
   out.sines.resize(values.size());
   out.cosines.resize(values.size());
@@ -70,7 +96,7 @@ LaneArch parseLaneArch(const std::string& name) {
   for (const ArchEntry& e : kArchs) {
     if (name != e.name) continue;
     if (!laneArchAvailable(e.arch))
-      throw std::invalid_argument("simd '" + name + "': this CPU has no " + name +
+      throw std::invalid_argument("simd '" + name + "': " + absent(e.arch) +
                                   " (the widest it runs is " + laneArchName(bestLaneArch()) + ")");
     return e.arch;
   }

@@ -23,7 +23,8 @@ po::options_description describeOptions() {
       "Usage: simulate [--config FILE] --duration SECONDS [options]\n\n"
       "Simulates the textbook example's mechanism (Kane equations - Example 1) offline (no ROS "
       "master). Writes a CSV with the\n"
-      "header t,q1,q2,u1,u2,total_energy,... (rows every 1/output-rate s from t = 0 to the duration)\n"
+      "header t,q1,q2,u1,u2,total_energy,... (rows every 1/output-rate s from t = 0 to the "
+      "duration)\n"
       "to stdout or --csv FILE, and/or a bag (--bag FILE) with the topics the node publishes,\n"
       "stamped in sim time from 1000000000 s. With --bag and no --csv, no CSV is written.\n\n"
       "Torque (at most one; default 0; clamped to command.torque_limit like the node):\n"
@@ -45,7 +46,8 @@ po::options_description describeOptions() {
       "                              scalar (lanes of one double: the single run's bits), off\n"
       "                              (every case alone); rk4 effort-mode cases without contact\n"
       "                              or motor line step W per instruction, the rest alone;\n"
-      "                              every lane equals its single run bit for bit\n"
+      "                              every lane equals its single run bit for bit; the\n"
+      "                              environment's KANE_SIM_SIMD_MAX=SET caps the sets allowed\n"
       "  --vector-trig               lanes on xsimd's vector sin/cos (no faster than the default\n"
       "                              since it is vector-wide too), equal to the single runs\n"
       "                              only to rounding grown by the motion\n\n"
@@ -126,9 +128,8 @@ bool parseOptions(int argc, char** argv, Options* options) {
         po::command_line_style::default_style & ~po::command_line_style::allow_guessing;
     // No positional arguments either: a forgotten --sweep before a second axis must not vanish.
     const po::positional_options_description none;
-    po::store(
-        po::command_line_parser(argc, argv).options(desc).style(style).positional(none).run(),
-        vm);
+    po::store(po::command_line_parser(argc, argv).options(desc).style(style).positional(none).run(),
+              vm);
     if (vm.count("help")) {
       std::cout << desc << "\n";
       return false;
@@ -198,12 +199,12 @@ bool parseOptions(int argc, char** argv, Options* options) {
   if (vm.count("simd")) {
     if (!options->sweep()) throw UsageError("--simd is for --sweep");
     options->simd = vm["simd"].as<std::string>();
-    if (options->simd != "off") {
-      try {
-        kane_sim::parseLaneArch(options->simd);
-      } catch (const std::invalid_argument& e) {
-        throw UsageError(std::string("--") + e.what());
-      }
+  }
+  if (options->sweep() && options->simd != "off") {
+    try {  // a typo, a set this CPU lacks or a bad KANE_SIM_SIMD_MAX, named before any run
+      kane_sim::parseLaneArch(options->simd);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(vm.count("simd") ? std::string("--") + e.what() : e.what());
     }
   }
   if (vm.count("csv")) options->csv_path = vm["csv"].as<std::string>();

@@ -242,6 +242,41 @@ TEST(SimulateCli, SweepRowsMatchSingleRuns) {
   for (int c = 0; c < 5; ++c) EXPECT_NEAR(swept[4 + c], single_rows[1][c], 1e-12) << c;
 }
 
+// KANE_SIM_SIMD_MAX caps the instruction sets as a narrower CPU would: auto picks the cap, a
+// wider set is refused naming the cap, and the capped sweep's rows equal the uncapped ones bit for
+// bit (every lane is its single run's arithmetic). A value naming no set stops the run, named.
+TEST(SimulateCli, SimdCapActsAsANarrowerCpu) {
+  const std::string sweep = kConfig +
+                            " --duration 0.5 --torque 2 --output-rate 2 --sweep "
+                            "mechanism.slider4_mass=0.4:1.2:5";
+  const auto withoutWallTime = [](const std::string& csv) {  // each line but its last column
+    std::string out;
+    std::istringstream lines(csv);
+    for (std::string line; std::getline(lines, line);)
+      out += line.substr(0, line.rfind(',')) + "\n";
+    return out;
+  };
+  const RunResult uncapped = runSimulate(sweep + " --simd scalar");
+  ASSERT_EQ(uncapped.exit_code, 0) << uncapped.err;
+  for (const std::string set : {"scalar", "sse2"}) {
+    const RunResult capped = kane_sim::test::runCommand("KANE_SIM_SIMD_MAX=" + set + " " +
+                                                        KANE_SIM_SIMULATE_EXE + " " + sweep);
+    ASSERT_EQ(capped.exit_code, 0) << set << ": " << capped.err;
+    EXPECT_EQ(withoutWallTime(capped.out), withoutWallTime(uncapped.out)) << set;
+  }
+  RunResult r = kane_sim::test::runCommand(std::string("KANE_SIM_SIMD_MAX=scalar ") +
+                                           KANE_SIM_SIMULATE_EXE + " " + sweep + " --simd sse2");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("simd 'sse2': KANE_SIM_SIMD_MAX=scalar excludes sse2"), std::string::npos)
+      << r.err;
+  for (const std::string hostile : {"avx9", "AVX2", "' '"}) {
+    r = kane_sim::test::runCommand("KANE_SIM_SIMD_MAX=" + hostile + " " + KANE_SIM_SIMULATE_EXE +
+                                   " " + sweep);
+    EXPECT_EQ(r.exit_code, 2) << hostile << ": " << r.err;
+    EXPECT_NE(r.err.find("KANE_SIM_SIMD_MAX"), std::string::npos) << hostile << ": " << r.err;
+  }
+}
+
 TEST(SimulateCli, SweepRefusesTyposAndBagsNamingThem) {
   RunResult r = runSimulate(kConfig + " --duration 1 --sweep mechanism.spring=1:2:2");
   EXPECT_EQ(r.exit_code, 2);
