@@ -57,8 +57,8 @@ void BM_Rk4Step(benchmark::State& st, kane_sim::EquationsSource equations, bool 
   if (every_load) {
     auto& p = c.mechanism;
     p.damping = {0.01, 0.01, 0.5, 0.5, 0.2};  // crank, coupler, slider3, slider4, spring
-    p.friction.crank = p.friction.coupler = 0.02;
-    p.friction.slider3 = p.friction.slider4 = 0.3;
+    p.friction.crank_joint = p.friction.coupler_joint = 0.02;
+    p.friction.slider3_joint = p.friction.slider4_joint = 0.3;
   }
   kane_sim::Simulator sim(c);
   sim.setTorque(2.0);

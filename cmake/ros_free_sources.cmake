@@ -5,7 +5,8 @@ set(KANE_SIM_MODEL_SOURCES src/model/constraint_forces.cpp src/model/mechanism_m
   src/model/power_flow.cpp)
 set(KANE_SIM_ANALYSIS_SOURCES src/analysis/analysis_json.cpp src/analysis/linear_analysis.cpp
   src/analysis/stability.cpp)
-set(KANE_SIM_CONFIG_SOURCES src/config/load_config.cpp src/config/parameter_schema.cpp)
+set(KANE_SIM_CONFIG_SOURCES src/config/load_config.cpp src/config/parameter_schema.cpp
+    src/config/mechanism_parameter_rows.cpp)
 set(KANE_SIM_DESCRIPTION_SOURCES src/description/joint_values.cpp
   src/description/robot_description.cpp src/description/urdf.cpp)
 set(KANE_SIM_CONTROL_SOURCES src/control/crank_servo.cpp)

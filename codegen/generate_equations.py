@@ -12,9 +12,15 @@ readable reference and the tests' oracle. This derivation is the generator, not 
 SymPy oracle of the tests (test/tools/sympy_model.py) is a second derivation written apart on
 purpose, so that a mistake here cannot pass its own check.
 
-Usage (regenerate after changing the derivation; test/tools/codegen_test.sh fails otherwise):
-    codegen/generate_equations.py [OUTPUT]       (default: the header above)
-    codegen/generate_equations.py --check FILE   (exit 1 if FILE differs from a fresh derivation)
+The mechanism's parameters come from codegen/parameters.yaml, their one table; from it this
+script also writes MechanismParameters (include/kane_sim/model/mechanism_parameters.h) and the
+config schema's rows (src/config/mechanism_parameter_rows.cpp).
+
+Usage (regenerate after changing the derivation or the table; test/tools/codegen_test.sh fails
+otherwise):
+    codegen/generate_equations.py                (writes the three generated files)
+    codegen/generate_equations.py --check [FILE ...]
+        (exit 1 if a generated file, or FILE against the generated file of its name, differs)
 Debian 12's python3-sympy (1.11) generated the committed header.
 """
 import argparse
@@ -30,42 +36,23 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_OUTPUT = os.path.normpath(
     os.path.join(HERE, "..", "include", "kane_sim", "model", "generated_equations.h"))
 
-# Parameter symbols, in the order of kane_sim::generated::Constants' fields: (symbol, C++ field,
-# comment). The textbook's symbols where it has them.
-PARAMETERS = [
-    ("m", "rod_mass", "m [kg], each rod"),
-    ("L", "rod_half_length", "L [m], the rods are 2L long"),
-    ("I", "rod_inertia", "I1z = I2z [kg m^2], each rod about its center"),
-    ("M1", "slider3_mass", "M1 [kg], slider 3 at B"),
-    ("M2", "slider4_mass", "M2 [kg], slider 4 at C"),
-    ("k", "spring_stiffness", "k [N/m]"),
-    ("g", "gravity", "g [m/s^2], along +i (down)"),
-    ("s0", "spring_rest_length", "x_C0 - x_B0 [m]: the spring is unstretched at this separation"),
-    ("c_O", "crank_damping", "c_O [N m s/rad], pin O"),
-    ("c_A", "coupler_damping", "c_A [N m s/rad], pin A"),
-    ("c_B", "slider3_damping", "c_B [N s/m], slider 3 on the rail"),
-    ("c_C", "slider4_damping", "c_C [N s/m], slider 4 on the rail"),
-    ("c_S", "spring_damping", "c_S [N s/m], beside the spring between the sliders"),
-    ("F_O", "crank_friction", "F_O [N m], Coulomb friction at pin O"),
-    ("F_A", "coupler_friction", "F_A [N m], Coulomb friction at pin A"),
-    ("F_B", "slider3_friction", "F_B [N], Coulomb friction of slider 3 on the rail"),
-    ("F_C", "slider4_friction", "F_C [N], Coulomb friction of slider 4 on the rail"),
-    ("v_s", "friction_velocity_scale",
-     "v_s [rad/s or m/s], Coulomb friction's smoothing: F = -F_c tanh(v / v_s)"),
-    ("k_t", "crank_spring_stiffness", "k_t [N m/rad], a torsional spring at pin O"),
-    ("q1_0", "crank_spring_rest_angle", "q1_0 [rad], the torsional spring's rest angle"),
-]
-# Where each C++ constant comes from: a member of MechanismParameters (p), or the model (s0).
-SOURCES = {
-    "m": "p.rod_mass", "L": "p.rod_half_length", "I": "p.rod_inertia", "M1": "p.slider3_mass",
-    "M2": "p.slider4_mass", "k": "p.spring_stiffness", "g": "p.gravity",
-    "s0": "spring_rest_length",
-    "c_O": "p.damping.crank", "c_A": "p.damping.coupler", "c_B": "p.damping.slider3",
-    "c_C": "p.damping.slider4", "c_S": "p.damping.spring",
-    "F_O": "p.friction.crank", "F_A": "p.friction.coupler", "F_B": "p.friction.slider3",
-    "F_C": "p.friction.slider4", "v_s": "p.friction.velocity_scale",
-    "k_t": "p.crank_spring_stiffness", "q1_0": "p.crank_spring_rest_angle",
-}
+# The mechanism's parameters: codegen/parameters.yaml, the one table that names them (read by
+# parameter_table.py, which also writes MechanismParameters and the schema's rows from it).
+sys.path.insert(0, HERE)
+import parameter_table  # noqa: E402
+
+GROUPS, ROWS = parameter_table.load()
+# Not a parameter: the model's own constant (MechanismModel's, from the initial configuration).
+SPRING_REST = ("s0", "spring_rest_length",
+               "s0 = x_C0 - x_B0 [m]: the spring is unstretched at this separation",
+               "spring_rest_length")
+
+
+def parameters():
+    """(symbol, C++ field, comment, source) of each constant of the equations, in the order of
+    kane_sim::generated::Constants' fields: the table's rows in the equations, then s0."""
+    return parameter_table.equation_parameters(ROWS) + [SPRING_REST]
+
 
 # The loads, one named list as `kanes_equations(bodies, loads)` takes them: every load's name,
 # the kind of load it is, and for a load at a site (a resistance opposing a joint's rate, or a
@@ -73,8 +60,8 @@ SOURCES = {
 # coefficient's symbol (and an elastic law's rest). The C++ model (LoadName, kLoadInfo) and
 # every per-load output (powers, potential energies, the ledger) derive from this table through
 # the generated header; a load at a site needs nothing else (MechanismModel::loads() and
-# energy() apply any site's law). To add one: a row here, its symbols in PARAMETERS and
-# SOURCES, its schema row (src/config/parameter_schema.cpp), regenerate.
+# energy() apply any site's law). To add one: a row here, its parameters' rows in
+# codegen/parameters.yaml, regenerate.
 #   site: where it acts, on which rate and coordinate (sites in derive()); law: LAWS below.
 #   A conservative load's potential energy is its law's (POTENTIALS); the derivation proves
 #   that its generalized forces are -dV/dq_r and stops otherwise.
@@ -115,6 +102,20 @@ POTENTIALS = {
 }
 
 
+def law_scale(law):
+    """The parameter a law has of its own beyond its coefficient and rest (friction's v_s: the
+    rate over which tanh bends), or None. A difference quotient's speed step must stay well inside
+    it (stability's and analyze's Jacobians); a larger one softens the law (the stiffness check's
+    advice)."""
+    c, v, x, x0 = sp.symbols("c v x x0", real=True)
+    p = {name: sp.Symbol(name, real=True) for name, *_ in parameters()}
+    own = sorted(str(s) for s in LAWS[law](c, v, x, x0, p).free_symbols - {c, v, x, x0})
+    if len(own) > 1:
+        sys.exit("law %s has more than one parameter of its own (%s): one scale per law"
+                 % (law, ", ".join(own)))
+    return own[0] if own else None
+
+
 def conservative(law):
     return law in POTENTIALS
 
@@ -151,7 +152,7 @@ def derive():
     symbols, (u', dissipated power) as expressions of q1, q2, u1, u2, M_m and the parameters
     with the viscous resistances only, and for each other law what its loads add to them."""
     q1, q2, u1, u2 = me.dynamicsymbols("q1 q2 u1 u2")
-    p = {name: sp.Symbol(name, real=True) for name, _, _ in PARAMETERS}
+    p = {name: sp.Symbol(name, real=True) for name, *_ in parameters()}
     m, L, I, M1, M2, k, g, s0 = (p[n] for n in ("m", "L", "I", "M1", "M2", "k", "g", "s0"))
     M_m = sp.Symbol("M_m", real=True)  # the driver moment applied to rod 1 [N m]
 
@@ -368,7 +369,7 @@ def render_function(out, name, p, M_m, rates, skipped=()):
     out("inline RatesOf<Real> %s(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1, Real u2,"
         % name)
     out(" " * len("inline RatesOf<Real> %s(" % name) + "Real M_m) {")
-    for param, field, _ in PARAMETERS:
+    for param, field, *_ in parameters():
         if p[param] in used:
             out("  const Real %s = p.%s;" % (param, field))
     for arg in ("q2", "u1", "u2"):
@@ -434,21 +435,29 @@ def render_loads(out):
     out("  // A conservative load's potential energy column (CSV, Python; the message's")
     out("  // load_energies), or nullptr: its power is -d(that energy)/dt.")
     out("  const char* energy_column;")
+    out("  // Its law's own scale of rate (friction's v_s: tanh bends within it), an index among the")
+    out("  // constants, or -1.")
+    out("  int rate_scale;")
     out("};")
     out("// Indexed by LoadName.")
     out("constexpr LoadInfo kLoadInfo[kNumLoadNames] = {")
-    index = {name: i for i, (name, _, _) in enumerate(PARAMETERS)}
+    index = {name: i for i, (name, *_) in enumerate(parameters())}
     for name, kind, site, law, coefficient, rest in LOADS:
         energy = ENERGY_COLUMNS.get(name) or (name + "_energy" if conservative(law) else None)
-        out('    {"%s", LoadKind::k%s, LoadSite::k%s, LoadLaw::k%s, %d, "%s", %d, %s, %s},' % (
+        scale = law_scale(law) if law else None
+        out('    {"%s", LoadKind::k%s, LoadSite::k%s, LoadLaw::k%s, %d, "%s", %d, %s, %s, %d},' % (
             name, kind.capitalize(), (site or "none").capitalize(), (law or "none").capitalize(),
             index[coefficient] if coefficient else -1, coefficient or "",
             index[rest] if rest else -1, "true" if kind == "resistance" else "false",
-            '"%s"' % energy if energy else "nullptr"))
+            '"%s"' % energy if energy else "nullptr", index[scale] if scale else -1))
     out("};")
     out("// The constants' symbols, in ConstantsOf's order (a schema row's equation symbol is one).")
     out("constexpr const char* kConstantSymbols[] = {%s};" % ", ".join(
-        '"%s"' % n for n, _, _ in PARAMETERS))
+        '"%s"' % n for n, *_ in parameters()))
+    out("// Their config keys (codegen/parameters.yaml; \"\" for s0, the model's own).")
+    keys = {r.equation_symbol: r.key for r in ROWS}
+    out("constexpr const char* kConstantKeys[] = {%s};" % ", ".join(
+        '"%s"' % keys.get(n, "") for n, *_ in parameters()))
 
 
 def render_constants_source(out):
@@ -459,8 +468,8 @@ def render_constants_source(out):
     out("template <class Parameters>")
     out("Constants constantsFrom(const Parameters& p, double spring_rest_length) {")
     out("  Constants c;")
-    for name, field, _ in PARAMETERS:
-        out("  c.%s = %s;  // %s" % (field, SOURCES[name], name))
+    for name, field, _, source in parameters():
+        out("  c.%s = %s;  // %s" % (field, source, name))
     out("  return c;")
     out("}")
 
@@ -478,6 +487,8 @@ def render():
     out("#ifndef KANE_SIM_MODEL_GENERATED_EQUATIONS_H")
     out("#define KANE_SIM_MODEL_GENERATED_EQUATIONS_H")
     out("")
+    out("#include <limits>")
+    out("")
     out("#include \"kane_sim/model/math_functions.h\"")
     out("")
     out("namespace kane_sim {")
@@ -490,8 +501,8 @@ def render():
     out("// The parameters, runtime inputs (one header serves every config).")
     out("template <class Real>")
     out("struct ConstantsOf {")
-    width = max(len(field) for _, field, _ in PARAMETERS)
-    for name, field, comment in PARAMETERS:
+    width = max(len(field) for _, field, *_ in parameters())
+    for name, field, comment, _ in parameters():
         out("  Real %s;%s  // %s" % (field, " " * (width - len(field)), comment))
     out("};")
     out("using Constants = ConstantsOf<double>;")
@@ -550,15 +561,31 @@ def render():
     out("")
     out("// The variant `constants` need: the shortest that keeps every non-zero load's law.")
     out("inline RatesVariant variantFor(const Constants& constants) {")
-    out("  const double* value = &constants.%s;" % PARAMETERS[0][1])
+    out("  const double* value = &constants.%s;" % parameters()[0][1])
     out("  static_assert(sizeof(Constants) == %d * sizeof(double), \"Constants holds doubles\");"
-        % len(PARAMETERS))
+        % len(parameters()))
     out("  int need = 0;  // LoadLaw's order is the variants' (kNone: kUndamped)")
     out("  for (const LoadInfo& load : kLoadInfo)")
     out("    if (load.site != LoadSite::kNone && value[load.coefficient] != 0.0 &&")
     out("        static_cast<int>(load.law) > need)")
     out("      need = static_cast<int>(load.law);")
     out("  return static_cast<RatesVariant>(need);")
+    out("}")
+    out("")
+    out("// The smallest rate scale of the laws in use (a load at a site whose coefficient is not 0):")
+    out("// its value and its constant's index, or infinity and -1 when no law in use has one.")
+    out("struct RateScale {")
+    out("  double value;")
+    out("  int constant;")
+    out("};")
+    out("inline RateScale smallestRateScale(const Constants& constants) {")
+    out("  const double* value = &constants.%s;" % parameters()[0][1])
+    out("  RateScale smallest{std::numeric_limits<double>::infinity(), -1};")
+    out("  for (const LoadInfo& load : kLoadInfo)")
+    out("    if (load.rate_scale >= 0 && value[load.coefficient] != 0.0 &&")
+    out("        !(value[load.rate_scale] >= smallest.value))")
+    out("      smallest = {value[load.rate_scale], load.rate_scale};")
+    out("  return smallest;")
     out("}")
     out("")
     out("// The rates by `variant` (the caller keeps it fixed over a run: the branch is predicted).")
@@ -587,18 +614,33 @@ def render():
 COMMITTED_WITH_SYMPY = "1.11"
 
 
+def outputs():
+    """{path: text} of every generated file: the equations, and what the parameter table gives."""
+    parameter_table.check(ROWS)
+    return {DEFAULT_OUTPUT: render(),
+            parameter_table.STRUCT_OUTPUT: parameter_table.render_struct(GROUPS, ROWS),
+            parameter_table.ROWS_OUTPUT: parameter_table.render_rows(GROUPS, ROWS)}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("output", nargs="?", default=DEFAULT_OUTPUT)
-    parser.add_argument("--check", metavar="FILE", nargs="+",
-                        help="compare each FILE with one fresh derivation (exit 1 if any differs)")
+    parser.add_argument("--check", metavar="FILE", nargs="*",
+                        help="compare each generated file (or each FILE, with the generated file "
+                        "of its name) with a fresh derivation; exit 1 if any differs")
     args = parser.parse_args()
-    text = render()
-    if args.check:
+    texts = outputs()
+    if args.check is not None:
+        by_name = {os.path.basename(path): path for path in texts}
         differs = 0
-        for path in args.check:
+        for path in args.check or list(texts):
+            name = os.path.basename(path)
+            if name not in by_name:
+                sys.stderr.write("%s: not a generated file's name (%s)\n"
+                                 % (path, ", ".join(sorted(by_name))))
+                differs += 1
+                continue
             with open(path) as f:
-                if f.read() == text:
+                if f.read() == texts[by_name[name]]:
                     print("%s matches the derivation (SymPy %s)" % (path, sp.__version__))
                     continue
             differs += 1
@@ -611,9 +653,10 @@ def main():
                 "/usr/bin/python3\n" % (sp.__version__, sys.executable,
                                          os.path.dirname(sp.__file__), COMMITTED_WITH_SYMPY))
         return 1 if differs else 0
-    with open(args.output, "w") as f:
-        f.write(text)
-    print("wrote %s" % args.output)
+    for path, text in texts.items():
+        with open(path, "w") as f:
+            f.write(text)
+        print("wrote %s" % path)
     return 0
 
 

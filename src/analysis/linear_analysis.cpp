@@ -128,27 +128,29 @@ LinearModel linearize(const MechanismModel& model, const State& x, double torque
   const auto forcing = [&](const Eigen::Vector4d& v) {
     return Eigen::Vector2d(model.equations(State{v[0], v[1], v[2], v[3]}, torque).forcing());
   };
-  // Smoothed Coulomb friction bends within v_s of rest: the speeds' step must stay well inside
-  // that bend (1/100 of it: the stencil's error ~ (h / v_s)^4 ~ 1e-8 of the slope F_c / v_s).
-  const JointFriction& friction = model.parameters().friction;
+  // A law with a rate scale of its own (smoothed Coulomb friction bends within v_s of rest): the
+  // speeds' step must stay well inside that bend (1/100 of it: the stencil's error ~ (h / v_s)^4
+  // ~ 1e-8 of the slope F_c / v_s).
+  const generated::RateScale scale = generated::smallestRateScale(model.constants());
   const auto step = [&](int j) {
     const double h = stepFor(x0[j]);
-    return j >= 2 && friction.any() ? std::min(h, 1e-2 * friction.velocity_scale) : h;
+    return j >= 2 ? std::min(h, 1e-2 * scale.value) : h;  // infinite: no such law in use
   };
-  if (friction.any())
+  if (scale.constant >= 0) {
+    const std::string key = generated::kConstantKeys[scale.constant];
     linear.notes.push_back(
-        "Coulomb friction is linearized as a damper of F_c / friction.velocity_scale at each "
-        "joint: true of the smoothed law for speeds well below velocity_scale, not of dry "
-        "friction (whose slope at rest is unbounded and which holds any equilibrium within a "
-        "band of loads); the damping ratios are the smoothing's");
+        "Coulomb friction is linearized as a damper of F_c / " + key +
+        " at each joint: true of the smoothed law for speeds well below " + key +
+        ", not of dry friction (whose slope at rest is unbounded and which holds any equilibrium "
+        "within a band of loads); the damping ratios are the smoothing's");
+  }
   for (int j = 0; j < 4; ++j) {
     const auto along = [&](double value) {
       Eigen::Vector4d v = x0;
       v[j] = value;
       return v;
     };
-    linear.A.col(j) =
-        derivative([&](double s) { return rates(along(s), torque); }, x0[j], step(j));
+    linear.A.col(j) = derivative([&](double s) { return rates(along(s), torque); }, x0[j], step(j));
     const Eigen::Vector2d dforcing =
         derivative([&](double s) { return forcing(along(s)); }, x0[j], step(j));
     (j < 2 ? linear.stiffness.col(j) : linear.damping.col(j - 2)) = -dforcing;

@@ -19,7 +19,7 @@ constexpr int kCrankSamples = 36;
 MechanismModel withMotorLineAsDamper(const MechanismModel& model) {
   MechanismParameters p = model.parameters();
   if (p.motor.no_load_speed > 0.0 && std::isfinite(p.motor.torque_limit))
-    p.damping.crank += p.motor.torque_limit / p.motor.no_load_speed;
+    p.damping.crank_joint += p.motor.torque_limit / p.motor.no_load_speed;
   return MechanismModel(p, model.springRestLength());
 }
 
@@ -29,15 +29,13 @@ MechanismModel withMotorLineAsDamper(const MechanismModel& model) {
 Eigen::Matrix4d jacobianOf(const GeneratedMechanism& equations, const State& x, double torque) {
   const double values[] = {x.q1, x.q2, x.u1, x.u2};
   Eigen::Matrix4d A;
-  // Friction's tanh bends within v_s of a zero rate: a speed's step must stay inside that bend,
-  // or the difference sees a step of 2 F_c over 2 h and misses the slope F_c / v_s (1 N over v_s
-  // 1e-9 once passed as a rate 1000 times too small).
-  const bool friction =
-      static_cast<int>(equations.variant()) >= static_cast<int>(generated::RatesVariant::kCoulomb);
-  const double speed_cap = 1e-2 * equations.constants().friction_velocity_scale;
+  // A law with a rate scale of its own (friction's tanh bends within v_s of a zero rate): a
+  // speed's step must stay inside that bend, or the difference sees a step of 2 F_c over 2 h and
+  // misses the slope F_c / v_s (1 N over v_s 1e-9 once passed as a rate 1000 times too small).
+  const double speed_cap = 1e-2 * generated::smallestRateScale(equations.constants()).value;
   for (int j = 0; j < 4; ++j) {
     double h = 1e-6 * (1.0 + std::abs(values[j]));
-    if (friction && j >= 2) h = std::min(h, speed_cap);
+    if (j >= 2) h = std::min(h, speed_cap);  // infinite: no such law in use
     double plus[] = {x.q1, x.q2, x.u1, x.u2}, minus[] = {x.q1, x.q2, x.u1, x.u2};
     plus[j] += h;
     minus[j] -= h;

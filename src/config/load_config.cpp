@@ -6,6 +6,7 @@
 #include "kane_sim/config/input_file.h"
 #include "kane_sim/config/parameter_schema.h"
 #include "kane_sim/format_number.h"
+#include "kane_sim/model/mechanism_laws.h"
 
 #include <cctype>
 #include <cmath>
@@ -251,7 +252,7 @@ namespace {
 void checkMechanism(const Section& s, MechanismParameters* p) {
   if (std::isnan(p->rod_inertia)) {
     // The default follows from m and L: name them when it cannot be represented.
-    p->rod_inertia = MechanismParameters::slenderRodInertia(p->rod_mass, p->rod_half_length);
+    p->rod_inertia = slenderRodInertia(p->rod_mass, p->rod_half_length);
     if (!(p->rod_inertia > 0.0 && std::isfinite(p->rod_inertia)))
       throw ConfigError(s.keyPath("rod_half_length"),
                         "and mechanism.rod_mass give a rod inertia m (2L)^2/12 of " +

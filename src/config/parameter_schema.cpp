@@ -1,5 +1,6 @@
 #include "kane_sim/config/parameter_schema.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -8,115 +9,12 @@
 #include "kane_sim/format_number.h"
 #include "kane_sim/model/generated_equations.h"
 #include "kane_sim/model/joint_names.h"
+#include "schema_rows.h"
 
 namespace kane_sim {
 namespace {
 
-// The table's vocabulary. A row names where its value lives in Config (KANE_SIM_FIELD: a
-// captureless lambda, nested members having no member pointer), its unit and rule; the rest
-// follows as modifiers, only where a row has them.
-#define KANE_SIM_FIELD(member) \
-  +[](Config & c) -> auto& {   \
-    return c.member;           \
-  }
-
-struct Row {
-  ParameterSpec spec;
-  Row& symbol(const char* s) {
-    spec.symbol = s;
-    return *this;
-  }
-  // What the parameter is (ParameterRole); physical roles name their constant in the equations,
-  // by default the row's symbol (written once: .symbol("c_O").role(kDissipative)).
-  Row& role(ParameterRole r, const char* equation_symbol = nullptr) {
-    spec.role = r;
-    spec.equation_symbol = equation_symbol ? equation_symbol : inEquations(r) ? spec.symbol : "";
-    return *this;
-  }
-  Row& required() {
-    spec.required = true;
-    return *this;
-  }
-  Row& doc(const char* d) {
-    spec.doc = d;
-    return *this;
-  }
-  Row& crossRule(const char* r) {
-    spec.cross_rule = r;
-    return *this;
-  }
-  Row& defaultText(const char* t) {
-    spec.default_text = t;
-    return *this;
-  }
-  Row& reconfigure(ReconfigureSpec r) {
-    spec.reconfigure = r;
-    return *this;
-  }
-  operator ParameterSpec() const { return spec; }  // NOLINT: a row is a spec
-};
-
-ConfigField fieldOf(double& (*field)(Config&)) {
-  ConfigField f;
-  f.number = field;
-  return f;
-}
-ConfigField fieldOf(int& (*field)(Config&)) {
-  ConfigField f;
-  f.whole = field;
-  return f;
-}
-ConfigField fieldOf(bool& (*field)(Config&)) {
-  ConfigField f;
-  f.flag = field;
-  return f;
-}
-ConfigField fieldOf(std::string& (*field)(Config&)) {
-  ConfigField f;
-  f.text = field;
-  return f;
-}
-
-// A number, whole number, flag or text.
-template <class Field>
-Row row(const char* section, const char* key, Field field, const char* unit, ValueRule rule) {
-  Row r;
-  r.spec.section = section;
-  r.spec.key = key;
-  r.spec.unit = unit;
-  r.spec.rule = rule;
-  r.spec.field = fieldOf(field);
-  return r;
-}
-
-// One of an enum's names (config/choices.h holds them, once).
-template <class E>
-Row choice(const char* section, const char* key, E& (*field)(Config&)) {
-  Row r;
-  r.spec.section = section;
-  r.spec.key = key;
-  r.spec.rule = ValueRule{ValueRule::kChoice};
-  r.spec.field.get_choice = [field](const Config& c) {
-    return static_cast<int>(field(const_cast<Config&>(c)));  // only read
-  };
-  r.spec.field.set_choice = [field](Config& c, int i) { field(c) = static_cast<E>(i); };
-  r.spec.choices.assign(Choice<E>::names.begin(), Choice<E>::names.end());
-  r.spec.choice_noun = Choice<E>::noun;
-  return r;
-}
-
-constexpr ValueRule kAny{ValueRule::kFinite};
-constexpr ValueRule kPositive{ValueRule::kPositive};
-constexpr ValueRule kNonNegative{ValueRule::kNonNegative};
-constexpr ValueRule kFlag{ValueRule::kFlag};
-
-// Physical parameters are reconfigured at level 1 (their energy change is booked), the others 0.
-constexpr ReconfigureSpec physical(const char* name, double gui_min, double gui_max) {
-  return {name, 1, gui_min, gui_max};
-}
-constexpr ReconfigureSpec operational(const char* name, double gui_min, double gui_max) {
-  return {name, 0, gui_min, gui_max};
-}
+using namespace schema_rows;  // NOLINT: the rows' vocabulary
 
 struct JointSensorKeys {
   const char* position_noise;
@@ -168,40 +66,6 @@ std::vector<ParameterSpec> declareParameters() {
   constexpr ValueRule kLatencyRule{ValueRule::kRange, 0.0, 10.0, "s"};
   // clang-format off
   std::vector<ParameterSpec> parameters = {
-      // ---- mechanism: the textbook's parameters --------------------------------------------
-      row("mechanism", "rod_mass", KANE_SIM_FIELD(mechanism.rod_mass), "kg", kPositive)
-          .symbol("m").role(ParameterRole::kInertial).required().reconfigure(physical("rod_mass", 0.0, 1e3))
-          .doc("mass of each rod (OA and AB)"),
-      row("mechanism", "rod_half_length", KANE_SIM_FIELD(mechanism.rod_half_length), "m", kPositive)
-          .symbol("L").role(ParameterRole::kGeometric).required()
-          .doc("half the length of each rod (2L long)"),
-      row("mechanism", "slider3_mass", KANE_SIM_FIELD(mechanism.slider3_mass), "kg", kPositive)
-          .symbol("M1").role(ParameterRole::kInertial).required().reconfigure(physical("slider3_mass", 0.0, 1e3))
-          .doc("mass of slider 3 at B"),
-      row("mechanism", "slider4_mass", KANE_SIM_FIELD(mechanism.slider4_mass), "kg", kPositive)
-          .symbol("M2").role(ParameterRole::kInertial).required().reconfigure(physical("slider4_mass", 0.0, 1e3))
-          .doc("mass of slider 4 at C"),
-      row("mechanism", "spring_stiffness", KANE_SIM_FIELD(mechanism.spring_stiffness), "N/m",
-              kNonNegative)
-          .symbol("k").role(ParameterRole::kStiffness).required().reconfigure(physical("spring_stiffness", 0.0, 1e7))
-          .doc("stiffness of the spring between B and C"),
-      row("mechanism", "gravity", KANE_SIM_FIELD(mechanism.gravity), "m/s²", kAny)
-          .symbol("g").role(ParameterRole::kGravity).required().reconfigure(physical("gravity", -100.0, 100.0))
-          .doc("gravity along +i (down the rail)"),
-      row("mechanism", "rod_inertia", KANE_SIM_FIELD(mechanism.rod_inertia), "kg m²", kPositive)
-          .symbol("I1z = I2z").role(ParameterRole::kInertial, "I").defaultText("m (2L)²/12")
-          .doc("central moment of inertia of each rod about k"),
-      row("mechanism", "crank_spring_stiffness", KANE_SIM_FIELD(mechanism.crank_spring_stiffness),
-              "N m/rad", kNonNegative)
-          .symbol("k_t").role(ParameterRole::kStiffness)
-          .reconfigure(physical("crank_spring_stiffness", 0.0, 1e4))
-          .doc("a torsional spring at pin O: −k_t (q1 − q1_0) on rod 1, energy ½ k_t (q1 − q1_0)²; "
-              "0 = none (the textbook's)"),
-      row("mechanism", "crank_spring_rest_angle", KANE_SIM_FIELD(mechanism.crank_spring_rest_angle),
-              "rad", kAny)
-          .symbol("q1_0").role(ParameterRole::kLoadShape)
-          .reconfigure(physical("crank_spring_rest_angle", -10.0, 10.0))
-          .doc("the torsional spring's rest angle (q1 counts turns: 2π is a turn away)"),
       // ---- initial_state: where the motion starts; the spring is unstretched there ---------
       row("initial_state", "q1", KANE_SIM_FIELD(initial_state.q1), "rad", kAny)
           .symbol("q10").role(ParameterRole::kInitialState).required()
@@ -292,71 +156,6 @@ std::vector<ParameterSpec> declareParameters() {
       row("command", "velocity_ki", KANE_SIM_FIELD(command.velocity_ki), "N m/rad", kGainRule)
           .reconfigure(operational("velocity_ki", 0.0, 1e4))
           .doc("velocity servo: integral gain"),
-      row("command", "motor_no_load_speed", KANE_SIM_FIELD(mechanism.motor.no_load_speed),
-              "rad/s", kNonNegative)
-          .symbol("ω0").role(ParameterRole::kDrive).reconfigure(physical("motor_no_load_speed", 0.0, 1e5))
-          .doc("the motor's torque–speed line (below); 0 = off"),
-      // ---- damping: viscous, at the joints joint_states names, and beside the spring ----------
-      row("damping", "crank_joint", KANE_SIM_FIELD(mechanism.damping.crank), "N m s/rad",
-              kNonNegative)
-          .symbol("c_O").role(ParameterRole::kDissipative).reconfigure(physical("crank_damping", 0.0, 1e4))
-          .doc("pin O: −c_O u1 on rod 1"),
-      row("damping", "coupler_joint", KANE_SIM_FIELD(mechanism.damping.coupler), "N m s/rad",
-              kNonNegative)
-          .symbol("c_A").role(ParameterRole::kDissipative).reconfigure(physical("coupler_damping", 0.0, 1e4))
-          .doc("pin A: on the relative rate of rods 2 and 1"),
-      row("damping", "slider3_joint", KANE_SIM_FIELD(mechanism.damping.slider3), "N s/m",
-              kNonNegative)
-          .symbol("c_B").role(ParameterRole::kDissipative).reconfigure(physical("slider3_damping", 0.0, 1e4))
-          .doc("slider 3 on the rail"),
-      row("damping", "slider4_joint", KANE_SIM_FIELD(mechanism.damping.slider4), "N s/m",
-              kNonNegative)
-          .symbol("c_C").role(ParameterRole::kDissipative).reconfigure(physical("slider4_damping", 0.0, 1e4))
-          .doc("slider 4 on the rail"),
-      row("damping", "spring", KANE_SIM_FIELD(mechanism.damping.spring), "N s/m", kNonNegative)
-          .symbol("c_S").role(ParameterRole::kDissipative).reconfigure(physical("spring_damping", 0.0, 1e4))
-          .doc("beside the spring: −c_S (v_C − v_B) on slider 4, the opposite on slider 3"),
-      // ---- friction: Coulomb, smoothed, at the joints joint_states names ----------------------
-      row("friction", "crank_joint", KANE_SIM_FIELD(mechanism.friction.crank), "N m",
-              kNonNegative)
-          .symbol("F_O").role(ParameterRole::kDissipative)
-          .reconfigure(physical("crank_friction", 0.0, 1e3))
-          .doc("pin O: −F_O tanh(u1 / v_s) on rod 1"),
-      row("friction", "coupler_joint", KANE_SIM_FIELD(mechanism.friction.coupler), "N m",
-              kNonNegative)
-          .symbol("F_A").role(ParameterRole::kDissipative)
-          .reconfigure(physical("coupler_friction", 0.0, 1e3))
-          .doc("pin A: on the relative rate of rods 2 and 1"),
-      row("friction", "slider3_joint", KANE_SIM_FIELD(mechanism.friction.slider3), "N",
-              kNonNegative)
-          .symbol("F_B").role(ParameterRole::kDissipative)
-          .reconfigure(physical("slider3_friction", 0.0, 1e4))
-          .doc("slider 3 on the rail"),
-      row("friction", "slider4_joint", KANE_SIM_FIELD(mechanism.friction.slider4), "N",
-              kNonNegative)
-          .symbol("F_C").role(ParameterRole::kDissipative)
-          .reconfigure(physical("slider4_friction", 0.0, 1e4))
-          .doc("slider 4 on the rail"),
-      // Below 1e-9 of a joint's rate tanh(v / v_s) is a step no fixed step can follow; the
-      // stiffness check (rk4) bounds it by the coefficients and the rate as well.
-      row("friction", "velocity_scale", KANE_SIM_FIELD(mechanism.friction.velocity_scale),
-              "rad/s or m/s", {ValueRule::kRange, 1e-9, 1e3, "rad/s or m/s"})
-          .symbol("v_s").role(ParameterRole::kLoadShape)
-          .reconfigure(physical("friction_velocity_scale", 1e-6, 1.0))
-          .doc("the smoothing of F = −F_c tanh(v / v_s): below v_s friction acts as a damper of "
-              "F_c / v_s; no stiction (a load under F_c creeps at about v_s × load / F_c)")
-          .crossRule("with rk4 and friction on, F_c / v_s counts as a damper in the "
-              "physics_rate check"),
-      // ---- contact between the sliders -------------------------------------------------------
-      row("contact", "enabled", KANE_SIM_FIELD(mechanism.contact.enabled), "", kFlag)
-          .doc("slider impacts and resting contact (below)"),
-      row("contact", "gap", KANE_SIM_FIELD(mechanism.contact.gap), "m", kNonNegative)
-          .doc("x_C − x_B at touch")
-          .crossRule("the initial state must be at least this far apart"),
-      row("contact", "restitution", KANE_SIM_FIELD(mechanism.contact.restitution), "",
-              {ValueRule::kRange, 0.0, 1.0, "(0 plastic, 1 elastic)"})
-          .symbol("e")
-          .doc("separating speed / approaching speed"),
       // ---- frames ----------------------------------------------------------------------------
       row("frames", "prefix", KANE_SIM_FIELD(frames.prefix), "", {ValueRule::kAnyName})
           .doc("prepended to every frame name"),
@@ -396,9 +195,11 @@ std::vector<ParameterSpec> declareParameters() {
   // The sections whose rows are all of one role say it here, once; any other row says its own
   // (parameterSchema() refuses a row without one, so a new section cannot go unclassified).
   const std::pair<const char*, ParameterRole> kSectionRoles[] = {
-      {"simulation", ParameterRole::kOperational}, {"command", ParameterRole::kOperational},
-      {"frames", ParameterRole::kOperational},     {"diagnostics", ParameterRole::kOperational},
-      {"contact", ParameterRole::kContact},        {"sensors", ParameterRole::kMeasurement}};
+      {"simulation", ParameterRole::kOperational},
+      {"command", ParameterRole::kOperational},
+      {"frames", ParameterRole::kOperational},
+      {"diagnostics", ParameterRole::kOperational},
+      {"sensors", ParameterRole::kMeasurement}};
   appendJointSensor<kCrankJoint>(&parameters);
   appendJointSensor<kCouplerJoint>(&parameters);
   appendJointSensor<kSlider3Joint>(&parameters);
@@ -406,6 +207,21 @@ std::vector<ParameterSpec> declareParameters() {
   for (ParameterSpec& p : parameters)
     for (const auto& [section, role] : kSectionRoles)
       if (p.role == ParameterRole::kUnset && std::string(p.section) == section) p.role = role;
+  // The mechanism's rows (codegen/parameters.yaml) among these, sections in the config file's
+  // order: each after the hand-written rows of its section.
+  const std::vector<ParameterSpec> mechanism = mechanismParameterRows();
+  parameters.insert(parameters.end(), mechanism.begin(), mechanism.end());
+  const auto sectionIndex = [](const ParameterSpec& p) {
+    const std::vector<SectionSpec>& sections = configSections();
+    for (std::size_t i = 0; i < sections.size(); ++i)
+      if (std::string(sections[i].name) == p.section) return i;
+    throw std::logic_error("parameter schema: " + p.path() +
+                           "'s section is not in configSections()");
+  };
+  std::stable_sort(parameters.begin(), parameters.end(),
+                   [&](const ParameterSpec& a, const ParameterSpec& b) {
+                     return sectionIndex(a) < sectionIndex(b);
+                   });
   return parameters;
 }
 

@@ -17,7 +17,7 @@ bool estimable(const ParameterSpec& spec) { return identifiable(spec.role) && sp
 // rod or friction differed from the base then pushed its difference into the masses and the
 // dampers unmarked. What the motion cannot tell apart is named and kept at the base instead.)
 // Except the coupler's friction: it acts on the crank's rate alone, as the crank's does
-// (omega2 = -omega1), apart only within friction.velocity_scale of rest; fitted together the two
+// (omega2 = -omega1), apart only within friction's velocity scale of rest; fitted together the two
 // trade off freely (one rig's least squares gave the coupler 11.5 N m). Named, it is fitted.
 // And the crank's torsional spring: a rig has one only by design, and over a small swing its
 // torque -k_t (q1 - q1_0) trades off against gravity's; named, it is fitted.

@@ -52,7 +52,7 @@ double MechanismModel::siteLoad(const LoadInfo& load, double rate, double coordi
     case LoadLaw::kViscous:  // c v
       return c * rate;
     case LoadLaw::kCoulomb:  // F_c tanh(v / v_s); none at all when off, whatever v_s
-      return c == 0.0 ? 0.0 : c * math::tanh(rate / constants_.friction_velocity_scale);
+      return c == 0.0 ? 0.0 : c * math::tanh(rate / (&constants_.rod_mass)[load.rate_scale]);
     case LoadLaw::kElastic:  // c (x - x0); none at all when off, wherever its rest
       return c == 0.0 ? 0.0 : c * (coordinate - (&constants_.rod_mass)[load.rest]);
     case LoadLaw::kNone:

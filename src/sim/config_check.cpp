@@ -11,18 +11,30 @@
 namespace kane_sim {
 namespace {
 
+// The scale of the laws in use that have one (smoothed friction's, when friction is on): a
+// larger one softens its law. nullptr when none.
+const ParameterSpec* rateScaleInUse(const Config& c) {
+  const generated::RateScale scale = generated::smallestRateScale(mechanismModel(c).constants());
+  if (scale.constant < 0) return nullptr;
+  const std::string key = generated::kConstantKeys[scale.constant];
+  return findParameter(key.substr(0, key.find('.')), key.substr(key.find('.') + 1));
+}
+
+// ", or a larger <that scale's key>" when a law in use has a scale, else "".
+std::string largerScale(const Config& c) {
+  const ParameterSpec* scale = rateScaleInUse(c);
+  return scale ? ", or a larger " + scale->path() : "";
+}
+
 // ", damping.spring 1e+308, friction.crank_joint 2" for every resistance that is on (schema
-// order), and friction's velocity scale when friction is: what else can make the equations
-// stiff or overflow.
+// order), and the scale of a law in use: what else can make the equations stiff or overflow.
 std::string dampersOn(const Config& c) {
   std::string text;
   for (const ParameterSpec* p : parametersOfRole(ParameterRole::kDissipative))
     if (numericValue(*p, c) != 0.0)
       text += ", " + p->path() + " " + formatNumber(numericValue(*p, c));
-  if (c.mechanism.friction.any())  // friction's shape (v_s), not another load's (a rest angle)
-    for (const ParameterSpec* p : parametersOfRole(ParameterRole::kLoadShape))
-      if (std::string(p->section) == "friction")
-        text += ", " + p->path() + " " + formatNumber(numericValue(*p, c));
+  if (const ParameterSpec* scale = rateScaleInUse(c))
+    text += ", " + scale->path() + " " + formatNumber(numericValue(*scale, c));
   return text;
 }
 
@@ -49,16 +61,15 @@ std::string rk4Remedy(double fastest_rate, const Config& c) {
   const double limit = findParameter("simulation", "physics_rate")->rule.hi;
   if (needed <= limit)
     return "use simulation.integrator dopri5 or a physics_rate of at least " +
-           formatNumber(needed) + " Hz" +
-           (c.mechanism.friction.any() ? ", or a larger friction.velocity_scale" : "");
+           formatNumber(needed) + " Hz" + largerScale(c);
   const std::string dampers = dampersOn(c);  // ", damping.spring 1e+12, ..."
   return "no physics_rate up to its limit of " + formatNumber(limit) +
          " Hz is enough (it would "
          "take " +
          formatNumber(needed) +
          " Hz): use simulation.integrator dopri5, or a softer "
-         "spring_stiffness, less damping or friction, or a larger friction.velocity_scale" +
-         (dampers.empty() ? "" : " (" + dampers.substr(2) + ")");
+         "spring_stiffness, less damping or friction" +
+         largerScale(c) + (dampers.empty() ? "" : " (" + dampers.substr(2) + ")");
 }
 
 // dopri5 adapts its sub-steps, up to kMaxSubstepsPerTick per physics step; with its stability
@@ -69,7 +80,8 @@ constexpr double kDopri5RateSteps = kRk4StabilityLimit * Simulator::kMaxSubsteps
 void checkIntegrable(const Config& c) {
   const bool rk4 = c.simulation.integrator == IntegratorType::kRk4;
   // dopri5 adapts its step: only what no step can follow is refused (non-finite equations, or a
-  // rate beyond its sub-step limit: a friction of 1 N over v_s 1e-9 m/s once ran 1.8 s and
+  // rate beyond its sub-step limit: a friction of 1 N over a velocity scale of 1e-9 m/s once ran
+  // 1.8 s and
   // failed then, naming neither key).
   const double h = 1.0 / c.simulation.physics_rate;
   const MechanismModel model = mechanismModel(c);
@@ -98,15 +110,14 @@ void checkIntegrable(const Config& c) {
   }
   if (!rk4) {
     if (!(stiffest.rate * h <= kDopri5RateSteps))
-      throw ConfigError(
-          "simulation.physics_rate",
-          "is too low even for dopri5 on this mechanism: its fastest rate (" +
-              formatNumber(stiffest.rate) + " 1/s) would take more than " +
-              formatNumber(Simulator::kMaxSubstepsPerTick) + " sub-steps in each physics step of " +
-              formatNumber(h) + " s" +
-              (dampersOn(c).empty() ? "" : " (with " + dampersOn(c).substr(2) + ")") +
-              ": a softer spring_stiffness, less damping or friction" +
-              (c.mechanism.friction.any() ? ", or a larger friction.velocity_scale" : ""));
+      throw ConfigError("simulation.physics_rate",
+                        "is too low even for dopri5 on this mechanism: its fastest rate (" +
+                            formatNumber(stiffest.rate) + " 1/s) would take more than " +
+                            formatNumber(Simulator::kMaxSubstepsPerTick) +
+                            " sub-steps in each physics step of " + formatNumber(h) + " s" +
+                            (dampersOn(c).empty() ? "" : " (with " + dampersOn(c).substr(2) + ")") +
+                            ": a softer spring_stiffness, less damping or friction" +
+                            largerScale(c));
     return;
   }
   if (!(stiffest.rate * h <= kRk4StabilityLimit))
@@ -115,11 +126,11 @@ void checkIntegrable(const Config& c) {
         "is too low for rk4 on this mechanism: its fastest rate (" + formatNumber(stiffest.rate) +
             " 1/s at q1 = " + formatNumber(stiffest.q1) +
             " rad, u1 = " + formatNumber(stiffest.u1) +
-            " rad/s, from spring_stiffness, the masses, damping, friction (F_c / "
-            "friction.velocity_scale) and the motor line) needs rate h <= " +
-            formatNumber(kRk4StabilityLimit) + ", got " + formatNumber(stiffest.rate * h) + " at " +
-            formatNumber(c.simulation.physics_rate) + " Hz" +
-            (dampersOn(c).empty() ? "" : " (with " + dampersOn(c).substr(2) + ")") + "; " +
+            " rad/s, from spring_stiffness, the masses, damping, friction" +
+            (rateScaleInUse(c) ? " (F_c / " + rateScaleInUse(c)->path() + ")" : "") +
+            " and the motor line) needs rate h <= " + formatNumber(kRk4StabilityLimit) + ", got " +
+            formatNumber(stiffest.rate * h) + " at " + formatNumber(c.simulation.physics_rate) +
+            " Hz" + (dampersOn(c).empty() ? "" : " (with " + dampersOn(c).substr(2) + ")") + "; " +
             rk4Remedy(stiffest.rate, c));
 }
 

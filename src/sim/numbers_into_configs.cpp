@@ -3,6 +3,7 @@
 #include "kane_sim/sim/numbers_into_configs.h"
 
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/model/mechanism_laws.h"
 #include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/parallel.h"
 
@@ -28,8 +29,7 @@ Config configWithNumbers(const Config& base, bool inertia_from_mass,
   for (std::size_t j = 0; j < specs.size(); ++j)
     storeNumber(specs[j]->path(), *specs[j], values[j], &c);
   if (inertia_from_mass)
-    c.mechanism.rod_inertia =
-        MechanismParameters::slenderRodInertia(c.mechanism.rod_mass, c.mechanism.rod_half_length);
+    c.mechanism.rod_inertia = slenderRodInertia(c.mechanism.rod_mass, c.mechanism.rod_half_length);
   checkSimulatable(c);
   return c;
 }

@@ -202,10 +202,10 @@ TEST(ConfigCheck, TheShortcutGivesTheScansAnswerEitherSideOfEveryBoundary) {
     m.slider3_mass *= uniform(0.5, 2.0);
     m.slider4_mass *= uniform(0.5, 2.0);
     m.spring_stiffness = std::pow(10.0, uniform(0.0, 7.0));
-    if (trial % 2) m.damping.slider4 = uniform(0.0, 50.0);
-    if (trial % 3 == 0) m.damping.crank = uniform(0.0, 5.0);
+    if (trial % 2) m.damping.slider4_joint = uniform(0.0, 50.0);
+    if (trial % 3 == 0) m.damping.crank_joint = uniform(0.0, 5.0);
     if (trial % 4 == 1) {
-      m.friction.slider3 = uniform(0.0, 5.0);
+      m.friction.slider3_joint = uniform(0.0, 5.0);
       m.friction.velocity_scale = std::pow(10.0, uniform(-4.0, -1.0));
     }
     c.initial_state.q1 = uniform(-3.0, 3.0);

@@ -36,14 +36,14 @@ std::vector<double> newtonEulerResiduals(const MechanismModel& model, const Stat
   const double aB = -4 * L * (s * ud + c * u * u), aC = u_dot[1];
   const double vB = -4 * L * s * u;
   const double e = model.springElongation(model.geometry(x.q1, x.q2));
-  const double cO = p.damping.crank, cA = p.damping.coupler;
+  const double cO = p.damping.crank_joint, cA = p.damping.coupler_joint;
   // Coulomb friction, smoothed: F_c tanh(v / v_s) against each joint's rate.
   const JointFriction& fr = p.friction;
   const auto coulomb = [&fr](double force, double v) {
     return force * std::tanh(v / fr.velocity_scale);
   };
   // -c_A (w2 - w1) - F_A tanh((w2 - w1) / v_s), w2 = -u1
-  const double coupler_on_rod2 = -cA * (-u - u) - coulomb(fr.coupler, -u - u);
+  const double coupler_on_rod2 = -cA * (-u - u) - coulomb(fr.coupler_joint, -u - u);
   const Vec2 RO{f.pin_o.x(), f.pin_o.y()}, RA{f.pin_a.x(), f.pin_a.y()},
       RB{f.pin_b.x(), f.pin_b.y()};
   const auto rel = [](Vec2 a, Vec2 b) { return Vec2{a.x - b.x, a.y - b.y}; };
@@ -51,20 +51,20 @@ std::vector<double> newtonEulerResiduals(const MechanismModel& model, const Stat
       // rod 1: G1 + R_O - R_A; motor, crank damper, the coupler damper's reaction
       m * g + RO.x - RA.x - m * a1.x,
       RO.y - RA.y - m * a1.y,
-      motor_torque - cO * u - coulomb(fr.crank, u) - coupler_on_rod2 + cross(rel(O, C1), RO) +
+      motor_torque - cO * u - coulomb(fr.crank_joint, u) - coupler_on_rod2 + cross(rel(O, C1), RO) +
           cross(rel(A, C1), Vec2{-RA.x, -RA.y}) - I * ud,
       // rod 2: G2 + R_A - R_B
       m * g + RA.x - RB.x - m * a2.x,
       RA.y - RB.y - m * a2.y,
       coupler_on_rod2 + cross(rel(A, C2), RA) + cross(rel(B, C2), Vec2{-RB.x, -RB.y}) - I * -ud,
       // slider 3: G3 - k e + dampers + R_B + N3 j - N (contact)
-      p.slider3_mass * g - p.spring_stiffness * e - p.damping.slider3 * vB +
-          p.damping.spring * (x.u2 - vB) - coulomb(fr.slider3, vB) + RB.x - contact_force -
+      p.slider3_mass * g - p.spring_stiffness * e - p.damping.slider3_joint * vB +
+          p.damping.spring * (x.u2 - vB) - coulomb(fr.slider3_joint, vB) + RB.x - contact_force -
           p.slider3_mass * aB,
       RB.y + f.rail_slider3,
       // slider 4: G4 + k e + dampers + N4 j + N (contact)
-      p.slider4_mass * g + p.spring_stiffness * e - p.damping.slider4 * x.u2 -
-          p.damping.spring * (x.u2 - vB) - coulomb(fr.slider4, x.u2) + contact_force -
+      p.slider4_mass * g + p.spring_stiffness * e - p.damping.slider4_joint * x.u2 -
+          p.damping.spring * (x.u2 - vB) - coulomb(fr.slider4_joint, x.u2) + contact_force -
           p.slider4_mass * aC,
       f.rail_slider4,
   };

@@ -109,7 +109,7 @@ TEST(CrankServo, PositionStepFollowsTheLinearModelsPrediction) {
 // integral removes it.
 TEST(CrankServo, IntegralRemovesTheSteadyError) {
   Config pd = servoConfig(CommandMode::kPosition, Feedforward::kNone);
-  pd.mechanism.damping.slider4 = 20.0;  // slider 4 settles too: a steady state to compare
+  pd.mechanism.damping.slider4_joint = 20.0;  // slider 4 settles too: a steady state to compare
   Config pid = pd;
   pid.command.position_ki = 400.0;
   SimDriver a(pd, {}), b(pid, {});

@@ -45,17 +45,17 @@ TEST(LinearAnalysis, DampingRatiosPerModeMatchTheDecoupledClosedForms) {
   const double pairs[][2] = {{0.05, 0.4}, {10.0, 100.0}, {1.0, 100.0}, {10.0, 0.4}};
   for (const auto& c_pair : pairs) {
     Config c = test::defaultConfig();
-    c.mechanism.damping.crank = c_pair[0];
-    c.mechanism.damping.slider4 = c_pair[1];
+    c.mechanism.damping.crank_joint = c_pair[0];
+    c.mechanism.damping.slider4_joint = c_pair[1];
     const MechanismParameters& p = c.mechanism;
     const MechanismModel model = mechanismModel(c);
     const ModalAnalysis modal = modalAnalysis(linearize(model, staticEquilibrium(model, 0.0), 0.0));
     const double L = p.rod_half_length, m = p.rod_mass;
     const double k11 = 4 * p.gravity * L * (m + p.slider3_mass + p.slider4_mass);
     const double m11 = 2 * p.rod_inertia + 2 * m * L * L;
-    const double zeta_crank = p.damping.crank / (2 * std::sqrt(k11 * m11));
+    const double zeta_crank = p.damping.crank_joint / (2 * std::sqrt(k11 * m11));
     const double zeta_slider =
-        p.damping.slider4 / (2 * std::sqrt(p.spring_stiffness * p.slider4_mass));
+        p.damping.slider4_joint / (2 * std::sqrt(p.spring_stiffness * p.slider4_mass));
     // Modes ascend in frequency: the crank's 1.85 Hz, then the slider's 2.52 Hz.
     EXPECT_NEAR(modal.modes[0].damping_ratio, zeta_crank, 1e-8 * zeta_crank) << c_pair[0];
     EXPECT_NEAR(modal.modes[1].damping_ratio, zeta_slider, 1e-8 * zeta_slider) << c_pair[1];
@@ -70,11 +70,11 @@ TEST(LinearAnalysis, DampingRatiosPerModeMatchTheDecoupledClosedForms) {
 TEST(LinearAnalysis, FrictionAtRestIsTheDamperOfItsSlope) {
   for (const double v_s : {0.1, 1e-4}) {
     Config rubbing = test::defaultConfig(), damped = rubbing;
-    rubbing.mechanism.friction.crank = 0.5 * v_s / 0.1;
-    rubbing.mechanism.friction.slider4 = 2.0 * v_s / 0.1;
+    rubbing.mechanism.friction.crank_joint = 0.5 * v_s / 0.1;
+    rubbing.mechanism.friction.slider4_joint = 2.0 * v_s / 0.1;
     rubbing.mechanism.friction.velocity_scale = v_s;
-    damped.mechanism.damping.crank = 5.0;
-    damped.mechanism.damping.slider4 = 20.0;
+    damped.mechanism.damping.crank_joint = 5.0;
+    damped.mechanism.damping.slider4_joint = 20.0;
     const MechanismModel with_friction = mechanismModel(rubbing),
                          with_dampers = mechanismModel(damped);
     const LinearModel a = linearize(with_friction, staticEquilibrium(with_friction, 0.0), 0.0);
@@ -138,7 +138,7 @@ TEST(LinearAnalysis, UnholdableTorqueIsRefusedNamingTheLimit) {
 // 2 s must be below 1 % of the amplitude (the neglected terms are ~1e-4 of it).
 TEST(LinearAnalysis, LinearModelPredictsTheNonlinearResponse) {
   Config c = test::defaultConfig();
-  c.mechanism.damping.crank = 0.1;  // with damping, so the damped eigenvalues are exercised
+  c.mechanism.damping.crank_joint = 0.1;  // with damping, so the damped eigenvalues are exercised
   c.simulation.integrator = IntegratorType::kDopri5;
   c.simulation.absolute_tolerance = c.simulation.relative_tolerance = 1e-12;
   const double torque = 8.0;

@@ -361,9 +361,9 @@ TEST(LoadConfig, MergeKeysAreExpandedAsRosparamExpandsThem) {
   const std::string path = ::testing::TempDir() + "/merge.yaml";
   std::ofstream(path) << text;
   const LoadedConfig loaded = loadConfigFile(path);
-  EXPECT_EQ(loaded.config.mechanism.damping.crank, 0.5);    // from the anchor
-  EXPECT_EQ(loaded.config.mechanism.damping.slider3, 3.0);  // its own entry wins
-  EXPECT_EQ(loaded.config.mechanism.damping.coupler, 0.0);  // in neither: the default
+  EXPECT_EQ(loaded.config.mechanism.damping.crank_joint, 0.5);    // from the anchor
+  EXPECT_EQ(loaded.config.mechanism.damping.slider3_joint, 3.0);  // its own entry wins
+  EXPECT_EQ(loaded.config.mechanism.damping.coupler_joint, 0.0);  // in neither: the default
   ASSERT_EQ(loaded.warnings.size(), 1u);  // the anchor's own section is an unknown key
   EXPECT_NE(loaded.warnings[0].find("'base_damping'"), std::string::npos) << loaded.warnings[0];
 }

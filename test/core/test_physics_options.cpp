@@ -20,11 +20,11 @@ namespace {
 
 JointDamping allDampers() {
   JointDamping d;
-  d.crank = 0.3;    // N m s/rad
-  d.coupler = 0.2;  // N m s/rad
-  d.slider3 = 1.5;  // N s/m
-  d.slider4 = 2.0;  // N s/m
-  d.spring = 0.8;   // N s/m
+  d.crank_joint = 0.3;    // N m s/rad
+  d.coupler_joint = 0.2;  // N m s/rad
+  d.slider3_joint = 1.5;  // N s/m
+  d.slider4_joint = 2.0;  // N s/m
+  d.spring = 0.8;         // N s/m
   return d;
 }
 
@@ -37,8 +37,9 @@ JointDamping allDampers() {
 // in u, so they are exact to rounding).
 double rayleigh(const JointDamping& c, double L, double q1, double u1, double u2) {
   const double w1 = u1, w2 = -u1, v_b = -4 * L * std::sin(q1) * u1, v_c = u2;
-  return 0.5 * (c.crank * w1 * w1 + c.coupler * (w2 - w1) * (w2 - w1) + c.slider3 * v_b * v_b +
-                c.slider4 * v_c * v_c + c.spring * (v_c - v_b) * (v_c - v_b));
+  return 0.5 * (c.crank_joint * w1 * w1 + c.coupler_joint * (w2 - w1) * (w2 - w1) +
+                c.slider3_joint * v_b * v_b + c.slider4_joint * v_c * v_c +
+                c.spring * (v_c - v_b) * (v_c - v_b));
 }
 
 // Checks, at a state x, that a load's generalized forces (those of `with` less those of `without`)
@@ -144,10 +145,10 @@ TEST(Damping, LedgerHoldsUnderTorque) {
 
 JointFriction allFriction(double velocity_scale) {
   JointFriction f;
-  f.crank = 0.4;    // N m
-  f.coupler = 0.1;  // N m
-  f.slider3 = 2.0;  // N
-  f.slider4 = 1.5;  // N
+  f.crank_joint = 0.4;    // N m
+  f.coupler_joint = 0.1;  // N m
+  f.slider3_joint = 2.0;  // N
+  f.slider4_joint = 1.5;  // N
   f.velocity_scale = velocity_scale;
   return f;
 }
@@ -162,7 +163,8 @@ double frictionPotential(const JointFriction& f, double L, double q1, double u1,
   const auto phi = [vs](double force, double v) {
     return force * vs * std::log(std::cosh(v / vs));
   };
-  return phi(f.crank, w1) + phi(f.coupler, w2 - w1) + phi(f.slider3, v_b) + phi(f.slider4, v_c);
+  return phi(f.crank_joint, w1) + phi(f.coupler_joint, w2 - w1) + phi(f.slider3_joint, v_b) +
+         phi(f.slider4_joint, v_c);
 }
 
 TEST(Friction, GeneralizedForcesMatchTheDissipationPotential) {
@@ -189,8 +191,8 @@ TEST(Friction, GeneralizedForcesMatchTheDissipationPotential) {
     const JointFriction& f = rubbing.mechanism.friction;
     const double vs = f.velocity_scale;
     const double taken =
-        f.crank * w * std::tanh(w / vs) + f.coupler * 2 * w * std::tanh(2 * w / vs) +
-        f.slider3 * v_b * std::tanh(v_b / vs) + f.slider4 * v_c * std::tanh(v_c / vs);
+        f.crank_joint * w * std::tanh(w / vs) + f.coupler_joint * 2 * w * std::tanh(2 * w / vs) +
+        f.slider3_joint * v_b * std::tanh(v_b / vs) + f.slider4_joint * v_c * std::tanh(v_c / vs);
     ASSERT_NEAR(p.dissipated, taken, 1e-12 * (1 + taken));
   }
 }
@@ -244,7 +246,7 @@ TEST(Friction, SliderAmplitudeFallsLinearlyAsCoulombSays) {
   State start = sim.state();
   start.q2 += 0.2;
   ASSERT_TRUE(sim.setState(start).ok);
-  const double drop = 2 * p.friction.slider4 / p.spring_stiffness;
+  const double drop = 2 * p.friction.slider4_joint / p.spring_stiffness;
   std::vector<double> turns;  // |q2 - rest| where u2 changes sign
   double last_u = start.u2;
   for (int i = 0; i < 20000 && turns.size() < 6; ++i) {
@@ -499,8 +501,8 @@ TEST(Contact, RestingContactHoldsFor200Seconds) {
 TEST(Contact, DropComesToRestAtTheStaticEquilibrium) {
   Config c = restingCase(0.5, 0.07, -9.81, IntegratorType::kDopri5);
   c.mechanism.spring_stiffness = 10.0;  // k (0.3 - 0.07) = 2.3 N < M2 |g| = 7.85 N: it rests
-  c.mechanism.damping.crank = 0.5;
-  c.mechanism.damping.slider4 = 2.0;
+  c.mechanism.damping.crank_joint = 0.5;
+  c.mechanism.damping.slider4_joint = 2.0;
   Simulator sim(c);
   for (int i = 0; i < 60000; ++i) ASSERT_TRUE(sim.step().ok);
   const Snapshot s = sim.snapshot();
@@ -523,8 +525,8 @@ TEST(Contact, DropComesToRestAtTheStaticEquilibrium) {
 // pulls slider 4 after it), and lands again later, never inside the gap.
 TEST(Contact, RestingContactLetsGoWhenItWouldPull) {
   Config c = restingCase(0.2, 0.07, -9.81, IntegratorType::kRk4);
-  c.mechanism.damping.crank = 0.5;
-  c.mechanism.damping.slider4 = 2.0;
+  c.mechanism.damping.crank_joint = 0.5;
+  c.mechanism.damping.slider4_joint = 2.0;
   Simulator sim(c);
   for (int i = 0; i < 20000; ++i) ASSERT_TRUE(sim.step().ok);
   ASSERT_TRUE(sim.restingContact());

@@ -338,8 +338,8 @@ TEST(Checkpoint, ARestoredDriverStepsOnBitForBit) {
       {"contact, damping, motor line",
        [](Config* c) {
          c->mechanism.contact.enabled = true;
-         c->mechanism.damping.crank = 0.2;
-         c->mechanism.damping.slider4 = 1.0;
+         c->mechanism.damping.crank_joint = 0.2;
+         c->mechanism.damping.slider4_joint = 1.0;
          c->mechanism.motor.no_load_speed = 30.0;
        }},
   };

@@ -86,7 +86,7 @@ TEST(Sweep, CsvPlanReadsKeysAndRowsAndNamesBadLines) {
 
 TEST(Sweep, CaseConfigsGoThroughTheLoader) {
   const SweepPlan plan = sweepGrid({parseSweepAxis("damping.crank_joint=0:0.2:3")});
-  EXPECT_EQ(sweepCaseConfig(baseYaml(), plan, 2).mechanism.damping.crank, 0.2);
+  EXPECT_EQ(sweepCaseConfig(baseYaml(), plan, 2).mechanism.damping.crank_joint, 0.2);
   const SweepPlan negative = sweepGrid({parseSweepAxis("mechanism.rod_mass=-1:1:2")});
   try {
     sweepCaseConfig(baseYaml(), negative, 0);

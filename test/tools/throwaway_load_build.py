@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 """A load is one declaration, through every consumer: a copy of the package gets a throw-away
 viscous damper on slider 4 (coefficient c_T, key damping.throwaway) written the way
-doc/design/architecture.md's "Adding a load" says — one PARAMETERS row, its SOURCES entry and one
-LOADS row in the code generator, one field in MechanismParameters' damping (and its fields()), one
-schema row with its role — and nothing else. The copy is built (the ROS-free tools, the Python
+doc/design/architecture.md's "Adding a load" says — one row of the parameter table
+(codegen/parameters.yaml) and one LOADS row in the code generator, then the generator run — and
+nothing else. The copy is built (the ROS-free tools, the Python
 module and two test binaries) and every consumer is asked for the new load:
 
 - the schema and its documented table (config_info parameters: role, symbol, reconfigure name);
@@ -31,27 +31,19 @@ PACKAGE = os.path.normpath(os.path.join(HERE, "..", ".."))
 
 # The declaration, as the recipe writes it: (file, anchor, text inserted after the anchor).
 EDITS = [
-    ("codegen/generate_equations.py",
-     '    ("c_S", "spring_damping", "c_S [N s/m], beside the spring between the sliders"),\n',
-     '    ("c_T", "throwaway_damping", "c_T [N s/m], a throw-away damper on slider 4"),\n'),
-    ("codegen/generate_equations.py", '"c_S": "p.damping.spring",',
-     ' "c_T": "p.damping.throwaway",'),
+    ("codegen/parameters.yaml",
+     '    doc: "beside the spring: −c_S (v_C − v_B) on slider 4, the opposite on slider 3"\n',
+     '  - key: damping.throwaway\n'
+     '    symbol: c_T\n'
+     '    unit: N s/m\n'
+     '    rule: non-negative\n'
+     '    default: 0\n'
+     '    role: dissipative\n'
+     '    reconfigure: {name: throwaway_damping, min: 0, max: 1e4}\n'
+     '    doc: a throw-away damper on slider 4\n'),
     ("codegen/generate_equations.py",
      '    ("spring_damper",   "resistance",   "spring",  "viscous", "c_S", None),\n',
      '    ("throwaway_damper", "resistance", "slider4", "viscous", "c_T", None),\n'),
-    ("include/kane_sim/model/mechanism_parameters.h",
-     "  double spring = 0.0;  // c_S [N s/m] beside the spring: -c_S (v_C - v_B) i at C, the "
-     "opposite at B\n",
-     "  double throwaway = 0.0;  // c_T [N s/m] a throw-away damper on slider 4\n"),
-    ("include/kane_sim/model/mechanism_parameters.h",
-     "std::tie(crank, coupler, slider3, slider4, spring", ", throwaway"),
-    ("src/config/parameter_schema.cpp",
-     '          .doc("beside the spring: −c_S (v_C − v_B) on slider 4, the opposite on slider 3"),\n',
-     '      row("damping", "throwaway", KANE_SIM_FIELD(mechanism.damping.throwaway), "N s/m",\n'
-     '          kNonNegative)\n'
-     '          .symbol("c_T").role(ParameterRole::kDissipative, "c_T")\n'
-     '          .reconfigure(physical("throwaway_damping", 0.0, 1e4))\n'
-     '          .doc("a throw-away damper on slider 4"),\n'),
 ]
 
 PYTHON_CHECKS = r"""

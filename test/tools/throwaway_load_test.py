@@ -1,14 +1,15 @@
 #!/usr/bin/python3
 """A load is one declaration, as far as the code generator goes, and a conservative load carries
-its energy. Two throw-away loads are added to codegen/generate_equations.py's tables, nothing
-else:
+its energy. Two throw-away loads are added to the generator's tables (a parameter row of
+codegen/parameters.yaml's table, a LOADS row), nothing else:
 
-- a resistance (one PARAMETERS row, its SOURCES entry, one LOADS row) reaches every part of the
-  generated header: the constants struct, constantsFrom(), LoadName, kLoadInfo (with its
-  coefficient's index), kConstantSymbols, the full rates variant (and not the undamped one),
-  and variantFor(); the header compiles and runs with g++: the coefficient changes u' of the
-  full variant, and variantFor() picks that variant only when it is not 0;
-- a conservative load (an elastic spring holding slider 4 at a rest position: two PARAMETERS
+- a resistance (one parameter row, one LOADS row) reaches MechanismParameters (its field, its
+  default, fields(), any()), the schema's rows, and every part of the generated equations: the
+  constants struct, constantsFrom(), LoadName, kLoadInfo (with its coefficient's index),
+  kConstantSymbols and kConstantKeys, the full rates variant (and not the undamped one), and
+  variantFor(); the header compiles and runs with g++: the coefficient changes u' of the full
+  variant, and variantFor() picks that variant only when it is not 0;
+- a conservative load (an elastic spring holding slider 4 at a rest position: two parameter
   rows, one LOADS row) gets its energy column in kLoadInfo and its force in the rates (u2' moves
   by exactly -k_T (q2 - x_T) / M2, no dissipated power); with its law's energy left out, or an
   energy whose gradient is not its force, the generator refuses it, naming the load.
@@ -52,7 +53,7 @@ int main() {
   Constants c = shipped();
   const RatesVariant off = variantFor(c);
   const Rates before = at(c);
-  c.throwaway_damping = 3.0;
+  c.damping_throwaway = 3.0;
   const RatesVariant on = variantFor(c);
   const Rates after = at(c);
   const LoadInfo& load = kLoadInfo[static_cast<int>(LoadName::kThrowawayDamper)];
@@ -112,27 +113,46 @@ def report(ok, what):
     return 0 if ok else 1
 
 
+def parameter(gen, key, symbol, role, doc):
+    """A row of the parameter table, as codegen/parameters.yaml would give it."""
+    gen.ROWS.append(gen.parameter_table.Row(
+        {"key": key, "symbol": symbol, "unit": "", "rule": "non-negative" if role != "load shape"
+         else "finite", "default": 0, "role": role, "doc": doc}, gen.GROUPS))
+
+
 def a_resistance():
     gen = generator()
     # The declaration: a second viscous damper on slider 4, coefficient c_T.
-    gen.PARAMETERS.append(("c_T", "throwaway_damping", "c_T [N s/m], a throw-away damper"))
-    gen.SOURCES["c_T"] = "p.throwaway"
+    parameter(gen, "damping.throwaway", "c_T", "dissipative", "a throw-away damper")
     gen.LOADS.append(("throwaway_damper", "resistance", "slider4", "viscous", "c_T", None))
     text = gen.render()
-    index = len(gen.PARAMETERS) - 1
+    index = [name for name, *_ in gen.parameters()].index("c_T")
     checks = [
-        ("the constants struct", "  Real throwaway_damping;"),
-        ("constantsFrom()", "c.throwaway_damping = p.throwaway;"),
+        ("the constants struct", "  Real damping_throwaway;"),
+        ("constantsFrom()", "c.damping_throwaway = p.damping.throwaway;"),
         ("LoadName", "  kThrowawayDamper,"),
         ("kLoadInfo", '{"throwaway_damper", LoadKind::kResistance, LoadSite::kSlider4, '
-                      'LoadLaw::kViscous, %d, "c_T", -1, true, nullptr}' % index),
-        ("kConstantSymbols", '"c_T"};'),
+                      'LoadLaw::kViscous, %d, "c_T", -1, true, nullptr, -1}' % index),
+        ("kConstantSymbols", '"c_T", "s0"};'),
+        ("kConstantKeys", '"damping.throwaway", ""};'),
+    ]
+    struct = gen.parameter_table.render_struct(gen.GROUPS, gen.ROWS)
+    rows = gen.parameter_table.render_rows(gen.GROUPS, gen.ROWS)
+    checks_elsewhere = [
+        ("MechanismParameters' field and default", struct, "  double throwaway = 0.0;"),
+        ("JointDamping::fields()", struct, "spring, throwaway); }"),
+        ("JointDamping::any()", struct, "throwaway != 0.0;"),
+        ("the schema's rows", rows,
+         'row("damping", "throwaway", KANE_SIM_FIELD(mechanism.damping.throwaway)'),
+        ("the schema row's role and symbol", rows, '.role(ParameterRole::kDissipative, "c_T")'),
     ]
     failures = sum(report(needle in text, "%s has the new damper" % what) for what, needle in checks)
+    failures += sum(report(needle in where, "%s has the new damper" % what)
+                    for what, where, needle in checks_elsewhere)
     full = text[text.index("inline RatesOf<Real> rates("):]
     undamped = text[text.index("inline RatesOf<Real> ratesUndamped("):
                     text.index("inline RatesOf<Real> ratesViscous(")]
-    failures += report("const Real c_T = p.throwaway_damping;" in full and "c_T" not in undamped,
+    failures += report("const Real c_T = p.damping_throwaway;" in full and "c_T" not in undamped,
                        "the full rates read c_T, the undamped ones do not")
     out, error = compiled_output(text, DAMPER_PROGRAM)
     want = ["0", "1", "1", "throwaway_damper", str(index), "1"]
@@ -144,9 +164,8 @@ def a_resistance():
 def conservative_load(potential=True, wrong_potential=False):
     """A throw-away elastic spring holding slider 4 at x_T: coefficient k_T, rest x_T."""
     gen = generator()
-    gen.PARAMETERS.append(("k_T", "throwaway_stiffness", "k_T [N/m], a throw-away spring"))
-    gen.PARAMETERS.append(("x_T", "throwaway_rest", "x_T [m], its rest position"))
-    gen.SOURCES.update({"k_T": "p.throwaway_k", "x_T": "p.throwaway_x"})
+    parameter(gen, "mechanism.throwaway_stiffness", "k_T", "stiffness", "a throw-away spring")
+    parameter(gen, "mechanism.throwaway_rest", "x_T", "load shape", "its rest position")
     law = "elastic"
     if not potential:  # a new conservative law whose energy was left out
         law = "stiffening"
@@ -162,9 +181,10 @@ def conservative_load(potential=True, wrong_potential=False):
 def a_conservative_load():
     gen = conservative_load()
     text = gen.render()
-    k, x = len(gen.PARAMETERS) - 2, len(gen.PARAMETERS) - 1
+    names = [name for name, *_ in gen.parameters()]
+    k, x = names.index("k_T"), names.index("x_T")
     failures = report('{"throwaway_spring", LoadKind::kConservative, LoadSite::kSlider4, '
-                      'LoadLaw::kElastic, %d, "k_T", %d, false, "throwaway_spring_energy"}'
+                      'LoadLaw::kElastic, %d, "k_T", %d, false, "throwaway_spring_energy", -1}'
                       % (k, x) in text, "kLoadInfo has the new spring, its rest and its energy "
                       "column")
     out, error = compiled_output(text, SPRING_PROGRAM)
@@ -185,8 +205,35 @@ def a_conservative_load():
     return failures
 
 
+def hostile_rows():
+    """A row the table cannot hold stops the generator, naming its key: an unknown role, a
+    section with no group and no member, a key declared twice, an unknown rule, a missing doc."""
+    failures = 0
+    good = {"key": "damping.bad", "symbol": "c_X", "unit": "", "rule": "non-negative",
+            "default": 0, "role": "dissipative", "doc": "x"}
+    cases = [("an unknown role", dict(good, role="dissipativ")),
+             ("a section without a group", dict(good, key="dampng.bad")),
+             ("a key declared twice", dict(good, key="damping.spring", symbol="c_X")),
+             ("a symbol declared twice", dict(good, symbol="c_S")),
+             ("an unknown rule", dict(good, rule="postive")),
+             ("no doc line", {k: v for k, v in good.items() if k != "doc"})]
+    for what, entry in cases:
+        gen = generator()
+        try:
+            gen.ROWS.append(gen.parameter_table.Row(entry, gen.GROUPS))
+            gen.parameter_table.check(gen.ROWS)
+            with contextlib.redirect_stdout(io.StringIO()):
+                gen.parameter_table.render_rows(gen.GROUPS, gen.ROWS)
+            refused = ""
+        except SystemExit as stop:
+            refused = str(stop)
+        failures += report(entry["key"] in refused, "%s is refused, naming the key (%s)"
+                           % (what, refused[:100]))
+    return failures
+
+
 def main():
-    failures = a_resistance() + a_conservative_load()
+    failures = a_resistance() + a_conservative_load() + hostile_rows()
     print("%d failed" % failures)
     return 1 if failures else 0
 

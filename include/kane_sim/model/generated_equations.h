@@ -5,6 +5,8 @@
 #ifndef KANE_SIM_MODEL_GENERATED_EQUATIONS_H
 #define KANE_SIM_MODEL_GENERATED_EQUATIONS_H
 
+#include <limits>
+
 #include "kane_sim/model/math_functions.h"
 
 namespace kane_sim {
@@ -17,26 +19,26 @@ namespace generated {
 // The parameters, runtime inputs (one header serves every config).
 template <class Real>
 struct ConstantsOf {
-  Real rod_mass;                 // m [kg], each rod
-  Real rod_half_length;          // L [m], the rods are 2L long
-  Real rod_inertia;              // I1z = I2z [kg m^2], each rod about its center
-  Real slider3_mass;             // M1 [kg], slider 3 at B
-  Real slider4_mass;             // M2 [kg], slider 4 at C
-  Real spring_stiffness;         // k [N/m]
-  Real gravity;                  // g [m/s^2], along +i (down)
-  Real spring_rest_length;       // x_C0 - x_B0 [m]: the spring is unstretched at this separation
-  Real crank_damping;            // c_O [N m s/rad], pin O
-  Real coupler_damping;          // c_A [N m s/rad], pin A
-  Real slider3_damping;          // c_B [N s/m], slider 3 on the rail
-  Real slider4_damping;          // c_C [N s/m], slider 4 on the rail
-  Real spring_damping;           // c_S [N s/m], beside the spring between the sliders
-  Real crank_friction;           // F_O [N m], Coulomb friction at pin O
-  Real coupler_friction;         // F_A [N m], Coulomb friction at pin A
-  Real slider3_friction;         // F_B [N], Coulomb friction of slider 3 on the rail
-  Real slider4_friction;         // F_C [N], Coulomb friction of slider 4 on the rail
-  Real friction_velocity_scale;  // v_s [rad/s or m/s], Coulomb friction's smoothing: F = -F_c tanh(v / v_s)
-  Real crank_spring_stiffness;   // k_t [N m/rad], a torsional spring at pin O
-  Real crank_spring_rest_angle;  // q1_0 [rad], the torsional spring's rest angle
+  Real rod_mass;                 // m [kg] mass of each rod (OA and AB)
+  Real rod_half_length;          // L [m] half the length of each rod (2L long)
+  Real rod_inertia;              // I1z = I2z [kg m²] central moment of inertia of each rod about k
+  Real slider3_mass;             // M1 [kg] mass of slider 3 at B
+  Real slider4_mass;             // M2 [kg] mass of slider 4 at C
+  Real spring_stiffness;         // k [N/m] stiffness of the spring between B and C
+  Real gravity;                  // g [m/s²] gravity along +i (down the rail)
+  Real crank_spring_stiffness;   // k_t [N m/rad] a torsional spring at pin O: −k_t (q1 − q1_0) on rod 1, energy ½ k_t (q1 − q1_0)²; 0 = none (the textbook's)
+  Real crank_spring_rest_angle;  // q1_0 [rad] the torsional spring's rest angle (q1 counts turns: 2π is a turn away)
+  Real damping_crank_joint;      // c_O [N m s/rad] pin O: −c_O u1 on rod 1
+  Real damping_coupler_joint;    // c_A [N m s/rad] pin A: on the relative rate of rods 2 and 1
+  Real damping_slider3_joint;    // c_B [N s/m] slider 3 on the rail
+  Real damping_slider4_joint;    // c_C [N s/m] slider 4 on the rail
+  Real damping_spring;           // c_S [N s/m] beside the spring: −c_S (v_C − v_B) on slider 4, the opposite on slider 3
+  Real friction_crank_joint;     // F_O [N m] pin O: −F_O tanh(u1 / v_s) on rod 1
+  Real friction_coupler_joint;   // F_A [N m] pin A: on the relative rate of rods 2 and 1
+  Real friction_slider3_joint;   // F_B [N] slider 3 on the rail
+  Real friction_slider4_joint;   // F_C [N] slider 4 on the rail
+  Real friction_velocity_scale;  // v_s [rad/s or m/s] the smoothing of F = −F_c tanh(v / v_s): below v_s friction acts as a damper of F_c / v_s; no stiction (a load under F_c creeps at about v_s × load / F_c)
+  Real spring_rest_length;       // s0 = x_C0 - x_B0 [m]: the spring is unstretched at this separation
 };
 using Constants = ConstantsOf<double>;
 
@@ -52,19 +54,19 @@ Constants constantsFrom(const Parameters& p, double spring_rest_length) {
   c.slider4_mass = p.slider4_mass;  // M2
   c.spring_stiffness = p.spring_stiffness;  // k
   c.gravity = p.gravity;  // g
-  c.spring_rest_length = spring_rest_length;  // s0
-  c.crank_damping = p.damping.crank;  // c_O
-  c.coupler_damping = p.damping.coupler;  // c_A
-  c.slider3_damping = p.damping.slider3;  // c_B
-  c.slider4_damping = p.damping.slider4;  // c_C
-  c.spring_damping = p.damping.spring;  // c_S
-  c.crank_friction = p.friction.crank;  // F_O
-  c.coupler_friction = p.friction.coupler;  // F_A
-  c.slider3_friction = p.friction.slider3;  // F_B
-  c.slider4_friction = p.friction.slider4;  // F_C
-  c.friction_velocity_scale = p.friction.velocity_scale;  // v_s
   c.crank_spring_stiffness = p.crank_spring_stiffness;  // k_t
   c.crank_spring_rest_angle = p.crank_spring_rest_angle;  // q1_0
+  c.damping_crank_joint = p.damping.crank_joint;  // c_O
+  c.damping_coupler_joint = p.damping.coupler_joint;  // c_A
+  c.damping_slider3_joint = p.damping.slider3_joint;  // c_B
+  c.damping_slider4_joint = p.damping.slider4_joint;  // c_C
+  c.damping_spring = p.damping.spring;  // c_S
+  c.friction_crank_joint = p.friction.crank_joint;  // F_O
+  c.friction_coupler_joint = p.friction.coupler_joint;  // F_A
+  c.friction_slider3_joint = p.friction.slider3_joint;  // F_B
+  c.friction_slider4_joint = p.friction.slider4_joint;  // F_C
+  c.friction_velocity_scale = p.friction.velocity_scale;  // v_s
+  c.spring_rest_length = spring_rest_length;  // s0
   return c;
 }
 
@@ -110,26 +112,31 @@ struct LoadInfo {
   // A conservative load's potential energy column (CSV, Python; the message's
   // load_energies), or nullptr: its power is -d(that energy)/dt.
   const char* energy_column;
+  // Its law's own scale of rate (friction's v_s: tanh bends within it), an index among the
+  // constants, or -1.
+  int rate_scale;
 };
 // Indexed by LoadName.
 constexpr LoadInfo kLoadInfo[kNumLoadNames] = {
-    {"gravity", LoadKind::kGravity, LoadSite::kNone, LoadLaw::kNone, -1, "", -1, false, "gravitational_energy"},
-    {"spring", LoadKind::kSpring, LoadSite::kNone, LoadLaw::kNone, -1, "", -1, false, "spring_energy"},
-    {"motor", LoadKind::kMotor, LoadSite::kNone, LoadLaw::kNone, -1, "", -1, false, nullptr},
-    {"crank_damper", LoadKind::kResistance, LoadSite::kCrank, LoadLaw::kViscous, 8, "c_O", -1, true, nullptr},
-    {"coupler_damper", LoadKind::kResistance, LoadSite::kCoupler, LoadLaw::kViscous, 9, "c_A", -1, true, nullptr},
-    {"slider3_damper", LoadKind::kResistance, LoadSite::kSlider3, LoadLaw::kViscous, 10, "c_B", -1, true, nullptr},
-    {"slider4_damper", LoadKind::kResistance, LoadSite::kSlider4, LoadLaw::kViscous, 11, "c_C", -1, true, nullptr},
-    {"spring_damper", LoadKind::kResistance, LoadSite::kSpring, LoadLaw::kViscous, 12, "c_S", -1, true, nullptr},
-    {"contact", LoadKind::kContact, LoadSite::kNone, LoadLaw::kNone, -1, "", -1, false, nullptr},
-    {"crank_friction", LoadKind::kResistance, LoadSite::kCrank, LoadLaw::kCoulomb, 13, "F_O", -1, true, nullptr},
-    {"coupler_friction", LoadKind::kResistance, LoadSite::kCoupler, LoadLaw::kCoulomb, 14, "F_A", -1, true, nullptr},
-    {"slider3_friction", LoadKind::kResistance, LoadSite::kSlider3, LoadLaw::kCoulomb, 15, "F_B", -1, true, nullptr},
-    {"slider4_friction", LoadKind::kResistance, LoadSite::kSlider4, LoadLaw::kCoulomb, 16, "F_C", -1, true, nullptr},
-    {"crank_spring", LoadKind::kConservative, LoadSite::kCrank, LoadLaw::kElastic, 18, "k_t", 19, false, "crank_spring_energy"},
+    {"gravity", LoadKind::kGravity, LoadSite::kNone, LoadLaw::kNone, -1, "", -1, false, "gravitational_energy", -1},
+    {"spring", LoadKind::kSpring, LoadSite::kNone, LoadLaw::kNone, -1, "", -1, false, "spring_energy", -1},
+    {"motor", LoadKind::kMotor, LoadSite::kNone, LoadLaw::kNone, -1, "", -1, false, nullptr, -1},
+    {"crank_damper", LoadKind::kResistance, LoadSite::kCrank, LoadLaw::kViscous, 9, "c_O", -1, true, nullptr, -1},
+    {"coupler_damper", LoadKind::kResistance, LoadSite::kCoupler, LoadLaw::kViscous, 10, "c_A", -1, true, nullptr, -1},
+    {"slider3_damper", LoadKind::kResistance, LoadSite::kSlider3, LoadLaw::kViscous, 11, "c_B", -1, true, nullptr, -1},
+    {"slider4_damper", LoadKind::kResistance, LoadSite::kSlider4, LoadLaw::kViscous, 12, "c_C", -1, true, nullptr, -1},
+    {"spring_damper", LoadKind::kResistance, LoadSite::kSpring, LoadLaw::kViscous, 13, "c_S", -1, true, nullptr, -1},
+    {"contact", LoadKind::kContact, LoadSite::kNone, LoadLaw::kNone, -1, "", -1, false, nullptr, -1},
+    {"crank_friction", LoadKind::kResistance, LoadSite::kCrank, LoadLaw::kCoulomb, 14, "F_O", -1, true, nullptr, 18},
+    {"coupler_friction", LoadKind::kResistance, LoadSite::kCoupler, LoadLaw::kCoulomb, 15, "F_A", -1, true, nullptr, 18},
+    {"slider3_friction", LoadKind::kResistance, LoadSite::kSlider3, LoadLaw::kCoulomb, 16, "F_B", -1, true, nullptr, 18},
+    {"slider4_friction", LoadKind::kResistance, LoadSite::kSlider4, LoadLaw::kCoulomb, 17, "F_C", -1, true, nullptr, 18},
+    {"crank_spring", LoadKind::kConservative, LoadSite::kCrank, LoadLaw::kElastic, 7, "k_t", 8, false, "crank_spring_energy", -1},
 };
 // The constants' symbols, in ConstantsOf's order (a schema row's equation symbol is one).
-constexpr const char* kConstantSymbols[] = {"m", "L", "I", "M1", "M2", "k", "g", "s0", "c_O", "c_A", "c_B", "c_C", "c_S", "F_O", "F_A", "F_B", "F_C", "v_s", "k_t", "q1_0"};
+constexpr const char* kConstantSymbols[] = {"m", "L", "I", "M1", "M2", "k", "g", "k_t", "q1_0", "c_O", "c_A", "c_B", "c_C", "c_S", "F_O", "F_A", "F_B", "F_C", "v_s", "s0"};
+// Their config keys (codegen/parameters.yaml; "" for s0, the model's own).
+constexpr const char* kConstantKeys[] = {"mechanism.rod_mass", "mechanism.rod_half_length", "mechanism.rod_inertia", "mechanism.slider3_mass", "mechanism.slider4_mass", "mechanism.spring_stiffness", "mechanism.gravity", "mechanism.crank_spring_stiffness", "mechanism.crank_spring_rest_angle", "damping.crank_joint", "damping.coupler_joint", "damping.slider3_joint", "damping.slider4_joint", "damping.spring", "friction.crank_joint", "friction.coupler_joint", "friction.slider3_joint", "friction.slider4_joint", "friction.velocity_scale", ""};
 
 // u1', u2' of F*_r + F_r = 0 (eq 18) and the resistances' dissipated power [W] at (q, u)
 // under the applied driver moment M_m [N m].
@@ -212,12 +219,12 @@ inline RatesOf<Real> ratesViscous(const ConstantsOf<Real>& p, Real q1, Real q2, 
   const Real M2 = p.slider4_mass;
   const Real k = p.spring_stiffness;
   const Real g = p.gravity;
+  const Real c_O = p.damping_crank_joint;
+  const Real c_A = p.damping_coupler_joint;
+  const Real c_B = p.damping_slider3_joint;
+  const Real c_C = p.damping_slider4_joint;
+  const Real c_S = p.damping_spring;
   const Real s0 = p.spring_rest_length;
-  const Real c_O = p.crank_damping;
-  const Real c_A = p.coupler_damping;
-  const Real c_B = p.slider3_damping;
-  const Real c_C = p.slider4_damping;
-  const Real c_S = p.spring_damping;
   // The coefficients: the constants' alone, the same at every stage of a step.
   const Real t0 = L*L;
   const Real t1 = 16*t0;
@@ -270,17 +277,17 @@ inline RatesOf<Real> ratesCoulomb(const ConstantsOf<Real>& p, Real q1, Real q2, 
   const Real M2 = p.slider4_mass;
   const Real k = p.spring_stiffness;
   const Real g = p.gravity;
-  const Real s0 = p.spring_rest_length;
-  const Real c_O = p.crank_damping;
-  const Real c_A = p.coupler_damping;
-  const Real c_B = p.slider3_damping;
-  const Real c_C = p.slider4_damping;
-  const Real c_S = p.spring_damping;
-  const Real F_O = p.crank_friction;
-  const Real F_A = p.coupler_friction;
-  const Real F_B = p.slider3_friction;
-  const Real F_C = p.slider4_friction;
+  const Real c_O = p.damping_crank_joint;
+  const Real c_A = p.damping_coupler_joint;
+  const Real c_B = p.damping_slider3_joint;
+  const Real c_C = p.damping_slider4_joint;
+  const Real c_S = p.damping_spring;
+  const Real F_O = p.friction_crank_joint;
+  const Real F_A = p.friction_coupler_joint;
+  const Real F_B = p.friction_slider3_joint;
+  const Real F_C = p.friction_slider4_joint;
   const Real v_s = p.friction_velocity_scale;
+  const Real s0 = p.spring_rest_length;
   // The coefficients: the constants' alone, the same at every stage of a step.
   const Real t0 = 1.0/v_s;
   const Real t1 = 4*L;
@@ -349,19 +356,19 @@ inline RatesOf<Real> rates(const ConstantsOf<Real>& p, Real q1, Real q2, Real u1
   const Real M2 = p.slider4_mass;
   const Real k = p.spring_stiffness;
   const Real g = p.gravity;
-  const Real s0 = p.spring_rest_length;
-  const Real c_O = p.crank_damping;
-  const Real c_A = p.coupler_damping;
-  const Real c_B = p.slider3_damping;
-  const Real c_C = p.slider4_damping;
-  const Real c_S = p.spring_damping;
-  const Real F_O = p.crank_friction;
-  const Real F_A = p.coupler_friction;
-  const Real F_B = p.slider3_friction;
-  const Real F_C = p.slider4_friction;
-  const Real v_s = p.friction_velocity_scale;
   const Real k_t = p.crank_spring_stiffness;
   const Real q1_0 = p.crank_spring_rest_angle;
+  const Real c_O = p.damping_crank_joint;
+  const Real c_A = p.damping_coupler_joint;
+  const Real c_B = p.damping_slider3_joint;
+  const Real c_C = p.damping_slider4_joint;
+  const Real c_S = p.damping_spring;
+  const Real F_O = p.friction_crank_joint;
+  const Real F_A = p.friction_coupler_joint;
+  const Real F_B = p.friction_slider3_joint;
+  const Real F_C = p.friction_slider4_joint;
+  const Real v_s = p.friction_velocity_scale;
+  const Real s0 = p.spring_rest_length;
   // The coefficients: the constants' alone, the same at every stage of a step.
   const Real t0 = 1.0/v_s;
   const Real t1 = 4*L;
@@ -431,6 +438,22 @@ inline RatesVariant variantFor(const Constants& constants) {
         static_cast<int>(load.law) > need)
       need = static_cast<int>(load.law);
   return static_cast<RatesVariant>(need);
+}
+
+// The smallest rate scale of the laws in use (a load at a site whose coefficient is not 0):
+// its value and its constant's index, or infinity and -1 when no law in use has one.
+struct RateScale {
+  double value;
+  int constant;
+};
+inline RateScale smallestRateScale(const Constants& constants) {
+  const double* value = &constants.rod_mass;
+  RateScale smallest{std::numeric_limits<double>::infinity(), -1};
+  for (const LoadInfo& load : kLoadInfo)
+    if (load.rate_scale >= 0 && value[load.coefficient] != 0.0 &&
+        !(value[load.rate_scale] >= smallest.value))
+      smallest = {value[load.rate_scale], load.rate_scale};
+  return smallest;
 }
 
 // The rates by `variant` (the caller keeps it fixed over a run: the branch is predicted).

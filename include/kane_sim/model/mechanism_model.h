@@ -19,7 +19,7 @@
 #include "kane_sim/kane/kane_method.h"
 #include "kane_sim/model/generated_equations.h"
 #include "kane_sim/model/joint_names.h"
-#include "kane_sim/model/mechanism_parameters.h"
+#include "kane_sim/model/mechanism_laws.h"
 #include "kane_sim/model/slider_geometry.h"
 #include "kane_sim/model/state.h"
 
@@ -226,6 +226,8 @@ class MechanismModel {
     return relaxed;
   }
   const MechanismParameters& parameters() const { return parameters_; }
+  // The same parameters by the equations' symbols (generated::Constants).
+  const generated::Constants& constants() const { return constants_; }
 
   EnergyTerms energy(const MechanismKinematics& k, const State& x) const;
   EnergyTerms energy(const State& x) const { return energy(kinematics(x), x); }
