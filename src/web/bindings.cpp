@@ -128,6 +128,9 @@ class Session {
   std::string setParameter(std::string name, double value) {
     return session_ ? session_->setParameter(name, value) : "no session";
   }
+  std::string setInitialState(std::string key, double value) {
+    return session_ ? session_->setInitialState(key, value) : "no session";
+  }
   std::string setMode(std::string mode) {
     return session_ ? session_->setMode(mode) : "no session";
   }
@@ -207,6 +210,7 @@ EMSCRIPTEN_BINDINGS(kane_sim) {
       .function("reset", &Session::reset)
       .function("setParameter", &Session::setParameter)
       .function("setMode", &Session::setMode)
+      .function("setInitialState", &Session::setInitialState)
       .function("row", &Session::row)
       .function("time", &Session::time)
       .function("physicsRate", &Session::physicsRate)

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/config/parameter_schema.h"
 #include "kane_sim/format_number.h"
 #include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/csv_format.h"
@@ -87,6 +88,22 @@ std::string LiveSession::setMode(const std::string& mode) {
     } catch (const std::exception&) {  // cannot happen for a mode change; the state at least
       driver_->setState(memory.simulator.state);
     }
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string LiveSession::setInitialState(const std::string& key, double value) {
+  const ParameterSpec* spec = findParameter("initial_state", key);
+  if (spec == nullptr || spec->role != ParameterRole::kInitialState)
+    return "'" + key + "' is not a key of initial_state (q1, q2, u1, u2)";
+  YAML::Node tree = YAML::Clone(tree_);
+  try {
+    setConfigValue(tree, "initial_state", key, YAML::Node(value));
+    const LoadedConfig loaded = loadSimulationConfig(tree);
+    rebuild(loaded.config);
+    tree_ = tree;
   } catch (const ConfigError& e) {
     return e.what();
   }

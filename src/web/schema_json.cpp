@@ -63,6 +63,16 @@ std::string schemaJson(const Config& config) {
             ",\"value\":" + jsonNumber(numericValue(p, config)) + "}";
     first = false;
   }
+  // The initial state: the page's panel edits it (the motion restarts there).
+  json += "],\"initial_state\":[";
+  first = true;
+  for (const ParameterSpec* p : parametersOfRole(ParameterRole::kInitialState)) {
+    json += std::string(first ? "" : ",") + "{\"name\":" + jsonString(p->key) +
+            ",\"key\":" + jsonString(p->path()) + ",\"symbol\":" + jsonString(p->symbol) +
+            ",\"unit\":" + jsonString(p->unit) + ",\"doc\":" + jsonString(p->doc) +
+            ",\"value\":" + jsonNumber(numericValue(*p, config)) + "}";
+    first = false;
+  }
   json += "],\"columns\":[";
   first = true;
   for (const CsvColumn& c : csvColumns()) {

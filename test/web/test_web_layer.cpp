@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -153,6 +155,38 @@ TEST(LiveSession, ParametersChangeAsTheNodesDoOrAreRefusedWithTheLoadersWords) {
     EXPECT_EQ(after[i], before[i]) << name;
   }
   EXPECT_NE(session.setMode("sideways").find("command.mode"), std::string::npos);
+}
+
+// The panel's initial state: the motion restarts there (t = 0, the ledger from zero), through the
+// loader's checks; a refusal names the key and changes nothing.
+TEST(LiveSession, TheInitialStateRestartsTheMotionOrIsRefusedNamingTheKey) {
+  web::LiveSession session(defaultYaml(), "mechanism.yaml");
+  session.advance(0.3, 2.0, 300);
+  ASSERT_EQ(session.setInitialState("q1", 1.0), "");
+  EXPECT_EQ(session.time(), 0.0);
+  EXPECT_EQ(session.config().initial_state.q1, 1.0);
+  EXPECT_EQ(session.row()[1], 1.0);  // q1
+  EXPECT_NE(session.configYaml().find("q1: 1"), std::string::npos) << session.configYaml();
+  ASSERT_EQ(session.setInitialState("u1", -2.5), "");
+  EXPECT_EQ(session.row()[1], 1.0);
+  EXPECT_EQ(session.row()[3], -2.5);  // u1
+  const std::vector<double> kept = session.row();
+  for (double bad : {std::nan(""), std::numeric_limits<double>::infinity(), -1e308 * 10}) {
+    const std::string refused = session.setInitialState("q2", bad);
+    EXPECT_NE(refused.find("initial_state.q2"), std::string::npos) << refused;
+  }
+  EXPECT_NE(session.setInitialState("q3", 1.0).find("'q3' is not a key of initial_state"),
+            std::string::npos);
+  EXPECT_NE(session.setInitialState("", 1.0).find("is not a key"), std::string::npos);
+  EXPECT_EQ(session.row(), kept);  // nothing changed
+  EXPECT_EQ(session.config().initial_state.u1, -2.5);
+  // Contact on: slider 4 set inside the gap is refused with the loader's words.
+  YAML::Node tree = YAML::Load(defaultYaml());
+  tree["contact"]["enabled"] = true;
+  web::LiveSession touching(YAML::Dump(tree), "contact.yaml");
+  const double q2 = touching.config().initial_state.q2;
+  const std::string refused = touching.setInitialState("q2", q2 - 0.29);
+  EXPECT_NE(refused.find("contact.gap"), std::string::npos) << refused;
 }
 
 TEST(Outlines, RodsRunFromPinToPinAndSlidersSitOnTheRail) {

@@ -106,6 +106,7 @@ async function openConfig(yaml, name) {
   $("config").value = yaml;
   $("mode").value = reply.schema.mode === "position" ? "position" : "effort";
   buildParameters(reply.schema);
+  buildInitialState(reply.schema);
   page.torqueLimit = parseTorqueLimit(reply.yaml);  // before the slider's range is set from it
   setCommandRange();
   await control({ running: page.running, command: Number($("command-value").value) || 0 });
@@ -203,6 +204,46 @@ function buildParameters(schema) {
     range.addEventListener("change", () => apply(String(scale.fromSlider(Number(range.value)))));
     number.addEventListener("change", () => apply(number.value));
     row.append(name, range, number);
+    box.appendChild(row);
+  }
+}
+
+// The initial state's four values: a change restarts the motion there (the session checks it
+// with the loader's words; a refusal keeps the value in force and says why).
+function buildInitialState(schema) {
+  const box = $("initial-state");
+  box.textContent = "";
+  for (const p of schema.initial_state) {
+    const row = document.createElement("div");
+    row.className = "param";
+    row.title = `${p.key}${p.symbol ? " (" + p.symbol + ")" : ""}: ${p.doc}`;
+    const name = document.createElement("span");
+    name.className = "name";
+    name.textContent = `${p.symbol || p.name}${p.unit ? " [" + p.unit + "]" : ""}`;
+    const number = document.createElement("input");
+    number.type = "text";
+    number.inputMode = "decimal";
+    number.value = p.value;
+    number.dataset.initial = p.name;
+    number.setAttribute("aria-label", p.key);
+    number.addEventListener("change", async () => {
+      const text = number.value, value = Number(text);
+      if (text.trim() === "" || Number.isNaN(value)) {
+        message("error", `${p.key}: '${text}' is not a number; keeping ${p.value}`);
+        number.value = p.value;
+        return;
+      }
+      const reply = await page.live.call("setInitialState", { key: p.name, value });
+      if (reply.error) {
+        message("error", reply.error);
+        number.value = p.value;
+        return;
+      }
+      const error = await openConfig(reply.yaml, page.configName);
+      if (error) message("error", error);
+      else message("info", `${p.key} = ${value}: the motion restarted there`);
+    });
+    row.append(name, document.createElement("span"), number);
     box.appendChild(row);
   }
 }
@@ -339,10 +380,10 @@ async function drawReplay(index) {
   if (!r) return;
   r.index = index;
   const rec = r.recording;
-  // t on the plots' axis: a bag's stamps less its offset (sim time beside a mechanism state).
+  // t on the plots' axis: a bag's joint_states at their sim time (recordings.js pairs stamps).
   let drawing, t;
   if (rec.joints) {
-    t = rec.joints.t[index] - rec.timeOffset;
+    t = rec.joints.simT[index];
     drawing = (await page.live.call("drawingAtJoints", { positions: rec.joints.positions[index] })).drawing;
   } else {
     t = rec.data.t[index];
@@ -408,8 +449,8 @@ function playReplay() {
 async function openBag(buffer, label = "bag") {
   const recording = await readBag(buffer, page.schema);
   await showRecording(recording, label);
-  return { states: recording.states, t0: recording.t0, t1: recording.t1,
-           topics: recording.topics, notes: recording.notes };
+  return { states: recording.states, t0: recording.t0, t1: recording.t1, start: recording.start,
+           end: recording.end, topics: recording.topics, notes: recording.notes };
 }
 
 async function openFile(file) {
@@ -420,7 +461,7 @@ async function openFile(file) {
       message("info", `${file.name}: ${recording.states} rows, t ${recording.t0} to ${recording.t1} s`);
     } else {
       const result = await openBag(await file.arrayBuffer(), file.name);
-      message("info", `${file.name}: ${result.states} joint_states messages, ${result.t0.toFixed(3)} to ${result.t1.toFixed(3)} s`);
+      message("info", `${file.name}: ${result.states} joint_states messages, sim time ${result.start.toFixed(3)} to ${result.end.toFixed(3)} s`);
     }
   } catch (e) {
     message("error", `${file.name}: ${e instanceof RecordingError ? e.message : "cannot be read: " + e.message}`);

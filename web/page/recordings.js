@@ -40,7 +40,8 @@ function checkIndex(bytes) {
   return index;
 }
 
-// -> {kind: "bag", states, t0, t1, data: {t, column...}, joints: {t, positions: [[4]...]}, notes}
+// -> {kind: "bag", states, t0, t1 (stamps), start, end (sim time), data: {t, column...},
+//     joints: {t (stamps), simT, positions: [[4]...]}, notes}
 export async function readBag(buffer, schema) {
   if (buffer.byteLength > MAX_FILE_BYTES)
     throw new RecordingError(`the file is ${buffer.byteLength} bytes; the page reads bags up to ${MAX_FILE_BYTES} bytes (split it with rosbag filter)`);
@@ -80,9 +81,9 @@ export async function readBag(buffer, schema) {
   // Every column a /mechanism_state field carries (t is its sim_time), as plot_bag reads them.
   const fields = schema.columns.filter((c) => c.message_field && c.name !== "t");
   for (const c of fields) state[c.name] = [];
-  // The node's and simulate's stamps are sim time plus an offset (wall time's start, or 1e9 s);
-  // a node started paused stamps its first states before the clock runs: the median holds.
-  const stampMinusSimTime = [];
+  // Each state's header stamp beside its sim time: the joint_states of the same tick carry the
+  // same stamp (the node's and simulate's), so a joint_states' sim time is read, not guessed.
+  const stateStamps = [];
   let skipped = 0, unstamped = 0;
   const topics = [jointTopic, stateTopic].filter(Boolean);
   try {
@@ -101,7 +102,7 @@ export async function readBag(buffer, schema) {
         joints.positions.push(positions);
       } else if (state.t.length < MAX_STATES) {
         const simTime = message.sim_time !== undefined ? message.sim_time : stamp;
-        stampMinusSimTime.push(stamp - simTime);
+        stateStamps.push(stamp);
         state.t.push(simTime);
         for (const c of fields) {
           const v = message[c.message_field.replace(/\[\d+\]$/, "")];
@@ -124,27 +125,48 @@ export async function readBag(buffer, schema) {
   const notes = [];
   if (skipped) notes.push(`kept the first ${MAX_STATES} joint_states messages of ${MAX_STATES + skipped}`);
   if (unstamped) notes.push(`${unstamped} messages had no header stamp: placed at the bag's receive times`);
-  // The plots' time axis: sim time beside a mechanism state (its stamps less the offset between
-  // them), else the joint_states' stamps from the first.
-  let data, timeOffset;
+  // The plots' time axis: sim time beside a mechanism state, else the joint_states' stamps from
+  // the first. A joint_states' sim time is its state's of the same stamp; between states (a
+  // sensor's latency) interpolated, and before the first state or after the last, that state's:
+  // a node started paused stamps states at sim time 0 while its clock waits, and the replay's
+  // time stays on the plots' axis.
+  let data;
   if (state.t.length) {
     data = state;
-    timeOffset = stampMinusSimTime.sort((a, b) => a - b)[stampMinusSimTime.length >> 1];
     if (data.energy_balance) data.ledger_drift = data.energy_balance.map((v) => v - data.energy_balance[0]);
     if (joints.t.length) {
-      data.sensor_t = joints.t.map((t) => t - timeOffset);
+      joints.simT = joints.t.map((stamp) => simTimeAt(stateStamps, state.t, stamp));
+      data.sensor_t = joints.simT;
       data.sensor_q1 = joints.positions.map((p) => p[0]);
     }
   } else {
-    timeOffset = joints.t[0];
-    data = { t: joints.t.map((t) => t - timeOffset), q1: joints.positions.map((p) => p[0]),
+    joints.simT = joints.t.map((t) => t - joints.t[0]);
+    data = { t: joints.simT, q1: joints.positions.map((p) => p[0]),
              q2: joints.positions.map((p) => p[3]) };
     notes.push("joint_states only: the positions are plotted; energies and powers need /mechanism_state");
   }
-  const times = joints.t.length ? joints.t : state.t.map((t) => t + timeOffset);
+  const times = joints.t.length ? joints.t : stateStamps;
+  const simTimes = joints.t.length ? joints.simT : state.t;
   return { kind: "bag", states: joints.t.length, t0: times[0], t1: times[times.length - 1],
-           data, joints: joints.t.length ? joints : null, timeOffset,
+           start: simTimes[0], end: simTimes[simTimes.length - 1],
+           data, joints: joints.t.length ? joints : null,
            topics: { joints: jointTopic, state: stateTopic }, notes };
+}
+
+// The sim time at a header stamp, from the states' (stamp, sim time) pairs in stamp order: the
+// pair's own at an equal stamp, linear between two, the end's beyond the ends.
+export function simTimeAt(stamps, simTimes, stamp) {
+  const last = stamps.length - 1;
+  if (!(stamp > stamps[0])) return simTimes[0];
+  if (!(stamp < stamps[last])) return simTimes[last];
+  let lo = 0, hi = last;
+  while (hi - lo > 1) {
+    const mid = (lo + hi) >> 1;
+    if (stamps[mid] <= stamp) lo = mid; else hi = mid;
+  }
+  if (stamps[lo] === stamp) return simTimes[lo];
+  const f = (stamp - stamps[lo]) / (stamps[hi] - stamps[lo]);
+  return simTimes[lo] + f * (simTimes[hi] - simTimes[lo]);
 }
 
 // A number as simulate writes one (std::to_chars: digits, a point, an exponent), or nan / inf.

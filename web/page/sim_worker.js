@@ -85,6 +85,10 @@ const handlers = {
     const error = session.setParameter(name, value);
     return { error, yaml: session.configYaml(), schema: JSON.parse(session.schema()) };
   },
+  setInitialState({ key, value }) {
+    const error = session.setInitialState(key, value);
+    return { error, yaml: session.configYaml() };
+  },
   setMode({ mode }) {
     const error = session.setMode(mode);
     return { error, yaml: session.configYaml(), schema: JSON.parse(session.schema()) };

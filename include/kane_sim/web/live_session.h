@@ -48,6 +48,10 @@ class LiveSession {
   // mode, going on from the old one's state, sim time and ledger. "" when accepted, else the
   // refusal (nothing changed).
   std::string setMode(const std::string& mode);
+  // initial_state.<key> (q1, q2, u1, u2): the motion restarts there, at t = 0 with the ledger
+  // from zero, through the loader's checks (the spring is unstretched at the new (q10, q20), as
+  // the config says). "" when accepted, else the refusal naming the key (nothing changed).
+  std::string setInitialState(const std::string& key, double value);
 
   std::vector<double> row() const;  // simulate's CSV row of this instant
   double time() const { return driver_->time(); }

@@ -12,7 +12,8 @@
 namespace kane_sim {
 namespace web {
 
-// {"parameters": [...], "columns": [...], "joints": [...], "modes": [...]}; values from `config`.
+// {"parameters": [...], "initial_state": [...], "columns": [...], "joints": [...], "modes":
+// [...]}; values from `config`.
 std::string schemaJson(const Config& config);
 
 // `text` as a JSON string literal, quotes included.

@@ -1,6 +1,7 @@
 """The browser twin in headless Chromium: the page loads and draws, its runs are simulate's runs,
 it refuses what simulate refuses with the same words, opens bags, shares runs, and keeps running
 while a run is stopped."""
+import copy
 import io
 import itertools
 import os
@@ -291,6 +292,42 @@ def test_the_parameter_panel_refuses_with_the_loaders_words(page):
     assert yaml.safe_load(config)["mechanism"]["spring_stiffness"] == 300
 
 
+@pytest.mark.parametrize("text,words", [
+    ("abc", "initial_state.q1: 'abc' is not a number"),
+    ("", "initial_state.q1: '' is not a number"),
+    ("nan", "initial_state.q1: 'nan' is not a number"),
+    ("1e999", "initial_state.q1"),  # Infinity: the loader's words
+    ("-inf", "initial_state.q1"),
+])
+def test_the_initial_state_refuses_what_the_loader_refuses(page, text, words):
+    field = page.driver.find_element("css selector", "input[data-initial=q1]")
+    before = field.get_attribute("value")
+    enter = "arguments[0].value = arguments[1]; arguments[0].dispatchEvent(new Event('change'))"
+    page.driver.execute_script(enter, field, text)
+    messages = page.call("return new Promise((r) => setTimeout(() => r("
+                         "document.getElementById('messages').textContent), 400))")
+    assert words in messages, messages
+    assert field.get_attribute("value") == before
+    assert yaml.safe_load(page.call("return document.getElementById('config').value"))[
+        "initial_state"]["q1"] == pytest.approx(float(before))
+
+
+def test_the_initial_state_restarts_the_motion_there(page):
+    """A teacher sets the crank at 1 rad, at rest: the mechanism restarts there (the config says
+    so, the drawing and the plots start over), and a run of the config agrees."""
+    field = page.driver.find_element("css selector", "input[data-initial=q1]")
+    enter = "arguments[0].value = arguments[1]; arguments[0].dispatchEvent(new Event('change'))"
+    page.driver.execute_script(enter, field, "1")
+    messages = page.call("return new Promise((r) => setTimeout(() => r("
+                         "document.getElementById('messages').textContent), 500))")
+    assert "initial_state.q1 = 1: the motion restarted there" in messages, messages
+    config = yaml.safe_load(page.call("return document.getElementById('config').value"))
+    assert config["initial_state"]["q1"] == 1.0
+    assert page.call("return window.kaneSim.live()")["time"] < 1.0
+    out = page.call("return window.kaneSim.run({duration: 0.5})")
+    assert out["rows"][0][1] == 1.0, out["rows"][0]
+
+
 def test_a_share_link_opens_the_same_run(page):
     url = page.call("return window.kaneSim.shareLink()")
     assert "#run=" in url
@@ -468,20 +505,35 @@ def test_switching_the_drive_goes_on_from_the_same_instant(page):
 
 
 def test_a_bag_of_a_node_started_paused_keeps_its_joint_states_on_sim_time(page, tmp_path):
-    """A node started paused stamps its first state before its clock runs (the demo's bags): the
-    joint_states stay on the states' sim time, not shifted by that first stamp."""
+    """A node started paused (the demo's bags) publishes states stamped by the wall clock while its
+    sim time stays 0: each joint_states is placed at its state's sim time (the same stamp), so the
+    replay starts at t = 0 on the plots' axis, not before it, and the info line says sim time."""
     import rospy
-    path, shifted = make_bag(tmp_path), str(tmp_path / "paused.bag")
-    with rosbag.Bag(path) as bag, rosbag.Bag(shifted, "w") as out:
-        first = True
-        for topic, message, stamp in bag.read_messages():
-            if topic == "/mechanism_state" and first:
-                message.header.stamp -= rospy.Duration(0.3)
-                first = False
+    path, paused = make_bag(tmp_path), str(tmp_path / "paused.bag")
+    with rosbag.Bag(path) as bag:
+        messages = list(bag.read_messages())
+    first = {topic: message for topic, message, _ in reversed(messages)}
+    waiting = 30  # 0.3 s of wall time at 100 Hz before the clock runs
+    with rosbag.Bag(paused, "w") as out:
+        for k in range(waiting, 0, -1):
+            for topic in ("/joint_states", "/mechanism_state"):
+                message = copy.deepcopy(first[topic])
+                message.header.stamp -= rospy.Duration(0.01 * k)
+                out.write(topic, message, message.header.stamp)
+        for topic, message, stamp in messages:
             out.write(topic, message, stamp)
-    open_bag(page, open(shifted, "rb").read())
+    out = drop_file(page, "paused.bag", open(paused, "rb").read())
     shown = page.call("return window.kaneSim.shown()")
-    assert shown["at"] == pytest.approx(0.0, abs=1e-9), shown
+    assert shown["at"] == 0.0, shown
+    assert "sim time 0.000 to 2.000 s" in out["messages"], out
+    # Every joint_states of the waiting ticks is at t = 0; the last is at the run's end.
+    for index, want in ((waiting - 1, 0.0), (waiting + 1, 0.01), (None, 2.0)):
+        page.driver.execute_script(
+            "const s = document.getElementById('replay-time'); s.value = arguments[0] === null ? "
+            "s.max : arguments[0]; s.dispatchEvent(new Event('input'))", index)
+        at = page.call("return new Promise((r) => setTimeout(() => "
+                       "r(window.kaneSim.shown().at), 300))")
+        assert at == pytest.approx(want, abs=1e-12), (index, at)
 
 
 def test_the_downloaded_csv_is_simulates_csv(page, musl_math):
