@@ -143,12 +143,16 @@ export class MechanismView {
 
   // M_m about the textbook's z = x × y: with x down and y to the right on the screen, z points
   // out of the screen, so a positive torque turns counter-clockwise as seen (q1 grows from
-  // "down" towards "right"). The arc's length grows with |M_m| up to the torque limit.
+  // "down" towards "right"). The arc's length grows as the square root of |M_m| / the torque
+  // limit, from 0.08 turn at the smallest torque to 0.8 turn at the limit, so 2 N m
+  // under a 50 N m limit still reads as an arrow; its value is written beside it.
   torqueArrow(cx, cy, torque, limit, scale) {
     if (!torque || !isFinite(torque)) return;
     const g = this.context;
+    g.save();
     const full = isFinite(limit) && limit > 0 ? limit : 5;
-    const sweep = Math.min(Math.abs(torque) / full, 1) * 1.6 * Math.PI;
+    const fraction = Math.sqrt(Math.min(Math.abs(torque) / full, 1));
+    const sweep = (0.1 + 0.9 * fraction) * 1.6 * Math.PI;
     const radius = Math.max(22, 0.12 * scale);
     const start = -Math.PI / 2;
     // The canvas's angles grow clockwise on the screen (its y points down).
@@ -168,5 +172,15 @@ export class MechanismView {
     g.lineTo(tx + 6 * Math.cos(dir - 2.2), ty + 6 * Math.sin(dir - 2.2));
     g.closePath();
     g.fill();
+    g.font = "12px sans-serif";
+    g.textAlign = "right";
+    g.fillText(`M_m ${formatTorque(torque)} N m`, cx - radius - 6, cy - radius);
+    g.restore();
   }
+}
+
+// A torque for the drawing's label: three significant digits, no exponent for everyday values.
+function formatTorque(value) {
+  const magnitude = Math.abs(value);
+  return magnitude >= 1e4 || magnitude < 1e-2 ? value.toExponential(2) : String(Number(value.toPrecision(3)));
 }
