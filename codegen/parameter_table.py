@@ -5,6 +5,7 @@ equations' constants from the same rows (equation_parameters()).
 """
 import math
 import os
+import re
 
 import yaml
 
@@ -25,38 +26,118 @@ RULES = {"finite": "kAny", "positive": "kPositive", "non-negative": "kNonNegativ
          "flag": "kFlag"}
 
 
+# A C++ identifier in lower snake case (a key's section and name, a member's parts).
+IDENTIFIER = re.compile(r"^[a-z][a-z0-9_]*$")
+# An equation symbol: a C++ identifier that is not one of the derivation's own names.
+SYMBOL = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+RESERVED_SYMBOLS = {"q1", "q2", "u1", "u2", "M_m", "c", "v", "x", "x0", "t", "p", "s0", "e",
+                    "double", "int", "float", "auto", "const", "return", "Real"}
+
+
+class TableError(SystemExit):
+    """A row the table cannot hold: the generator stops, naming it."""
+
+
+def refuse(key, text):
+    raise TableError("parameters.yaml: %s: %s" % (key, text))
+
+
+def as_number(value):
+    """A finite number as the table writes one (PyYAML reads 1e3, without a point, as text), or
+    None."""
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, str) and re.match(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$", value):
+        value = float(value)
+    if isinstance(value, (int, float)) and math.isfinite(value):
+        return float(value)
+    return None
+
+
+def finite_number(value):
+    return as_number(value) is not None
+
+
 class Row:
     """One parameter, with the names every consumer derives from its key."""
 
     def __init__(self, entry, groups):
+        if not isinstance(entry, dict):
+            raise TableError("parameters.yaml: a row is a mapping of key, symbol, unit, ...; "
+                             "got %r" % (entry,))
         self.entry = entry
         self.key = str(entry.get("key"))
-        if self.key.count(".") != 1:
-            raise SystemExit("parameters.yaml: key %r is not <section>.<name>" % self.key)
-        self.section, self.name = self.key.split(".")
+        parts = self.key.split(".")
+        if len(parts) != 2 or not all(IDENTIFIER.match(x) for x in parts):
+            refuse(self.key, "a key is <section>.<name>, each lower snake case (letters, digits, _)")
+        self.section, self.name = parts
         if "member" in entry:
-            self.member = entry["member"]
+            self.member = str(entry["member"])
+            if not all(IDENTIFIER.match(x) for x in self.member.split(".")):
+                refuse(self.key, "member %r is not a C++ member path" % self.member)
         elif self.section == "mechanism":
             self.member = self.name
         elif self.section in groups:
             self.member = self.section + "." + self.name
         else:
-            raise SystemExit("parameters.yaml: %s: section %s has no group; give its member"
-                             % (self.key, self.section))
+            refuse(self.key, "section %s has no group; give its member" % self.section)
         self.constant = self.member.replace(".", "_")  # its field in generated::Constants
-        self.symbol = entry.get("symbol", "")
-        self.equation_symbol = entry.get("equation_symbol", self.symbol)
-        self.role = entry.get("role")
-        if self.role not in ROLES:
-            raise SystemExit("parameters.yaml: %s: role %r is not one of %s"
-                             % (self.key, self.role, ", ".join(ROLES)))
-        self.unit = entry.get("unit", "")
         for field in ("role", "rule", "default", "doc"):
             if field not in entry:
-                raise SystemExit("parameters.yaml: %s has no %s" % (self.key, field))
-        self.doc = " ".join(str(entry["doc"]).split())
+                refuse(self.key, "has no %s" % field)
+        self.role = entry.get("role")
+        if self.role not in ROLES:
+            refuse(self.key, "role %r is not one of %s" % (self.role, ", ".join(ROLES)))
+        self.symbol = str(entry.get("symbol", ""))
+        self.equation_symbol = str(entry.get("equation_symbol", self.symbol))
+        if self.in_equations() and (not SYMBOL.match(self.equation_symbol)
+                                    or self.equation_symbol in RESERVED_SYMBOLS):
+            refuse(self.key, "equation symbol %r is not a C++ identifier free in the derivation "
+                   "(not one of %s)" % (self.equation_symbol, ", ".join(sorted(RESERVED_SYMBOLS))))
+        self.unit = str(entry.get("unit", ""))
+        self.doc = " ".join(str(entry["doc"] or "").split())
+        if not self.doc:
+            refuse(self.key, "its doc line is empty")
         self.flag = entry["rule"] == "flag"
         self.default = entry["default"]
+        self.check_rule_and_default()
+        self.check_reconfigure()
+
+    def check_rule_and_default(self):
+        rule, default = self.entry["rule"], self.default
+        try:
+            rule_cpp(rule)
+        except ValueError as e:
+            refuse(self.key, str(e))
+        if self.flag:
+            if not isinstance(default, bool):
+                refuse(self.key, "a flag's default is true or false, got %r" % (default,))
+            return
+        if default in ("required", "derived"):
+            if default == "derived" and not self.entry.get("default_text"):
+                refuse(self.key, "a derived default says how in default_text")
+            return
+        if not finite_number(default):
+            refuse(self.key, "default %r is not a finite number, required or derived" % (default,))
+        default = as_number(default)
+        if isinstance(rule, dict):
+            lo, hi = (as_number(b) for b in rule["range"])
+            ok = lo <= default <= hi
+        else:
+            ok = {"finite": True, "positive": default > 0, "non-negative": default >= 0}[rule]
+        if not ok:
+            refuse(self.key, "default %r breaks its own rule %r" % (default, rule))
+
+    def check_reconfigure(self):
+        r = self.entry.get("reconfigure")
+        if r is None:
+            return
+        if not isinstance(r, dict) or not finite_number(r.get("min")) or \
+                not finite_number(r.get("max")) or not as_number(r["min"]) <= as_number(r["max"]):
+            refuse(self.key, "reconfigure is {min, max} (finite, min <= max), optionally name; "
+                   "got %r" % (r,))
+        if "name" in r and not IDENTIFIER.match(str(r["name"])):
+            refuse(self.key, "reconfigure name %r is not lower snake case" % (r["name"],))
 
     def in_equations(self):
         return self.role in IN_EQUATIONS
@@ -69,36 +150,48 @@ class Row:
 
 def load(path=TABLE):
     """(groups, rows) of the table at `path`."""
-    with open(path) as f:
-        table = yaml.safe_load(f)
+    try:
+        with open(path) as f:
+            table = yaml.safe_load(f)
+    except yaml.YAMLError as e:
+        raise TableError("parameters.yaml: not YAML: %s" % " ".join(str(e).split()))
+    if not isinstance(table, dict) or not isinstance(table.get("groups"), dict) or \
+            not isinstance(table.get("parameters"), list):
+        raise TableError("parameters.yaml: the table is a mapping with `groups` (a mapping) and "
+                         "`parameters` (a list of rows)")
     groups = table["groups"]
+    for section, group in groups.items():
+        if not IDENTIFIER.match(str(section)) or not isinstance(group, dict) or \
+                not re.match(r"^[A-Z][A-Za-z0-9]*$", str(group.get("struct", ""))):
+            raise TableError("parameters.yaml: group %r needs a struct name (CamelCase) and a doc"
+                             % (section,))
     rows = [Row(entry, groups) for entry in table["parameters"]]
     check(rows)
     return groups, rows
 
 
 def check(rows):
-    """Each key, constant and equation symbol declared once; each rule known."""
+    """Each key, constant, equation symbol and reconfigure name declared once."""
     seen = set()
     for row in rows:
-        for name in (row.key, row.constant, row.equation_symbol):
+        names = [row.key, row.constant, row.equation_symbol]
+        if "reconfigure" in row.entry:
+            names.append("reconfigure " + str(row.entry["reconfigure"].get("name", row.constant)))
+        for name in names:
             if name and name in seen:
-                raise SystemExit("parameters.yaml: %s: %r is declared twice" % (row.key, name))
+                refuse(row.key, "%r is declared twice" % name)
             seen.add(name)
-        try:
-            rule_cpp(row.entry["rule"])
-        except SystemExit as refused:
-            raise SystemExit("parameters.yaml: %s: %s" % (row.key, refused))
 
 
 def cpp_string(text):
-    return '"%s"' % text.replace("\\", "\\\\").replace('"', '\\"')
+    return '"%s"' % (str(text).replace("\\", "\\\\").replace('"', '\\"')
+                     .replace("\n", " ").replace("\r", " "))
 
 
 def cpp_number(value):
     if value == "inf" or (isinstance(value, float) and math.isinf(value)):
         return "std::numeric_limits<double>::infinity()"
-    value = float(value)
+    value = as_number(value)
     text = repr(value)
     return text if ("e" in text or "." in text) else text + ".0"
 
@@ -220,12 +313,19 @@ def render_struct(groups, rows):
 
 
 def rule_cpp(rule):
+    """The rule as C++; ValueError for one the table cannot hold."""
     if isinstance(rule, dict):
-        lo, hi = rule["range"]
+        bounds = rule.get("range")
+        if not isinstance(bounds, list) or len(bounds) != 2 or \
+                not all(finite_number(b) for b in bounds) or \
+                not as_number(bounds[0]) <= as_number(bounds[1]):
+            raise ValueError("a range rule is {range: [lo, hi]} with finite lo <= hi, got %r"
+                             % (rule,))
+        lo, hi = bounds
         return "{ValueRule::kRange, %s, %s, %s}" % (cpp_number(lo), cpp_number(hi),
                                                    cpp_string(str(rule.get("note", ""))))
-    if rule not in RULES:
-        raise SystemExit("parameters.yaml: rule %r is not one of %s or {range: [lo, hi]}"
+    if not isinstance(rule, str) or rule not in RULES:
+        raise ValueError("rule %r is not one of %s or {range: [lo, hi]}"
                          % (rule, ", ".join(RULES)))
     return RULES[rule]
 

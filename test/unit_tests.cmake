@@ -110,7 +110,7 @@ set_tests_properties(python_cluster PROPERTIES TIMEOUT 1800
 # The browser twin (built by scripts/build_web.sh) in headless Chromium, against simulate.
 add_test(NAME browser COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider
   ${PROJECT_SOURCE_DIR}/test/python/browser)
-set_tests_properties(browser PROPERTIES TIMEOUT 1800 COST 50
+set_tests_properties(browser PROPERTIES TIMEOUT 3600 COST 50
   ENVIRONMENT "KANE_SIM_BUILD_DIR=${CMAKE_BINARY_DIR};PYTHONDONTWRITEBYTECODE=1")
 add_test(NAME layers COMMAND /usr/bin/python3 ${tools_dir}/layers_test.py ${PROJECT_SOURCE_DIR})
 add_test(NAME doc_links
@@ -123,8 +123,9 @@ add_test(NAME plot_bag COMMAND bash ${tools_dir}/plot_bag_test.sh ${CMAKE_BINARY
 add_test(NAME rviz_smoke COMMAND bash ${tools_dir}/rviz_smoke_test.sh ${CMAKE_BINARY_DIR})
 set_tests_properties(rviz_smoke PROPERTIES TIMEOUT 1200)
 add_test(NAME launches COMMAND bash ${tools_dir}/launch_test.sh ${CMAKE_BINARY_DIR})
-set_tests_properties(launches PROPERTIES TIMEOUT 900)
+set_tests_properties(launches PROPERTIES TIMEOUT 1800)
 add_test(NAME faults COMMAND bash ${tools_dir}/faults_test.sh ${CMAKE_BINARY_DIR})
+set_tests_properties(faults PROPERTIES TIMEOUT 1800)
 add_test(NAME node_cli COMMAND bash ${tools_dir}/node_cli_test.sh ${CMAKE_BINARY_DIR})
 set_tests_properties(node_cli PROPERTIES TIMEOUT 600)
 set_tests_properties(faults PROPERTIES TIMEOUT 900)

@@ -85,6 +85,8 @@ LaneMathValues laneMathFunctions(LaneArch arch, const std::vector<double>& value
   return out;
 }
 
+void checkLaneEnvironment() { widestAllowed(); }
+
 LaneArch bestLaneArch() {
   for (LaneArch arch : {LaneArch::kAvx512, LaneArch::kAvx2, LaneArch::kSse2})
     if (laneArchAvailable(arch)) return arch;

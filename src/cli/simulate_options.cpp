@@ -200,11 +200,16 @@ bool parseOptions(int argc, char** argv, Options* options) {
     if (!options->sweep()) throw UsageError("--simd is for --sweep");
     options->simd = vm["simd"].as<std::string>();
   }
+  try {  // a bad KANE_SIM_SIMD_MAX, named before any run whatever the run
+    kane_sim::checkLaneEnvironment();
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what(), false);
+  }
   if (options->sweep() && options->simd != "off") {
-    try {  // a typo, a set this CPU lacks or a bad KANE_SIM_SIMD_MAX, named before any run
+    try {  // a typo, or a set this CPU (or the cap) lacks, named before any run
       kane_sim::parseLaneArch(options->simd);
     } catch (const std::invalid_argument& e) {
-      throw UsageError(vm.count("simd") ? std::string("--") + e.what() : e.what());
+      throw UsageError(std::string("--") + e.what());
     }
   }
   if (vm.count("csv")) options->csv_path = vm["csv"].as<std::string>();

@@ -89,12 +89,12 @@ py::dict sweep(const PythonConfig& config, const std::vector<std::string>& keys,
   settings.jobs = static_cast<unsigned>(jobs);
   settings.simd = simd;
   settings.vector_trig = vector_trig;
-  if (simd != "off") {
-    try {
+  try {
+    checkLaneEnvironment();  // a bad KANE_SIM_SIMD_MAX, whatever `simd` says
+    if (simd != "off")
       parseLaneArch(simd);  // a typo, or an instruction set this CPU lacks, named before any run
-    } catch (const std::invalid_argument& e) {
-      throw py::value_error(std::string("sweep: ") + e.what());
-    }
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(std::string("sweep: ") + e.what());
   }
   std::unique_ptr<py::error_already_set> raised;
   const std::vector<SweepResult> results = runSweepStoppable(config, plan, settings, &raised);

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "kane_sim/batch/lanes.h"
 #include "kane_sim/format_number.h"
 #include "kane_sim/model/generated_mechanism.h"
 #include "kane_sim/sim/profile_commands.h"
@@ -48,6 +49,7 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
   if (settings_.threads < 1)
     throw std::invalid_argument("threads must be 1 or more, got " +
                                 std::to_string(settings_.threads));
+  checkLaneEnvironment();  // a bad KANE_SIM_SIMD_MAX, whatever `simd` says
   const LaneArch arch =
       settings_.simd == "off" ? LaneArch::kScalar : parseLaneArch(settings_.simd);  // names a typo
   step_size_ = 1.0 / configs_[0].simulation.physics_rate;  // as Simulator's step_size_

@@ -95,6 +95,26 @@ void checkIntegrable(const Config& c) {
   const double initial = fastestRate(model, c.initial_state, 0.0);
   if (std::isfinite(stiffest.rate) && !(initial <= stiffest.rate))
     stiffest = {initial, c.initial_state.q1, c.initial_state.u1};
+  // What sets that rate, and the remedy that comes first: the initial speeds when the same
+  // mechanism started at rest would pass (their energy swings it that fast; a speed typed into
+  // the page's initial state was once blamed on physics_rate alone).
+  const double limit = rk4 ? kRk4StabilityLimit : kDopri5RateSteps;
+  const auto passesAtRest = [&] {
+    State at_rest = c.initial_state;
+    at_rest.u1 = at_rest.u2 = 0.0;
+    return stiffestConfiguration(model, at_rest).rate * h <= limit;
+  };
+  const bool from_initial_speeds = std::isfinite(stiffest.rate) && !(stiffest.rate * h <= limit) &&
+                                   (c.initial_state.u1 != 0.0 || c.initial_state.u2 != 0.0) &&
+                                   passesAtRest();
+  const std::string source =
+      from_initial_speeds
+          ? "the initial state's speeds (initial_state.u1 = " + formatNumber(c.initial_state.u1) +
+                " rad/s, initial_state.u2 = " + formatNumber(c.initial_state.u2) + " m/s)"
+          : "spring_stiffness, the masses, damping, friction" +
+                (rateScaleInUse(c) ? " (F_c / " + rateScaleInUse(c)->path() + ")" : "") +
+                " and the motor line";
+  const std::string slower = from_initial_speeds ? "slower initial_state speeds, or " : "";
   if (!std::isfinite(stiffest.rate)) {
     refuseBeyondScale(
         c, "the equations of motion are not finite at q1 = " + formatNumber(stiffest.q1) + " rad");
@@ -110,14 +130,14 @@ void checkIntegrable(const Config& c) {
   }
   if (!rk4) {
     if (!(stiffest.rate * h <= kDopri5RateSteps))
-      throw ConfigError("simulation.physics_rate",
-                        "is too low even for dopri5 on this mechanism: its fastest rate (" +
-                            formatNumber(stiffest.rate) + " 1/s) would take more than " +
-                            formatNumber(Simulator::kMaxSubstepsPerTick) +
-                            " sub-steps in each physics step of " + formatNumber(h) + " s" +
-                            (dampersOn(c).empty() ? "" : " (with " + dampersOn(c).substr(2) + ")") +
-                            ": a softer spring_stiffness, less damping or friction" +
-                            largerScale(c));
+      throw ConfigError(
+          "simulation.physics_rate",
+          "is too low even for dopri5 on this mechanism: its fastest rate (" +
+              formatNumber(stiffest.rate) + " 1/s, from " + source + ") would take more than " +
+              formatNumber(Simulator::kMaxSubstepsPerTick) + " sub-steps in each physics step of " +
+              formatNumber(h) + " s" +
+              (dampersOn(c).empty() ? "" : " (with " + dampersOn(c).substr(2) + ")") + ": " +
+              slower + "a softer spring_stiffness, less damping or friction" + largerScale(c));
     return;
   }
   if (!(stiffest.rate * h <= kRk4StabilityLimit))
@@ -125,13 +145,11 @@ void checkIntegrable(const Config& c) {
         "simulation.physics_rate",
         "is too low for rk4 on this mechanism: its fastest rate (" + formatNumber(stiffest.rate) +
             " 1/s at q1 = " + formatNumber(stiffest.q1) +
-            " rad, u1 = " + formatNumber(stiffest.u1) +
-            " rad/s, from spring_stiffness, the masses, damping, friction" +
-            (rateScaleInUse(c) ? " (F_c / " + rateScaleInUse(c)->path() + ")" : "") +
-            " and the motor line) needs rate h <= " + formatNumber(kRk4StabilityLimit) + ", got " +
+            " rad, u1 = " + formatNumber(stiffest.u1) + " rad/s, from " + source +
+            ") needs rate × h <= " + formatNumber(kRk4StabilityLimit) + ", got " +
             formatNumber(stiffest.rate * h) + " at " + formatNumber(c.simulation.physics_rate) +
             " Hz" + (dampersOn(c).empty() ? "" : " (with " + dampersOn(c).substr(2) + ")") + "; " +
-            rk4Remedy(stiffest.rate, c));
+            slower + rk4Remedy(stiffest.rate, c));
 }
 
 }  // namespace

@@ -287,12 +287,16 @@ Status Simulator::checkUsable(const State& x) const {
   const OdeState rates = generated_.stateDerivative(x, torque_);
   if (!isFinite(rates)) return refuse("gives non-finite accelerations u'");
   const SliderContact& contact = model_.parameters().contact;
-  if (contact.enabled && !separationAtLeast(toOdeState(x), contact.gap))
-    return {false,
-            "q1 = " + formatNumber(x.q1) + ", q2 = " + formatNumber(x.q2) + " puts slider 4 " +
-                formatNumber(model_.geometry(x.q1, x.q2).sliderSeparation()) +
-                " m below slider 3 (x_C - x_B), closer than contact.gap " +
-                formatNumber(contact.gap) + " m: with contact enabled the sliders must be apart"};
+  if (contact.enabled && !separationAtLeast(toOdeState(x), contact.gap)) {
+    // x points down the rail: a negative separation puts slider 4 above slider 3.
+    const double separation = model_.geometry(x.q1, x.q2).sliderSeparation();
+    return {false, "q1 = " + formatNumber(x.q1) + ", q2 = " + formatNumber(x.q2) +
+                       " puts slider 4 " + formatNumber(std::abs(separation)) +
+                       (separation < 0.0 ? " m above" : " m below") +
+                       " slider 3 (x_C - x_B = " + formatNumber(separation) +
+                       " m), closer than contact.gap " + formatNumber(contact.gap) +
+                       " m: with contact enabled the sliders must be apart"};
+  }
   if (!withinScale(toOdeState(x)))
     return refuse("is beyond the mechanism's scale (a magnitude over 1e100)");
   return {};

@@ -269,7 +269,8 @@ int main(int argc, char** argv) {
     if (!parseOptions(argc, argv, &options)) return 0;
     return run(options);
   } catch (const UsageError& e) {
-    std::cerr << "error: " << e.what() << "\n\n" << describeOptions() << "\n";
+    std::cerr << "error: " << e.what() << "\n";
+    if (e.show_usage) std::cerr << "\n" << describeOptions() << "\n";
     return kExitUsage;
   } catch (const OutputError& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -117,6 +117,37 @@ TEST(ConfigCheck, FrictionHostileValuesAreRefusedNamingTheKey) {
   EXPECT_NO_THROW(loadSimulationConfig(root));
 }
 
+// An initial speed that alone makes the motion too fast for the step (u1 = 1e6 rad/s: its
+// centripetal terms) is named as the cause, with its value, and slowing it is the first remedy;
+// the same mechanism at rest passes.
+TEST(ConfigCheck, InitialSpeedsThatSetTheFastestRateAreNamed) {
+  for (const char* integrator : {"rk4", "dopri5"}) {
+    YAML::Node root = defaultYaml();
+    root["simulation"]["integrator"] = integrator;
+    root["initial_state"]["u1"] = integrator == std::string("rk4") ? 1e6 : 1e12;
+    try {
+      loadSimulationConfig(root);
+      ADD_FAILURE() << integrator << ": no error";
+    } catch (const ConfigError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("from the initial state's speeds (initial_state.u1 = 1e+"),
+                std::string::npos)
+          << what;
+      EXPECT_NE(what.find("slower initial_state speeds, or "), std::string::npos) << what;
+    }
+  }
+  YAML::Node root = defaultYaml();
+  root["mechanism"]["spring_stiffness"] = 1e9;  // the mechanism, not its start, sets the rate
+  try {
+    loadSimulationConfig(root);
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("from spring_stiffness, the masses"), std::string::npos)
+        << e.what();
+    EXPECT_EQ(std::string(e.what()).find("initial_state"), std::string::npos) << e.what();
+  }
+}
+
 // A finite initial state whose energy is not (V_g = -M2 g q2 overflows).
 TEST(ConfigCheck, InitialStateWithNonFiniteEnergyIsRefused) {
   YAML::Node root = defaultYaml();

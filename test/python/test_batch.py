@@ -62,6 +62,26 @@ def single_runs(batch, actions):
     return out
 
 
+@pytest.mark.parametrize("simd", ["off", "auto", "scalar"])
+def test_a_bad_simd_cap_is_named_whatever_simd_says(simd):
+    """KANE_SIM_SIMD_MAX is read once per process: each case runs in its own. A value naming no
+    instruction set is a ValueError naming it, even with simd="off"; "scalar" caps auto."""
+    import os
+    import subprocess
+    import sys
+    program = ("import kane_sim\n"
+               "try:\n"
+               "    b = kane_sim.BatchSimulator(2, %r, simd=%r)\n"
+               "    print('path', b.path)\n"
+               "except ValueError as e:\n"
+               "    print('refused', e)\n" % (config_path(), simd))
+    for cap, want in (("avx9", "refused environment variable KANE_SIM_SIMD_MAX 'avx9'"),
+                      ("scalar", "path drivers" if simd == "off" else "path scalar lanes")):
+        out = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True,
+                             env=dict(os.environ, KANE_SIM_SIMD_MAX=cap), timeout=600)
+        assert out.stdout.startswith(want), (cap, out.stdout, out.stderr)
+
+
 @pytest.fixture(scope="module")
 def reference():
     batch = kane_sim.BatchSimulator(N, config_path(), lane_params(), simd="off")

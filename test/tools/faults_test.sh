@@ -27,9 +27,14 @@ core_pid=""
 start_master() {
   roscore -p "$port" >"$work/roscore.log" 2>&1 &
   core_pid=$!
-  # Waits are bounds, not expectations (60 s): each check returns as soon as it holds, and a busy
+  # Waits are bounds, not expectations (600 s): each check returns as soon as it holds, and a busy
   # machine (one core beside a CPU hog) takes seconds to start a Python tool.
-  for _ in $(seq 300); do rostopic list >/dev/null 2>&1 && return 0; sleep 0.2; done
+  local deadline=$((SECONDS + 600))
+  while [ "$SECONDS" -lt "$deadline" ]; do
+    timeout -k 5 60 rostopic list >/dev/null 2>&1 && return 0
+    sleep 0.2
+  done
+  echo "     roscore did not answer in 600 s:"; tail -5 "$work/roscore.log"
   return 1
 }
 stop_master() { kill -INT "$core_pid" 2>/dev/null; wait "$core_pid" 2>/dev/null; pkill -f "rosmaster.*-p $port" 2>/dev/null; return 0; }
@@ -40,7 +45,11 @@ start_node() {
   rosparam load "$config" /fault_sim
   "$node_exe" __name:=fault_sim >"$work/node.log" 2>&1 &
   node_pid=$!
-  for _ in $(seq 300); do rostopic list 2>/dev/null | grep -q /mechanism_state && return 0; sleep 0.2; done
+  local deadline=$((SECONDS + 600))
+  while [ "$SECONDS" -lt "$deadline" ]; do
+    timeout -k 5 60 rostopic list 2>/dev/null | grep -q /mechanism_state && return 0
+    sleep 0.2
+  done
   return 1
 }
 
@@ -49,7 +58,11 @@ start_node() {
 reference_exit() {
   "$build_dir/devel/lib/kane_sim/pd_controller" __name:=fault_reference >/dev/null 2>&1 &
   local pid=$!
-  for _ in $(seq 300); do rosnode list 2>/dev/null | grep -q fault_reference && break; sleep 0.2; done
+  local deadline=$((SECONDS + 600))
+  while [ "$SECONDS" -lt "$deadline" ]; do
+    timeout -k 5 60 rosnode list 2>/dev/null | grep -q fault_reference && break
+    sleep 0.2
+  done
   local start=$(date +%s.%N)
   kill -"$1" "$pid"
   wait "$pid"
@@ -101,9 +114,9 @@ master_dies_and_returns() {
   kill -0 "$node_pid" || return 1
   [ "$cpu_pct" -lt 50 ] || return 1
   start_master || return 1
-  local seen=no
-  for _ in $(seq 12); do
-    if timeout -k 5 5 rostopic echo -n 1 /mechanism_state/sim_time >/dev/null 2>&1; then seen=yes; break; fi
+  local seen=no deadline=$((SECONDS + 300))
+  while [ "$SECONDS" -lt "$deadline" ]; do
+    if timeout -k 5 60 rostopic echo -n 1 /mechanism_state/sim_time >/dev/null 2>&1; then seen=yes; break; fi
     sleep 1
   done
   local service=no

@@ -269,12 +269,18 @@ TEST(SimulateCli, SimdCapActsAsANarrowerCpu) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("simd 'sse2': KANE_SIM_SIMD_MAX=scalar excludes sse2"), std::string::npos)
       << r.err;
-  for (const std::string hostile : {"avx9", "AVX2", "' '"}) {
-    r = kane_sim::test::runCommand("KANE_SIM_SIMD_MAX=" + hostile + " " + KANE_SIM_SIMULATE_EXE +
-                                   " " + sweep);
-    EXPECT_EQ(r.exit_code, 2) << hostile << ": " << r.err;
-    EXPECT_NE(r.err.find("KANE_SIM_SIMD_MAX"), std::string::npos) << hostile << ": " << r.err;
-  }
+  // A bad value is named whatever the run (a sweep on lanes or not, a single run), on one line:
+  // the mistake is not in the flags, so no usage text follows.
+  for (const std::string hostile : {"avx9", "AVX2", "' '", "auto"})
+    for (const std::string& run :
+         {sweep, sweep + " --simd avx2", sweep + " --simd off", kConfig + " --duration 0.1"}) {
+      r = kane_sim::test::runCommand("KANE_SIM_SIMD_MAX=" + hostile + " " + KANE_SIM_SIMULATE_EXE +
+                                     " " + run);
+      EXPECT_EQ(r.exit_code, 2) << hostile << " " << run << ": " << r.err;
+      EXPECT_EQ(r.err.rfind("error: environment variable KANE_SIM_SIMD_MAX '", 0), 0u)
+          << hostile << " " << run << ": " << r.err;
+      EXPECT_EQ(r.err.find("Usage"), std::string::npos) << r.err;
+    }
 }
 
 TEST(SimulateCli, SweepRefusesTyposAndBagsNamingThem) {

@@ -206,8 +206,11 @@ def a_conservative_load():
 
 
 def hostile_rows():
-    """A row the table cannot hold stops the generator, naming its key: an unknown role, a
-    section with no group and no member, a key declared twice, an unknown rule, a missing doc."""
+    """A row the table cannot hold stops the generator with one line naming its key (no
+    traceback, no C++ that fails to compile later): an unknown role or rule, a section with no
+    group, a key or symbol declared twice, a missing or empty doc, a key or member that is no
+    C++ name, a default that is not a finite number or breaks its own rule, a range with lo > hi,
+    a symbol the derivation uses itself, a reconfigure range without max or with min > max."""
     failures = 0
     good = {"key": "damping.bad", "symbol": "c_X", "unit": "", "rule": "non-negative",
             "default": 0, "role": "dissipative", "doc": "x"}
@@ -216,19 +219,50 @@ def hostile_rows():
              ("a key declared twice", dict(good, key="damping.spring", symbol="c_X")),
              ("a symbol declared twice", dict(good, symbol="c_S")),
              ("an unknown rule", dict(good, rule="postive")),
-             ("no doc line", {k: v for k, v in good.items() if k != "doc"})]
+             ("no doc line", {k: v for k, v in good.items() if k != "doc"}),
+             ("an empty doc line", dict(good, doc="  ")),
+             ("a key that is no C++ name", dict(good, key="damping.extra-joint")),
+             ("a key with a space", dict(good, key="damping.extra joint")),
+             ("a key without a section", dict(good, key="bad")),
+             ("a NaN default", dict(good, default=float("nan"))),
+             ("an infinite default", dict(good, default=float("inf"))),
+             ("a default that is text", dict(good, default="abc")),
+             ("a default that breaks its rule", dict(good, default=-5)),
+             ("a range with lo > hi", dict(good, rule={"range": [5, 1]}, default=2)),
+             ("a range of text", dict(good, rule={"range": ["a", "b"]})),
+             ("a range of one bound", dict(good, rule={"range": [1]})),
+             ("a symbol the derivation uses", dict(good, symbol="u1")),
+             ("a symbol that is a C++ keyword", dict(good, symbol="double")),
+             ("a reconfigure range without max", dict(good, reconfigure={"min": 0})),
+             ("a reconfigure range with min > max", dict(good, reconfigure={"min": 2, "max": 1}))]
     for what, entry in cases:
         gen = generator()
         try:
             gen.ROWS.append(gen.parameter_table.Row(entry, gen.GROUPS))
             gen.parameter_table.check(gen.ROWS)
-            with contextlib.redirect_stdout(io.StringIO()):
-                gen.parameter_table.render_rows(gen.GROUPS, gen.ROWS)
             refused = ""
         except SystemExit as stop:
             refused = str(stop)
-        failures += report(entry["key"] in refused, "%s is refused, naming the key (%s)"
-                           % (what, refused[:100]))
+        failures += report(refused.startswith("parameters.yaml: " + entry["key"] + ":") and
+                           refused.count("parameters.yaml") == 1,
+                           "%s is refused, naming the key (%s)" % (what, refused[:100]))
+    # A table file that is not one: one line, no traceback.
+    gen = generator()
+    with tempfile.TemporaryDirectory() as work:
+        for what, text in (("an empty file", ""), ("a YAML syntax error", "groups: [\n"),
+                           ("tabs", "groups:\n\tdamping: 1\n"), ("a list", "- 1\n"),
+                           ("parameters not a list", "groups: {}\nparameters: 5\n"),
+                           ("a row that is a number", "groups: {}\nparameters: [5]\n")):
+            path = os.path.join(work, "parameters.yaml")
+            with open(path, "w") as f:
+                f.write(text)
+            try:
+                gen.parameter_table.load(path)
+                refused = ""
+            except SystemExit as stop:
+                refused = str(stop)
+            failures += report(refused.startswith("parameters.yaml: "),
+                               "a table that is %s is refused (%s)" % (what, refused[:90]))
     return failures
 
 

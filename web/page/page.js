@@ -4,7 +4,7 @@
 import { MechanismView } from "./drawing.js";
 import { Plots } from "./plots.js";
 import { readBag, readCsv, RecordingError } from "./recordings.js";
-import { numberArgument, torqueSpec } from "./run_arguments.js";
+import { fieldNumber, numberArgument, torqueSpec } from "./run_arguments.js";
 import { checkShare, decodeShare, encodeShare } from "./share_link.js";
 import { sliderScale } from "./slider_scale.js";
 import { WorkerClient } from "./worker_client.js";
@@ -181,8 +181,8 @@ function buildParameters(schema) {
     number.value = p.value;
     number.dataset.parameter = p.name;
     const apply = async (text) => {
-      const value = Number(text);
-      if (text.trim() === "" || (Number.isNaN(value) && text.trim().toLowerCase() !== "nan")) {
+      const value = fieldNumber(text);
+      if (value === null) {
         message("error", `${p.key}: '${text}' is not a number; keeping ${now()}`);
         range.value = scale.toSlider(now());
         number.value = now();
@@ -227,8 +227,8 @@ function buildInitialState(schema) {
     number.dataset.initial = p.name;
     number.setAttribute("aria-label", p.key);
     number.addEventListener("change", async () => {
-      const text = number.value, value = Number(text);
-      if (text.trim() === "" || Number.isNaN(value)) {
+      const text = number.value, value = fieldNumber(text);
+      if (value === null) {
         message("error", `${p.key}: '${text}' is not a number; keeping ${p.value}`);
         number.value = p.value;
         return;

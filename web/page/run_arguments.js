@@ -34,3 +34,12 @@ export function numberArgument(name, value) {
   throw new Error(`${name} must be a number, got ${JSON.stringify(value) ?? String(value)}`);
 }
 
+
+// A panel field's text as a number, or null: the same decimal text as above (not "0x10", not
+// ""), and nan / inf / -inf in any case, which go on to the loader so that its words refuse them.
+export function fieldNumber(text) {
+  const t = String(text).trim();
+  if (/^[-+]?inf(inity)?$/i.test(t)) return t.startsWith("-") ? -Infinity : Infinity;
+  if (/^[-+]?nan$/i.test(t)) return NaN;
+  return NUMBER_TEXT.test(t) ? Number(t) : null;
+}

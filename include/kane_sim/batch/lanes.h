@@ -35,6 +35,9 @@ LaneArch bestLaneArch();                  // the widest available
 // "auto" (bestLaneArch) or a name above; throws std::invalid_argument naming the value, or the
 // instruction set this CPU lacks.
 LaneArch parseLaneArch(const std::string& name);
+// Throws std::invalid_argument naming KANE_SIM_SIMD_MAX when it is set to no instruction set's
+// name (every door calls it, lanes or not, so that a typo in it is never silently ignored).
+void checkLaneEnvironment();
 
 // The mechanisms of one run: per lane its constants, torque limit and start; for all lanes one
 // step size, one equations variant and one command stream.

@@ -18,7 +18,11 @@ namespace kane_sim {
 namespace cli {
 
 struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  // show_usage false: the mistake is not in the flags (an environment variable), so the usage
+  // text would bury the message.
+  explicit UsageError(const std::string& what, bool show_usage = true)
+      : std::runtime_error(what), show_usage(show_usage) {}
+  bool show_usage;
 };
 
 struct Options {

@@ -43,7 +43,10 @@ def browser(page_url):
     options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
     os.makedirs(RESULTS, exist_ok=True)
     driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
-    driver.set_script_timeout(120)
+    # Bounds, not expectations: one core beside a CPU hog once took more than 120 s for a run's
+    # script and 300 s (chromedriver's default) for the renderer to answer.
+    driver.set_script_timeout(1200)
+    driver.set_page_load_timeout(1200)
     yield driver
     driver.quit()
 

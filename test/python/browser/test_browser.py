@@ -295,9 +295,11 @@ def test_the_parameter_panel_refuses_with_the_loaders_words(page):
 @pytest.mark.parametrize("text,words", [
     ("abc", "initial_state.q1: 'abc' is not a number"),
     ("", "initial_state.q1: '' is not a number"),
-    ("nan", "initial_state.q1: 'nan' is not a number"),
-    ("1e999", "initial_state.q1"),  # Infinity: the loader's words
-    ("-inf", "initial_state.q1"),
+    ("0x10", "initial_state.q1: '0x10' is not a number"),  # Number() would take it as 16
+    ("1,5", "initial_state.q1: '1,5' is not a number"),
+    ("nan", "config key 'initial_state.q1' must be finite"),  # the loader's words
+    ("1e999", "config key 'initial_state.q1' must be finite"),
+    ("-inf", "config key 'initial_state.q1' must be finite"),
 ])
 def test_the_initial_state_refuses_what_the_loader_refuses(page, text, words):
     field = page.driver.find_element("css selector", "input[data-initial=q1]")
