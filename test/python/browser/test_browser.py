@@ -306,8 +306,9 @@ def test_the_initial_state_refuses_what_the_loader_refuses(page, text, words):
     before = field.get_attribute("value")
     enter = "arguments[0].value = arguments[1]; arguments[0].dispatchEvent(new Event('change'))"
     page.driver.execute_script(enter, field, text)
-    messages = page.call("return new Promise((r) => setTimeout(() => r("
-                         "document.getElementById('messages').textContent), 400))")
+    messages = page.call("return new Promise((r) => { const poll = () => { const m = "
+                         "document.getElementById('messages').textContent; "
+                         "m.includes(args[0]) ? r(m) : setTimeout(poll, 50); }; poll(); })", words)
     assert words in messages, messages
     assert field.get_attribute("value") == before
     assert yaml.safe_load(page.call("return document.getElementById('config').value"))[
@@ -317,15 +318,21 @@ def test_the_initial_state_refuses_what_the_loader_refuses(page, text, words):
 def test_the_initial_state_restarts_the_motion_there(page):
     """A teacher sets the crank at 1 rad, at rest: the mechanism restarts there (the config says
     so, the drawing and the plots start over), and a run of the config agrees."""
+    # Paused after it ran (the clock then stands still, whatever the machine's speed).
+    page.call("return new Promise((r) => { const poll = () => window.kaneSim.live().time > 0 ? "
+              "r() : setTimeout(poll, 50); poll(); })")
+    page.driver.find_element("id", "play").click()
+    assert not page.call("return window.kaneSim.live()")["running"]
     field = page.driver.find_element("css selector", "input[data-initial=q1]")
     enter = "arguments[0].value = arguments[1]; arguments[0].dispatchEvent(new Event('change'))"
     page.driver.execute_script(enter, field, "1")
-    messages = page.call("return new Promise((r) => setTimeout(() => r("
-                         "document.getElementById('messages').textContent), 500))")
+    messages = page.call("return new Promise((r) => { const poll = () => { const m = "
+                         "document.getElementById('messages').textContent; "
+                         "m.includes('restarted') ? r(m) : setTimeout(poll, 50); }; poll(); })")
     assert "initial_state.q1 = 1: the motion restarted there" in messages, messages
     config = yaml.safe_load(page.call("return document.getElementById('config').value"))
     assert config["initial_state"]["q1"] == 1.0
-    assert page.call("return window.kaneSim.live()")["time"] < 1.0
+    assert page.call("return window.kaneSim.live()")["time"] == 0.0  # restarted, still paused
     out = page.call("return window.kaneSim.run({duration: 0.5})")
     assert out["rows"][0][1] == 1.0, out["rows"][0]
 
