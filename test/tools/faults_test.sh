@@ -25,19 +25,35 @@ check() {  # check NAME COMMAND...
 }
 core_pid=""
 start_master() {
-  roscore -p "$port" >"$work/roscore.log" 2>&1 &
-  core_pid=$!
   # Waits are bounds, not expectations (600 s): each check returns as soon as it holds, and a busy
   # machine (one core beside a CPU hog) takes seconds to start a Python tool.
-  local deadline=$((SECONDS + 600))
+  local deadline=$((SECONDS + 600)) attempt=0
   while [ "$SECONDS" -lt "$deadline" ]; do
-    timeout -k 5 60 rostopic list >/dev/null 2>&1 && return 0
+    # roscore refuses to start while the port's previous master still answers, and exits: start
+    # it (again) whenever none is running.
+    if [ -z "$core_pid" ] || ! kill -0 "$core_pid" 2>/dev/null; then
+      attempt=$((attempt + 1))
+      roscore -p "$port" >"$work/roscore.$attempt.log" 2>&1 &
+      core_pid=$!
+    fi
+    timeout -k 5 60 rostopic list >/dev/null 2>&1 && kill -0 "$core_pid" 2>/dev/null && return 0
     sleep 0.2
   done
-  echo "     roscore did not answer in 600 s:"; tail -5 "$work/roscore.log"
+  echo "     roscore did not answer in 600 s ($attempt starts):"; tail -5 "$work/roscore.$attempt.log"
   return 1
 }
-stop_master() { kill -INT "$core_pid" 2>/dev/null; wait "$core_pid" 2>/dev/null; pkill -f "rosmaster.*-p $port" 2>/dev/null; return 0; }
+# The master gone for good before anything starts another on its port: beside a CPU hog its
+# roscore escalated to SIGKILL and left it running while the next roscore checked the port.
+stop_master() {
+  kill -INT "$core_pid" 2>/dev/null
+  wait "$core_pid" 2>/dev/null
+  core_pid=""
+  pkill -f "rosmaster.*-p $port" 2>/dev/null
+  local deadline=$((SECONDS + 120))
+  while pgrep -f "rosmaster.*-p $port" >/dev/null && [ "$SECONDS" -lt "$deadline" ]; do sleep 0.2; done
+  pkill -9 -f "rosmaster.*-p $port" 2>/dev/null
+  return 0
+}
 cleanup() { stop_master; pkill -f "__name:=fault_(sim|reference)" 2>/dev/null; rm -rf "$work"; }
 trap cleanup EXIT
 
