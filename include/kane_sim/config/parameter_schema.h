@@ -7,8 +7,10 @@
 // from m and L, the motor line's stall torque) stay in the loader, and `cross_rule` names them
 // for the table.
 //
-// To add a parameter: a field in config.h's structs (its default is the field's initializer), one
-// row in src/config/parameter_schema.cpp, and the physics that uses it.
+// To add a parameter of the mechanism: one row in codegen/parameters.yaml (its struct field, its
+// schema row and its constant in the equations are generated from it), and the law that uses it.
+// An operational one: a field in config.h's structs (its default is the field's initializer), one
+// row in src/config/parameter_schema.cpp, and the code that uses it.
 #ifndef KANE_SIM_CONFIG_PARAMETER_SCHEMA_H
 #define KANE_SIM_CONFIG_PARAMETER_SCHEMA_H
 
