@@ -84,12 +84,24 @@ TEST_F(Commands, TimeoutZeroesTheTorqueAndNextCommandResumes) {
   ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 0.0; }, 3.0));
   test::sleepWall(0.5);  // connections to every /rosout publisher, the sim's included
   rosout.clear();
+  const size_t before = state_.count();
   send(torque_, 3.0);
-  ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 3.0; }, 2.0));
-  const double on_at = state_.last().sim_time;
-  ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 0.0; }, 3.0));
-  // Zeroed after command.timeout (0.5 s sim time), not before; one publish period of slack.
-  EXPECT_GE(state_.last().sim_time - on_at, 0.5 - 0.011);
+  // Zeroed after command.timeout (0.5 s sim time), not before; one publish period of slack. Both
+  // instants from the recorded states (the first at 3 N m, the first at 0 after it), not from
+  // when this thread looked: on a starved machine it looks late, or after the torque lapsed.
+  double on_at = -1.0, off_at = -1.0;
+  ASSERT_TRUE(test::waitFor(
+      [&] {
+        const auto states = state_.messages();
+        for (size_t i = before; i < states.size(); ++i) {
+          const auto& m = states[i];
+          if (on_at < 0.0 && m.applied_torque == 3.0) on_at = m.sim_time;
+          if (on_at >= 0.0 && off_at < 0.0 && m.applied_torque == 0.0) off_at = m.sim_time;
+        }
+        return off_at >= 0.0;
+      },
+      10.0));
+  EXPECT_GE(off_at - on_at, 0.5 - 0.011);
   EXPECT_EQ(state_.last().commanded_torque, 3.0);
   send(torque_, 4.0);
   ASSERT_TRUE(test::waitFor([&] { return state_.last().applied_torque == 4.0; }, 2.0));
