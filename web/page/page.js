@@ -151,17 +151,23 @@ function setCommand(value) {
   control({ command: value });
 }
 
+// A panel's row for a schema entry: its key and doc as the tooltip, its symbol and unit as the name.
+function panelRow(p) {
+  const row = document.createElement("div");
+  row.className = "param";
+  row.title = `${p.key}${p.symbol ? " (" + p.symbol + ")" : ""}: ${p.doc}`;
+  const name = document.createElement("span");
+  name.className = "name";
+  name.textContent = `${p.symbol || p.name}${p.unit ? " [" + p.unit + "]" : ""}`;
+  return { row, name };
+}
+
 function buildParameters(schema) {
   const box = $("parameters");
   box.textContent = "";
   // The page's speed selector is its real-time factor: the node's parameter stays out.
   for (const p of schema.parameters.filter((q) => q.name !== "real_time_factor")) {
-    const row = document.createElement("div");
-    row.className = "param";
-    row.title = `${p.key}${p.symbol ? " (" + p.symbol + ")" : ""}: ${p.doc}`;
-    const name = document.createElement("span");
-    name.className = "name";
-    name.textContent = `${p.symbol || p.name}${p.unit ? " [" + p.unit + "]" : ""}`;
+    const { row, name } = panelRow(p);
     // The slider spans what one would try (the schema's bounds cover every legal value, up to
     // 1e7 N/m): two decades either side of a positive value, logarithmic; 0 to 10 (within the
     // bounds) for a value that starts at 0. The text field takes any value the loader accepts.
@@ -214,12 +220,7 @@ function buildInitialState(schema) {
   const box = $("initial-state");
   box.textContent = "";
   for (const p of schema.initial_state) {
-    const row = document.createElement("div");
-    row.className = "param";
-    row.title = `${p.key}${p.symbol ? " (" + p.symbol + ")" : ""}: ${p.doc}`;
-    const name = document.createElement("span");
-    name.className = "name";
-    name.textContent = `${p.symbol || p.name}${p.unit ? " [" + p.unit + "]" : ""}`;
+    const { row, name } = panelRow(p);
     const number = document.createElement("input");
     number.type = "text";
     number.inputMode = "decimal";
