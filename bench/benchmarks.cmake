@@ -9,6 +9,11 @@ if(benchmark_FOUND)
   target_link_libraries(bench_core kane_sim_sim benchmark::benchmark kane_sim_warnings)
   target_compile_definitions(bench_core PRIVATE KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config")
   set_target_properties(bench_core PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${KANE_SIM_BENCH_BIN})
+  #catkin_lint: ignore uninstalled_target
+  add_executable(bench_design bench/bench_design.cpp)
+  target_link_libraries(bench_design kane_sim_design benchmark::benchmark kane_sim_warnings)
+  target_compile_definitions(bench_design PRIVATE KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config")
+  set_target_properties(bench_design PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${KANE_SIM_BENCH_BIN})
   # The peers side by side (MuJoCo, Debian's libmujoco-dev: bench/run_all.sh installs it).
   # Found by hand: Debian 12's mujocoConfig.cmake names /usr/include/libqhull_r, which only
   # libqhull-dev provides, and the headers here do not need.

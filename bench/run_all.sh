@@ -35,6 +35,9 @@ echo
 echo "## Core throughput (Google Benchmark)"
 "$build/bench_bin/bench_core" --benchmark_min_time=1 --benchmark_repetitions=3 \
   --benchmark_report_aggregates_only=true 2>/dev/null
+echo; echo "## Controller design: the exact Jacobian, linearization, equilibria, LQR"
+"$build/bench_bin/bench_design" --benchmark_min_time=1 --benchmark_repetitions=3 \
+  --benchmark_report_aggregates_only=true 2>/dev/null
 echo; echo "## Against MuJoCo (RK4, dt = 1 ms) and Simbody, same mechanism and parameters"
 "$build/bench_bin/bench_peers" --benchmark_min_time=1 --benchmark_repetitions=3 \
   --benchmark_report_aggregates_only=true 2>/dev/null

@@ -3,7 +3,8 @@
 # Paths are relative to the package root.
 set(KANE_SIM_MODEL_SOURCES src/model/constraint_forces.cpp src/model/mechanism_model.cpp
   src/model/power_flow.cpp)
-set(KANE_SIM_ANALYSIS_SOURCES src/analysis/analysis_json.cpp src/analysis/linear_analysis.cpp
+set(KANE_SIM_ANALYSIS_SOURCES src/analysis/analysis_json.cpp src/analysis/equilibria.cpp
+  src/analysis/linear_analysis.cpp
   src/analysis/stability.cpp)
 set(KANE_SIM_CONFIG_SOURCES src/config/load_config.cpp src/config/parameter_schema.cpp
     src/config/mechanism_parameter_rows.cpp)

@@ -28,7 +28,8 @@ catkin_add_executable_with_gtest(node_tests
   EXCLUDE_FROM_ALL)
 if(TARGET node_tests)
   target_include_directories(node_tests PRIVATE ${urdfdom_INCLUDE_DIRS})
-  target_link_libraries(node_tests kane_sim_ros kane_sim_warnings ${urdfdom_LIBRARIES})
+  target_link_libraries(node_tests kane_sim_ros kane_sim_design kane_sim_warnings
+    ${urdfdom_LIBRARIES})
   target_include_directories(node_tests PRIVATE ${PROJECT_SOURCE_DIR}/test/common
     ${PROJECT_SOURCE_DIR}/examples/pd_controller)
   add_dependencies(tests node_tests)
@@ -40,7 +41,8 @@ if(TARGET node_tests)
     KANE_SIM_SIMULATE_EXE="$<TARGET_FILE:simulate>"
     KANE_SIM_TELEOP_EXE="$<TARGET_FILE:teleop_key>"
     KANE_SIM_NODE_EXE="$<TARGET_FILE:kane_sim_node>")
-  foreach(case topics torque commands services clock_mode bad_param namespaces controller robustness
+  foreach(case topics torque commands services clock_mode bad_param namespaces controller
+      controller_law robustness
       stalled leftover_sim_time slow_ticks robot_description robot_description_textbook rsp_tf
       reconfigure crank_marker teleop options fuzz resets resets_rsp lockstep lockstep_hog
       lockstep_fallback lockstep_python lockstep_start stamps resets_paused_clock

@@ -18,7 +18,9 @@ constexpr const char* kDescription =
     "the setpoint also on the `setpoint` topic (std_msgs/Float64). The integral is cleared on\n"
     "the simulator's kane_sim/reset_event (reset, set_state). _stamped:=true answers on\n"
     "torque_command_stamped with each reading's stamp (what lockstep waits for). Gains in\n"
-    "config/controller.yaml.\n";
+    "config/controller.yaml. _law:=FILE runs the state-feedback law a file of `rosrun kane_sim\n"
+    "design lqr --out FILE` holds instead (M_m = torque - K (x - state) on crank_joint and\n"
+    "slider4_joint, clamped to torque_limit).\n";
 
 // The defaults shown are the law's own (PdGains), so the usage cannot drift from them.
 std::string usage() {
@@ -26,7 +28,7 @@ std::string usage() {
   std::ostringstream out;
   out << "Usage: rosrun kane_sim pd_controller [_kp:=" << d.kp << "] [_kd:=" << d.kd
       << "] [_ki:=" << d.ki << "] [_setpoint:=0] [_torque_limit:=" << d.torque_limit
-      << "] [_stamped:=false]\n\n"
+      << "] [_stamped:=false] [_law:=FILE]\n\n"
       << kDescription;
   return out.str();
 }

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "kane_sim/design/lqr_file.h"
 #include "kane_sim/ros/node_params.h"
 
 namespace kane_sim {
@@ -18,6 +19,10 @@ PdControllerNode::PdControllerNode(const ros::NodeHandle& nh, const ros::NodeHan
       boundedParam(private_nh, "torque_limit", defaults.torque_limit, ParamBound::kNonNegative);
   gains_.ki = boundedParam(private_nh, "ki", defaults.ki, ParamBound::kNonNegative);
   setpoint_ = boundedParam(private_nh, "setpoint", 0.0, ParamBound::kAnyFinite);
+  // ~law: a state-feedback file (design lqr --out); a bad one stops start-up naming the field.
+  std::string law_file;
+  if (private_nh.getParam("law", law_file) && !law_file.empty())
+    law_ = readStateFeedbackFile(law_file);
   // ~stamped: answer each reading on torque_command_stamped with its stamp, which lockstep
   // (simulation.lockstep) waits for; else the plain torque_command.
   stamped_ = flagParam(private_nh, "stamped", false);
@@ -30,24 +35,58 @@ PdControllerNode::PdControllerNode(const ros::NodeHandle& nh, const ros::NodeHan
   // /robot_a/kane_sim/reset_event under ns robot_a); remap `kane_sim/reset_event` for another.
   reset_event_sub_ =
       nh_.subscribe("kane_sim/reset_event", 10, &PdControllerNode::onResetEvent, this);
-  ROS_INFO(
-      "pd_controller: holding crank_joint at %g rad (kp %g N m/rad, kd %g N m s/rad, ki %g N "
-      "m/(rad s))",
-      setpoint_, gains_.kp, gains_.kd, gains_.ki);
+  if (law_)
+    ROS_INFO(
+        "pd_controller: the state feedback of %s about q1 = %g rad (K = %g %g %g %g), "
+        "within +-%g N m",
+        law_file.c_str(), law_->state[0], law_->K[0], law_->K[1], law_->K[2], law_->K[3],
+        gains_.torque_limit);
+  else
+    ROS_INFO(
+        "pd_controller: holding crank_joint at %g rad (kp %g N m/rad, kd %g N m s/rad, ki %g N "
+        "m/(rad s))",
+        setpoint_, gains_.kp, gains_.kd, gains_.ki);
 }
 
+namespace {
+
+// Position and velocity of `joint` in a JointState; false when it is missing or not finite.
+bool reading(const sensor_msgs::JointState& msg, const char* joint, double* position,
+             double* velocity) {
+  const auto it = std::find(msg.name.begin(), msg.name.end(), joint);
+  const size_t i = static_cast<size_t>(it - msg.name.begin());
+  if (it == msg.name.end() || i >= msg.position.size() || i >= msg.velocity.size()) return false;
+  *position = msg.position[i];
+  *velocity = msg.velocity[i];
+  return std::isfinite(*position) && std::isfinite(*velocity);
+}
+
+}  // namespace
+
 void PdControllerNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
-  const auto it = std::find(msg->name.begin(), msg->name.end(), "crank_joint");
-  const size_t i = static_cast<size_t>(it - msg->name.begin());
-  if (it == msg->name.end() || i >= msg->position.size() || i >= msg->velocity.size()) {
-    ROS_WARN_THROTTLE(5.0, "pd_controller: joint_states without crank_joint position and velocity");
+  State x;
+  if (!reading(*msg, "crank_joint", &x.q1, &x.u1)) {
+    ROS_WARN_THROTTLE(5.0,
+                      "pd_controller: joint_states without a finite crank_joint position and "
+                      "velocity");
     return;
   }
-  const double q1 = msg->position[i];
-  if (!last_sample_.isZero())
-    integral_.add(gains_, setpoint_ - q1, (msg->header.stamp - last_sample_).toSec());
-  last_sample_ = msg->header.stamp;
-  const double torque = pdTorque(gains_, setpoint_, q1, msg->velocity[i], integral_.value());
+  double torque = 0.0;
+  if (law_) {
+    if (!reading(*msg, "slider4_joint", &x.q2, &x.u2)) {
+      ROS_WARN_THROTTLE(5.0,
+                        "pd_controller: the state feedback needs slider4_joint's position and "
+                        "velocity in joint_states");
+      return;
+    }
+    torque = std::clamp(law_->command(x), -gains_.torque_limit, gains_.torque_limit);
+  } else {
+    const double q1 = x.q1;
+    if (!last_sample_.isZero())
+      integral_.add(gains_, setpoint_ - q1, (msg->header.stamp - last_sample_).toSec());
+    last_sample_ = msg->header.stamp;
+    torque = pdTorque(gains_, setpoint_, q1, x.u1, integral_.value());
+  }
   if (!std::isfinite(torque)) return;
   if (stamped_) {
     TorqueCommandStamped answer;

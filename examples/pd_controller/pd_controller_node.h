@@ -1,8 +1,12 @@
 // Example of commanding the virtual robot from another node: a PD (PID with ~ki) position
-// controller for the crank. Reads joint_states, publishes torque_command on every crank reading;
-// clears its integral when the simulator announces a reset or set_state (reset_event).
+// controller for the crank, or (~law: a file `design lqr --out` wrote) the state-feedback law
+// M_m = torque - K (x - state) on the crank's and slider 4's readings. Reads joint_states,
+// publishes torque_command on every reading; clears its integral when the simulator announces a
+// reset or set_state (reset_event).
 #ifndef KANE_SIM_EXAMPLES_PD_CONTROLLER_NODE_H
 #define KANE_SIM_EXAMPLES_PD_CONTROLLER_NODE_H
+
+#include <optional>
 
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
@@ -11,6 +15,7 @@
 #include "kane_sim/ResetEvent.h"
 #include "kane_sim/TorqueCommandStamped.h"
 
+#include "kane_sim/design/state_feedback.h"
 #include "pd_law.h"
 
 namespace kane_sim {
@@ -35,6 +40,7 @@ class PdControllerNode {
   ros::Subscriber reset_event_sub_;
   ros::Publisher torque_pub_;  // torque_command, or torque_command_stamped with ~stamped
   bool stamped_ = false;
+  std::optional<StateFeedback> law_;  // ~law: the state feedback instead of the PD
 };
 
 }  // namespace kane_sim

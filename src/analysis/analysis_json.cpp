@@ -43,6 +43,8 @@ class JsonNumbers {
 std::string analysisJson(const LinearModel& l, const ModalAnalysis& modal) {
   JsonNumbers number;
   for (const std::string& note : l.notes) number.note(note);
+  if (modal.stability == "unstable")
+    number.note("the operating point is an unstable equilibrium: no natural frequencies or modes");
   const auto jsonRow = [&number](const Eigen::VectorXd& v, const std::string& what) {
     return number.row(v, what);
   };
@@ -50,6 +52,7 @@ std::string analysisJson(const LinearModel& l, const ModalAnalysis& modal) {
   out << "{\n  \"torque\": " << number(l.torque, "torque") << ",\n";
   out << "  \"equilibrium\": {\"q1\": " << number(l.operating_point.q1, "equilibrium q1")
       << ", \"q2\": " << number(l.operating_point.q2, "equilibrium q2") << "},\n";
+  out << "  \"stability\": \"" << modal.stability << "\",\n";
   out << "  \"state\": [\"q1\", \"q2\", \"u1\", \"u2\"],\n  \"A\": [";
   for (int r = 0; r < 4; ++r)
     out << (r ? ",\n        " : "")

@@ -23,29 +23,9 @@ MechanismModel withMotorLineAsDamper(const MechanismModel& model) {
   return MechanismModel(p, model.springRestLength());
 }
 
-// A = d x'/d x by central differences of the generated equations (the fast path, the same
-// physics): a stability bound needs a few digits, not analyze's 1e-10, and the loader asks for
-// 72 of these per config. Rows: q1', q2', u1', u2'; columns: q1, q2, u1, u2.
+// A = d x'/d x: the generated equations' exact derivatives (the fast path's physics).
 Eigen::Matrix4d jacobianOf(const GeneratedMechanism& equations, const State& x, double torque) {
-  const double values[] = {x.q1, x.q2, x.u1, x.u2};
-  Eigen::Matrix4d A;
-  // A law with a rate scale of its own (friction's tanh bends within v_s of a zero rate): a
-  // speed's step must stay inside that bend, or the difference sees a step of 2 F_c over 2 h and
-  // misses the slope F_c / v_s (1 N over v_s 1e-9 once passed as a rate 1000 times too small).
-  const double speed_cap = 1e-2 * generated::smallestRateScale(equations.constants()).value;
-  for (int j = 0; j < 4; ++j) {
-    double h = 1e-6 * (1.0 + std::abs(values[j]));
-    if (j >= 2) h = std::min(h, speed_cap);  // infinite: no such law in use
-    double plus[] = {x.q1, x.q2, x.u1, x.u2}, minus[] = {x.q1, x.q2, x.u1, x.u2};
-    plus[j] += h;
-    minus[j] -= h;
-    const OdeState up =
-        equations.stateDerivative(State{plus[0], plus[1], plus[2], plus[3]}, torque);
-    const OdeState down =
-        equations.stateDerivative(State{minus[0], minus[1], minus[2], minus[3]}, torque);
-    for (int i = 0; i < 4; ++i) A(i, j) = (up[i] - down[i]) / (2 * h);
-  }
-  return A;
+  return equations.linearization(x, torque).A;
 }
 
 // The largest |eigenvalue| of A; NaN when A or its eigenvalues are not finite.

@@ -11,7 +11,7 @@ imported on first use, so `import kane_sim.msg` in a ROS node loads neither NumP
 """
 
 _CORE = ("Config", "ConfigError", "Result", "Simulator", "StepRefused", "TorqueProfile",
-         "analyze", "load_config", "sweep")
+         "analyze", "equilibria", "load_config", "sweep")
 _PLOTS = ("animate", "plot_result")
 _BATCH = ("BatchSimulator", "VectorEnv")
 

@@ -366,11 +366,29 @@ class Simulator:
         return self._sim.take_events()
 
 
-def analyze(config=None, torque=0.0):
-    """`analyze --json` as a dict: the static equilibrium under a constant torque, the linear
-    model A, B, eigenvalues, natural frequencies, damping ratios, mode shapes, notes."""
+def analyze(config=None, torque=0.0, q1=None):
+    """`analyze --json` as a dict: the static equilibrium under a constant torque (or, q1 given,
+    the crank held at q1 [rad] by its holding moment, as `analyze --q1`), its stability, the
+    linear model A, B (exact derivatives), eigenvalues, natural frequencies, damping ratios, mode
+    shapes, notes."""
     cfg = config if isinstance(config, Config) else Config(config)
-    return json.loads(_core.analyze_json(cfg._core, float(torque)))
+    if q1 is not None:
+        if torque != 0.0:
+            raise ValueError("analyze: q1 holds the crank by its own moment: give torque or q1, "
+                             "not both")
+        q1 = _real("analyze: q1", q1)
+        if not math.isfinite(q1) or abs(q1) > 1e6:
+            raise ValueError("analyze: q1 must be a finite angle within 1e6 rad, got %r" % q1)
+    return json.loads(_core.analyze_json(cfg._core, float(torque), q1))
+
+
+def equilibria(config=None, torque=0.0):
+    """`analyze --equilibria --json` as a list of dicts: every equilibrium (u = 0) around the turn
+    under a constant torque, q1 in (-pi, pi] ascending, with q2, its stability ("stable",
+    "unstable", "neutral") and the largest real part of A's eigenvalues [1/s]."""
+    cfg = config if isinstance(config, Config) else Config(config)
+    return [{"q1": q1, "q2": q2, "stability": stability, "largest_real_eigenvalue": rate}
+            for q1, q2, stability, rate in _core.equilibria(cfg._core, float(torque))]
 
 
 def sweep(config=None, grid=None, cases=None, duration=10.0, torque=None, jobs=0, simd="auto",

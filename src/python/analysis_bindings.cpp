@@ -28,20 +28,42 @@ namespace kane_sim {
 namespace python {
 namespace {
 
-// analyze --json's object, as text (kane_sim.analyze parses it). AnalysisError (no equilibrium)
-// is a ValueError with analyze's message.
-std::string analyze(const PythonConfig& config, double torque) {
+// analyze --json's object, as text (kane_sim.analyze parses it): under `torque`, or with the
+// crank held at q1 by its holding moment (analyze --q1). AnalysisError (no equilibrium) is a
+// ValueError with analyze's message.
+std::string analyze(const PythonConfig& config, double torque, const std::optional<double>& q1) {
   if (!std::isfinite(torque))
     throw py::value_error("analyze: torque must be finite, got " + formatNumber(torque));
   py::gil_scoped_release release;
   try {
     const MechanismModel model = mechanismModel(config.config());
-    const LinearModel linear = linearize(model, staticEquilibrium(model, torque), torque);
+    LinearModel linear;
+    if (q1) {
+      const HeldEquilibrium at = equilibriumAt(model, *q1);
+      linear = linearize(model, at.state, at.torque);
+    } else {
+      linear = linearize(model, staticEquilibrium(model, torque), torque);
+    }
     return analysisJson(linear, modalAnalysis(linear));
   } catch (const AnalysisError& e) {
     py::gil_scoped_acquire acquire;
     throw py::value_error(std::string("analyze: ") + e.what());
   }
+}
+
+// analyze --equilibria: (q1, q2, stability, largest real eigenvalue) of each, ascending q1.
+std::vector<py::tuple> equilibriaOf(const PythonConfig& config, double torque) {
+  std::vector<Equilibrium> found;
+  try {
+    py::gil_scoped_release release;
+    found = equilibria(mechanismModel(config.config()), torque);
+  } catch (const AnalysisError& e) {
+    throw py::value_error(std::string("equilibria: ") + e.what());
+  }
+  std::vector<py::tuple> out;
+  for (const Equilibrium& e : found)
+    out.push_back(py::make_tuple(e.state.q1, e.state.q2, e.stability, e.largest_real_eigenvalue));
+  return out;
 }
 
 // runSweep on a thread of its own while this one, without the GIL, looks at Python's signals
@@ -276,7 +298,9 @@ void bindAnalysis(py::module_& m) {
   m.def("sweep_csv_header", &sweepCsvHeader, py::arg("keys"));
   m.def("mechanism_points", &mechanismPoints, py::arg("rod_half_length"), py::arg("q1"),
         py::arg("q2"));
-  m.def("analyze_json", &analyze, py::arg("config"), py::arg("torque") = 0.0);
+  m.def("analyze_json", &analyze, py::arg("config"), py::arg("torque") = 0.0,
+        py::arg("q1") = py::none());
+  m.def("equilibria", &equilibriaOf, py::arg("config"), py::arg("torque") = 0.0);
   m.def("sweep", &sweep, py::arg("config"), py::arg("keys"), py::arg("cases"), py::arg("duration"),
         py::arg("torque") = py::none(), py::arg("jobs") = 0, py::arg("simd") = "auto",
         py::arg("vector_trig") = false, py::arg("csv_first_case") = -1);

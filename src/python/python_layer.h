@@ -99,6 +99,7 @@ std::unique_ptr<py::error_already_set> runStoppable(std::atomic<bool>& stop, Wor
 void bindConfig(py::module_& m);
 void bindSimulator(py::module_& m);
 void bindAnalysis(py::module_& m);
+void bindDesign(py::module_& m);
 void bindIdentify(py::module_& m);
 void bindBatch(py::module_& m);
 void bindCli(py::module_& m);

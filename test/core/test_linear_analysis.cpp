@@ -133,6 +133,57 @@ TEST(LinearAnalysis, UnholdableTorqueIsRefusedNamingTheLimit) {
   }
 }
 
+// Around the whole turn: at 0 N m the crank hangs (q1 = 0, stable) or stands upright (q1 = pi,
+// unstable, growing at sqrt(K11 / M11): K11 = 4 g L (m + M1 + M2), M11 = 2 I + 2 m L^2 there as
+// at q1 = 0); under half the holding limit, at asin(1/2) (stable) and pi - asin(1/2) (unstable).
+TEST(Equilibria, HangingIsStableUprightUnstableAroundTheTurn) {
+  const Config c = test::defaultConfig();
+  const MechanismParameters& p = c.mechanism;
+  const MechanismModel model = mechanismModel(c);
+  const double L = p.rod_half_length, m = p.rod_mass;
+  const double k11 = 4 * p.gravity * L * (m + p.slider3_mass + p.slider4_mass);
+  const double m11 = 2 * p.rod_inertia + 2 * m * L * L;
+  const std::vector<Equilibrium> at_rest = equilibria(model, 0.0);
+  ASSERT_EQ(at_rest.size(), 2u);
+  EXPECT_NEAR(at_rest[0].state.q1, 0.0, 1e-12);
+  EXPECT_EQ(at_rest[0].stability, "stable");
+  EXPECT_NEAR(at_rest[1].state.q1, M_PI, 1e-12);
+  EXPECT_EQ(at_rest[1].stability, "unstable");
+  EXPECT_NEAR(at_rest[1].largest_real_eigenvalue, std::sqrt(k11 / m11),
+              1e-9 * std::sqrt(k11 / m11));
+  const std::vector<Equilibrium> pushed = equilibria(model, 0.5 * k11);
+  ASSERT_EQ(pushed.size(), 2u);
+  EXPECT_NEAR(pushed[0].state.q1, std::asin(0.5), 1e-12);
+  EXPECT_EQ(pushed[0].stability, "stable");
+  EXPECT_NEAR(pushed[1].state.q1, M_PI - std::asin(0.5), 1e-12);
+  EXPECT_EQ(pushed[1].stability, "unstable");
+  EXPECT_TRUE(equilibria(model, 1.01 * k11).empty());  // beyond the limit: it turns over
+  // equilibriumAt: the holding moment at any angle, 0 upright and the limit at pi/2.
+  EXPECT_NEAR(equilibriumAt(model, M_PI).torque, 0.0, 1e-12 * k11);
+  EXPECT_NEAR(equilibriumAt(model, M_PI / 2).torque, k11, 1e-12 * k11);
+  EXPECT_NEAR(equilibriumAt(model, -2.5).torque, k11 * std::sin(-2.5), 1e-12 * k11);
+  EXPECT_THROW(equilibriumAt(model, std::nan("")), AnalysisError);
+  EXPECT_THROW(equilibria(model, INFINITY), AnalysisError);
+}
+
+// A torsional spring at the crank (k_t, rest q1_0) moves the equilibria off 0 and pi: every one
+// found is one (u' = 0 there under the torque), within its bisection's 1e-12 rad.
+TEST(Equilibria, EveryOneFoundHoldsWithACrankSpring) {
+  Config c = test::defaultConfig();
+  c.mechanism.crank_spring_stiffness = 40.0;
+  c.mechanism.crank_spring_rest_angle = 1.0;
+  const MechanismModel model = mechanismModel(c);
+  for (double torque : {0.0, 5.0, -12.0}) {
+    const std::vector<Equilibrium> found = equilibria(model, torque);
+    ASSERT_FALSE(found.empty()) << torque;
+    for (const Equilibrium& e : found) {
+      const OdeState d = model.stateDerivative(e.state, torque);
+      EXPECT_NEAR(d[2], 0.0, 1e-9) << torque << " at q1 " << e.state.q1;
+      EXPECT_NEAR(d[3], 0.0, 1e-9) << torque << " at q1 " << e.state.q1;
+    }
+  }
+}
+
 // A small perturbation about the equilibrium under 8 N m: the nonlinear simulation (dopri5,
 // 1e-12) follows exp(A t) x0 to second order in the amplitude (1e-4 rad, 1e-4 m): the gap after
 // 2 s must be below 1 % of the amplitude (the neglected terms are ~1e-4 of it).

@@ -15,14 +15,16 @@
 namespace kane_sim {
 namespace test {
 
-// Unpauses the node, waits until `recorder` holds `count` messages (60 s at most), pauses it.
+// Unpauses the node, waits until `recorder` holds `count` messages (`timeout_s` at most), pauses
+// it.
 template <class M>
-::testing::AssertionResult runUnpausedFor(const Recorder<M>& recorder, size_t count) {
+::testing::AssertionResult runUnpausedFor(const Recorder<M>& recorder, size_t count,
+                                          double timeout_s = 60.0) {
   std_srvs::Empty empty;
   if (!ros::service::waitForService("kane_sim/unpause", ros::Duration(10.0)) ||
       !ros::service::call("kane_sim/unpause", empty))
     return ::testing::AssertionFailure() << "kane_sim/unpause not served";
-  const bool enough = recorder.waitForCount(count, 60.0);
+  const bool enough = recorder.waitForCount(count, timeout_s);
   ros::service::call("kane_sim/pause", empty);
   if (!enough) return ::testing::AssertionFailure() << "only " << recorder.count() << " messages";
   return ::testing::AssertionSuccess();

@@ -101,3 +101,68 @@ def test_ctrl_c_stops_a_sweep_and_keeps_the_finished_cases():
     unfinished = kept["status"] == "interrupted"
     assert np.all(np.isnan(kept["q1"][unfinished]))
     assert np.all(np.isfinite(kept["q1"][~unfinished]))
+
+
+@pytest.mark.parametrize("q1", [math.pi, 1.0, -2.5])
+def test_analyze_held_at_an_angle_is_the_clis_json(q1):
+    cli = json.loads(run_tool("analyze", "--config", config_path(), "--q1", q1, "--json").stdout)
+    assert kane_sim.analyze(config_path(), q1=q1) == cli
+    assert cli["stability"] == ("unstable" if abs(q1) > math.pi / 2 else "stable")
+
+
+def test_pi_is_an_angle_for_analyze_as_for_design():
+    a = json.loads(run_tool("analyze", "--config", config_path(), "--q1", "pi", "--json").stdout)
+    assert a["equilibrium"]["q1"] == math.pi
+
+
+def test_equilibria_near_the_holding_limit_and_with_a_crank_spring():
+    limit = 4 * 9.81 * 0.25 * (1.0 + 0.5 + 0.8)  # 4 g L (m + M1 + M2) of the shipped config
+    found = kane_sim.equilibria(config_path(), torque=0.999999 * limit)
+    assert [e["stability"] for e in found] == ["stable", "unstable"]  # a fold: both found
+    assert abs(found[0]["q1"] + found[1]["q1"] - math.pi) < 1e-9
+    spring = kane_sim.Config(config_path()).with_values(
+        {"mechanism.crank_spring_stiffness": 30.0})
+    for torque in (0.0, 90.0, 100.0):  # beyond gravity's limit the spring still holds it
+        found = kane_sim.equilibria(spring, torque=torque)
+        assert any(e["stability"] == "stable" for e in found), (torque, found)
+        held = kane_sim.analyze(spring, torque=torque)
+        assert held["stability"] == "stable"
+    # A weak spring spreads its equilibria over many turns: the stable one by the hanging crank
+    # is still found; the whole list is refused by name, not searched for seconds.
+    weak = kane_sim.Config(config_path()).with_values({"mechanism.crank_spring_stiffness": 0.01})
+    assert abs(kane_sim.analyze(weak, torque=1.0)["equilibrium"]["q1"] - 0.0443) < 1e-3
+    with pytest.raises(ValueError, match="more than a search covers"):
+        kane_sim.equilibria(weak, torque=1.0)
+    nothing = kane_sim.Config(config_path()).with_values({"mechanism.gravity": 0.0})
+    with pytest.raises(ValueError, match="every crank angle is an equilibrium"):
+        kane_sim.equilibria(nothing)
+
+
+def test_equilibria_are_the_clis_and_hold():
+    for torque in (0.0, 10.0):
+        cli = json.loads(run_tool("analyze", "--config", config_path(), "--torque", torque,
+                                  "--equilibria", "--json").stdout)
+        py = kane_sim.equilibria(config_path(), torque=torque)
+        assert py == cli and [e["stability"] for e in py] == ["stable", "unstable"]
+        sim = kane_sim.Simulator(config_path())
+        for e in py:  # at rest there under the torque, the mechanism stays (u' = 0)
+            sim.set_state([e["q1"], e["q2"], 0.0, 0.0])
+            sim.set_torque(torque)
+            q1, q2, u1, u2 = sim.step(200)
+            assert abs(q1 - e["q1"]) < 1e-8 and abs(q2 - e["q2"]) < 1e-8, (e, q1, q2)
+
+
+def test_analyze_refuses_a_held_angle_that_is_not_one():
+    for q1 in (math.nan, math.inf, 1e308):
+        with pytest.raises(ValueError, match="q1 must be a finite angle"):
+            kane_sim.analyze(config_path(), q1=q1)
+    r = run_tool("analyze", "--config", config_path(), "--q1", "nan", check=False)
+    assert r.returncode == 2 and "--q1 must be a finite number, got 'nan'" in r.stderr
+    r = run_tool("analyze", "--config", config_path(), "--q1", "1e7", check=False)
+    assert r.returncode == 2 and "--q1 must be an angle within 1e6 rad" in r.stderr
+    r = run_tool("analyze", "--config", config_path(), "--equilibria", "extra", check=False)
+    assert r.returncode == 2
+    with pytest.raises(ValueError, match="give torque or q1"):
+        kane_sim.analyze(config_path(), q1=1.0, torque=3.0)
+    r = run_tool("analyze", "--config", config_path(), "--q1", "1", "--torque", "2", check=False)
+    assert r.returncode == 2 and "--q1 holds the crank by its own moment" in r.stderr

@@ -32,7 +32,7 @@ helps() {  # helps EXE: --help and -h print a usage and exit 0 at once, without 
     grep -qi "usage" "$work/out" || { echo "     $1 $flag: no usage"; cat "$work/out"; return 1; }
   done
 }
-for exe in kane_sim_node pd_controller crank_marker teleop_key simulate analyze config_info; do
+for exe in kane_sim_node pd_controller crank_marker teleop_key simulate analyze design config_info; do
   check "$exe --help" helps "$exe"
 done
 
@@ -142,7 +142,7 @@ tab_completion() {
   pkg=$(rospack find kane_sim) || return 1
   libexec=$(catkin_find --first-only --without-underlays --libexec kane_sim 2>/dev/null)
   find -L "$pkg" $libexec -type f -perm /111 ! -regex ".*/[.][^./].*" -printf '%f\n' | sort >"$work/tab"
-  printf '%s\n' analyze bag_summary config_info crank_marker demo_supervisor identify kane_sim_node \
+  printf '%s\n' analyze bag_summary config_info crank_marker demo_supervisor design identify kane_sim_node \
     lockstep_controller loop_bag node_tests pd_controller plot_bag simulate sweep teleop_key web |
     sort >"$work/want"
   diff "$work/want" "$work/tab" >"$work/diff" || { echo "     expected < > offered:"; sed 's/^/     /' "$work/diff"; return 1; }

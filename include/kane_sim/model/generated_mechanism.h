@@ -7,6 +7,7 @@
 #define KANE_SIM_MODEL_GENERATED_MECHANISM_H
 
 #include "kane_sim/model/generated_equations.h"
+#include "kane_sim/model/generated_jacobian.h"
 #include "kane_sim/model/mechanism_model.h"
 #include "kane_sim/model/state.h"
 
@@ -56,6 +57,28 @@ class GeneratedMechanism {
 
   const generated::Constants& constants() const { return constants_; }
   generated::RatesVariant variant() const { return variant_; }
+
+  // x' = (q', u') linearized at x under `motor_command`: A = d x'/d x (rows and columns q1, q2,
+  // u1, u2) and B = d x'/d command, from the generated equations' exact derivatives (every load
+  // at a site; generated_jacobian.h), the motor line's slopes chained in (at its corner, the
+  // side motorLineTorque takes).
+  struct Linearization {
+    Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
+    Eigen::Vector4d B = Eigen::Vector4d::Zero();
+  };
+  Linearization linearization(const State& x, double motor_command) const {
+    const MotorLineSlopes motor = motorLineSlopes(motor_, motor_command, x.u1);
+    const generated::RateJacobian rates = generated::rateJacobian(
+        constants_, x.q1, x.q2, x.u1, x.u2, motorLineTorque(motor_, motor_command, x.u1));
+    Linearization l;
+    l.A.topRightCorner<2, 2>().setIdentity();  // q' = u
+    for (int row = 0; row < 2; ++row) {
+      const double* d = rates.d[row];  // d u'/d (q1, q2, u1, u2, M_m)
+      l.A.row(2 + row) << d[0], d[1], d[2] + d[4] * motor.per_speed, d[3];
+      l.B[2 + row] = d[4] * motor.per_command;
+    }
+    return l;
+  }
 
  private:
   static OdeState derivative(generated::RatesVariant variant, const generated::Constants& constants,

@@ -1,0 +1,69 @@
+// Controller design's costs (Google Benchmark): the generated exact Jacobian against one
+// evaluation of the rates it differentiates, the linearization at a state, every equilibrium
+// around the turn, and an LQR design at the upright crank (the equilibrium, the linearization,
+// the controllable subspace, the Riccati equation).
+//   $KANE_SIM_BUILD_DIR/bench_bin/bench_design --benchmark_min_time=0.5
+#include <cmath>
+
+#include <benchmark/benchmark.h>
+
+#include "kane_sim/analysis/linear_analysis.h"
+#include "kane_sim/config/load_config.h"
+#include "kane_sim/design/lqr.h"
+#include "kane_sim/model/generated_mechanism.h"
+
+namespace {
+
+kane_sim::Config defaultConfig() {
+  return kane_sim::loadConfigFile(KANE_SIM_CONFIG_DIR "/mechanism.yaml").config;
+}
+
+const kane_sim::State kBusyState{0.9, 1.05, 3.2, -0.7};
+
+void BM_GeneratedRates(benchmark::State& st) {
+  const kane_sim::GeneratedMechanism generated(kane_sim::mechanismModel(defaultConfig()));
+  kane_sim::State x = kBusyState;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(x);
+    const kane_sim::generated::Rates r =
+        kane_sim::generated::rates(generated.constants(), x.q1, x.q2, x.u1, x.u2, 2.0);
+    benchmark::DoNotOptimize(r);
+  }
+}
+BENCHMARK(BM_GeneratedRates);
+
+void BM_GeneratedJacobian(benchmark::State& st) {
+  const kane_sim::GeneratedMechanism generated(kane_sim::mechanismModel(defaultConfig()));
+  kane_sim::State x = kBusyState;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(x);
+    const kane_sim::generated::RateJacobian j =
+        kane_sim::generated::rateJacobian(generated.constants(), x.q1, x.q2, x.u1, x.u2, 2.0);
+    benchmark::DoNotOptimize(j);
+  }
+}
+BENCHMARK(BM_GeneratedJacobian);
+
+void BM_Linearize(benchmark::State& st) {
+  const kane_sim::MechanismModel model = kane_sim::mechanismModel(defaultConfig());
+  for (auto _ : st) benchmark::DoNotOptimize(kane_sim::linearize(model, kBusyState, 2.0));
+}
+BENCHMARK(BM_Linearize)->Unit(benchmark::kMicrosecond);
+
+void BM_Equilibria(benchmark::State& st) {
+  const kane_sim::MechanismModel model = kane_sim::mechanismModel(defaultConfig());
+  for (auto _ : st) benchmark::DoNotOptimize(kane_sim::equilibria(model, 0.0));
+}
+BENCHMARK(BM_Equilibria)->Unit(benchmark::kMillisecond);
+
+void BM_LqrDesignUpright(benchmark::State& st) {
+  const kane_sim::Config c = defaultConfig();
+  const kane_sim::MechanismModel model = kane_sim::mechanismModel(c);
+  const kane_sim::LqrWeights weights = kane_sim::defaultLqrWeights(c, model);
+  for (auto _ : st) benchmark::DoNotOptimize(kane_sim::designLqr(model, M_PI, weights));
+}
+BENCHMARK(BM_LqrDesignUpright)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
