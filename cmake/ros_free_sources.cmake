@@ -15,6 +15,7 @@ set(KANE_SIM_SENSORS_SOURCES src/sensors/joint_sensors.cpp)
 # sim: what one mechanism's run needs (the node, simulate, the browser) ...
 set(KANE_SIM_SIM_SOURCES
   src/sim/checkpoint.cpp
+  src/sim/closed_loop.cpp
   src/sim/config_check.cpp
   src/sim/csv_format.cpp
   src/sim/sim_driver.cpp

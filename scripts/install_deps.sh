@@ -23,6 +23,8 @@ PACKAGES=(
   build-essential cmake ros-core-dev libtf2-ros-dev libeigen3-dev libboost-dev
   libboost-program-options-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev libxsimd-dev
   libsleef-dev
+  # design plan: direct collocation solved by IPOPT (found by pkg-config)
+  coinor-libipopt-dev pkg-config
   librosbag-dev libstd-srvs-dev ros-std-srvs libdiagnostic-msgs-dev ros-diagnostic-msgs
   libros-rosgraph-msgs-dev libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libinteractive-markers-dev liburdfdom-dev

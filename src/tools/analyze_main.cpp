@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "kane_sim/analysis/analysis_json.h"
 #include "kane_sim/analysis/linear_analysis.h"
 #include "kane_sim/cli/number_argument.h"
+#include "kane_sim/cli/tool_config.h"
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/format_number.h"
 
@@ -134,18 +136,6 @@ int main(int argc, char** argv) {
     std::cout << desc << "\n";
     return 0;
   }
-  std::string config_path;
-  if (vm.count("config")) {
-    config_path = vm["config"].as<std::string>();
-  } else {
-    try {
-      config_path = kane_sim::defaultConfigFile();
-    } catch (const kane_sim::ConfigError& e) {
-      std::cerr << "analyze: no --config given and " << e.what() << "\n";
-      return kExitConfig;
-    }
-    std::cerr << "analyze: no --config given: using the package's default " << config_path << "\n";
-  }
   const double torque = vm["torque"].as<double>();
   if (!std::isfinite(torque)) {
     std::cerr << "analyze: --torque must be finite, got " << torque << "\n";
@@ -164,16 +154,17 @@ int main(int argc, char** argv) {
                  "without it\n";
     return kExitUsage;
   }
-  kane_sim::LoadedConfig loaded;
+  kane_sim::cli::ToolConfig loaded;
   try {
-    loaded = kane_sim::loadConfigFile(config_path);
-  } catch (const kane_sim::ConfigError& e) {
-    std::cerr << "analyze: bad config: " << e.what() << "\n";
+    loaded = kane_sim::cli::loadToolConfig(
+        "analyze",
+        vm.count("config") ? std::optional(vm["config"].as<std::string>()) : std::nullopt);
+  } catch (const kane_sim::cli::ToolConfigError& e) {
+    std::cerr << e.what() << "\n";
     return kExitConfig;
   }
-  for (const std::string& warning : loaded.warnings) std::cerr << "analyze: " << warning << "\n";
   try {
-    const kane_sim::MechanismModel model = kane_sim::mechanismModel(loaded.config);
+    const kane_sim::MechanismModel model = kane_sim::mechanismModel(loaded.loaded.config);
     if (vm.count("equilibria")) {
       printEquilibria(kane_sim::equilibria(model, torque), torque, vm.count("json") > 0);
     } else {

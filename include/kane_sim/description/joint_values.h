@@ -21,6 +21,13 @@ struct JointValues {
 // coupler -2 q1 (rod 2 relative to rod 1), slider 3 at x_B = 4 L cos q1, slider 4 at q2.
 JointValues jointValues(const MechanismKinematics& k, const State& x, double actuator_effort);
 
+// The state a reading of the joints gives: q1, u1 from the crank, q2, u2 from slider 4 (what a
+// state-feedback controller reads of joint_states).
+inline State stateFromJoints(const JointValues& j) {
+  return {j.position[kCrankJoint], j.position[kSlider4Joint], j.velocity[kCrankJoint],
+          j.velocity[kSlider4Joint]};
+}
+
 }  // namespace kane_sim
 
 #endif  // KANE_SIM_DESCRIPTION_JOINT_VALUES_H
