@@ -166,6 +166,7 @@ bool parseOptions(int argc, char** argv, Options* options) {
       vm.count("duration") ? requireFinite("duration", vm["duration"].as<double>()) : 0.0;
   options->output_rate = requireFinite("output-rate", vm["output-rate"].as<double>());
   options->profile = parseProfile(vm);
+  if (vm.count("torque-csv")) options->torque_csv = vm["torque-csv"].as<std::string>();
   for (const char* flag : {"torque", "torque-step", "torque-sine", "torque-csv"})
     options->profile_given |= vm.count(flag) > 0;
   if (vm.count("integrator")) {

@@ -153,6 +153,15 @@ PlanFile readPlanCsv(const std::string& path) {
 }
 
 std::string planMismatch(const PlanFile& file, const Config& config) {
+  const State& start = config.initial_state;
+  const double config_start[] = {start.q1, start.q2, start.u1, start.u2};
+  const char* names[] = {"q1", "q2", "u1", "u2"};
+  for (int i = 0; i < 4; ++i)
+    if (!file.plan.points.empty() &&
+        std::abs(file.plan.points.front().x[i] - config_start[i]) > 1e-9)
+      return std::string("initial_state.") + names[i] + ": the plan starts at " +
+             formatNumber(file.plan.points.front().x[i]) + ", the config at " +
+             formatNumber(config_start[i]);
   for (const auto& [name, value] : planMechanism(config)) {
     const auto it = file.mechanism.find(name);
     if (it == file.mechanism.end())

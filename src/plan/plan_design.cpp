@@ -1,5 +1,6 @@
 #include "kane_sim/plan/plan_design.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -33,7 +34,10 @@ PlanDesign designPlan(const MechanismModel& model, const CollocationProblem& pro
     PlanPoint p;
     p.t = static_cast<double>(k) * step;
     p.x = d.solution.stateAt(p.t);
-    p.torque = d.solution.torqueAt(std::min(p.t + step / 2, duration));
+    // Within the limit: the quadratic through the collocation's torques can overshoot it between
+    // them where the torque turns at the bound.
+    p.torque = std::clamp(d.solution.torqueAt(std::min(p.t + step / 2, duration)),
+                          -problem.torque_limit, problem.torque_limit);
     d.plan.points.push_back(p);
   }
   PlanPoint end;

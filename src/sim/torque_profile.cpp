@@ -86,24 +86,51 @@ TorqueProfile TorqueProfile::fromCsvFile(const std::string& path) {
   std::string line;
   int number = 0;
   bool first_row = true;
+  // The columns read: t and the torque, the first two unless a header names them (t or time;
+  // torque or M_m): a plan of `design plan` (t,q1,q2,u1,u2,M_m,...) plays its M_m.
+  size_t time_column = 0, torque_column = 1, columns = 2;
   while (std::getline(in, line)) {
     ++number;
     const std::string where = path + ":" + std::to_string(number);
     if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // UTF-8 BOM
     const size_t start = line.find_first_not_of(" \t\r");
     if (start == std::string::npos || line[start] == '#') continue;
+    std::vector<std::string> fields;
+    std::istringstream split(line);
+    for (std::string field; std::getline(split, field, ',');) fields.push_back(field);
     if (first_row && isHeader(line)) {
       first_row = false;
+      const auto named = [&](std::initializer_list<const char*> names) {
+        for (size_t i = 0; i < fields.size(); ++i) {
+          const size_t a = fields[i].find_first_not_of(" \t\r");
+          const size_t b = fields[i].find_last_not_of(" \t\r");
+          const std::string name = a == std::string::npos ? "" : fields[i].substr(a, b - a + 1);
+          for (const char* wanted : names)
+            if (name == wanted) return i;
+        }
+        return std::string::npos;
+      };
+      const size_t t = named({"t", "time"}), torque = named({"torque", "M_m"});
+      if (t != std::string::npos && torque != std::string::npos) {
+        time_column = t;
+        torque_column = torque;
+        columns = fields.size();
+      }
       continue;
     }
     first_row = false;
-    const size_t comma = line.find(',');
-    if (comma == std::string::npos)
-      throw std::invalid_argument(where + ": expected 't,torque', got '" + line + "'");
-    const double t = parseNumber(line.substr(0, comma), where + " (time)");
-    const double torque = parseNumber(line.substr(comma + 1), where + " (torque)");
+    const size_t end = line.find_last_not_of(" \t\r");
+    if (line[end] == ',')
+      throw std::invalid_argument(where + ": '" + line + "' ends with a comma (a value is missing)");
+    if (fields.size() < 2 || (columns == 2 && fields.size() != 2) || fields.size() != columns)
+      throw std::invalid_argument(where + ": expected " +
+                                  (columns == 2 ? std::string("'t,torque'")
+                                                : std::to_string(columns) + " columns") +
+                                  ", got '" + line + "'");
+    const double t = parseNumber(fields[time_column], where + " (time)");
+    const double torque = parseNumber(fields[torque_column], where + " (torque)");
     if (!points.empty() && t < points.back().first)
-      throw std::invalid_argument(where + ": time " + line.substr(0, comma) +
+      throw std::invalid_argument(where + ": time " + fields[time_column] +
                                   " goes backwards (previous " +
                                   std::to_string(points.back().first) + ")");
     points.emplace_back(t, torque);

@@ -33,6 +33,7 @@
 #include "kane_sim/sim/profile_commands.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/sweep.h"
+#include "kane_sim/design/plan_file.h"
 #include "kane_sim/sim/torque_profile.h"
 #include "simulate/outputs.h"
 #include "simulate/replay.h"
@@ -187,6 +188,19 @@ int run(const Options& options) {
   if (options.sweep()) return runSweepMode(options, root);
   const kane_sim::Config& config = loaded.config;
   if (!options.replay_bag.empty()) return runReplay(options, config);
+  // A plan of `design plan` plays its torques on the mechanism it was designed for, from its start.
+  if (!options.torque_csv.empty() && kane_sim::isPlanCsv(options.torque_csv)) {
+    std::string mismatch;
+    try {
+      mismatch = kane_sim::planMismatch(kane_sim::readPlanCsv(options.torque_csv), config);
+    } catch (const kane_sim::PlanError& e) {
+      throw UsageError(std::string("--torque-csv: ") + e.what());
+    }
+    if (!mismatch.empty())
+      throw UsageError("--torque-csv " + options.torque_csv + " is a plan for another mechanism or "
+                       "start than --config " + options.config_path + ": " + mismatch +
+                       " (design the plan for this config, or play a t,torque CSV)");
+  }
 
   kane_sim::OutputGrid grid;
   try {

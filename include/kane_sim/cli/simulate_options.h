@@ -31,6 +31,7 @@ struct Options {
   double output_rate = 100.0;
   std::optional<kane_sim::TorqueProfile> profile;  // resolved after parsing
   bool profile_given = false;  // a --torque* flag was given (else constant 0 N m)
+  std::string torque_csv;      // --torque-csv's file ("" without it)
   std::string integrator;      // empty: the config's
   std::string csv_path;        // empty: stdout (unless only a bag is asked for)
   std::string bag_path;

@@ -48,8 +48,9 @@ PlanFile readPlanCsv(const std::string& path);
 // read (the reader then says why).
 bool isPlanCsv(const std::string& path);
 
-// "" when the plan was designed for `config`'s mechanism; else which constant differs, both
-// values, in words ("mechanism.rod_mass: the plan was designed for 1, the config has 1.2").
+// "" when the plan was designed for `config`'s mechanism and starts at its initial state; else
+// which differs, both values, in words ("mechanism.rod_mass: the plan was designed for 1, the
+// config has 1.2").
 std::string planMismatch(const PlanFile& file, const Config& config);
 
 }  // namespace kane_sim
