@@ -11,7 +11,7 @@ if(benchmark_FOUND)
   set_target_properties(bench_core PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${KANE_SIM_BENCH_BIN})
   #catkin_lint: ignore uninstalled_target
   add_executable(bench_design bench/bench_design.cpp)
-  target_link_libraries(bench_design kane_sim_design benchmark::benchmark kane_sim_warnings)
+  target_link_libraries(bench_design kane_sim_plan benchmark::benchmark kane_sim_warnings)
   target_compile_definitions(bench_design PRIVATE KANE_SIM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config")
   set_target_properties(bench_design PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${KANE_SIM_BENCH_BIN})
   # The peers side by side (MuJoCo, Debian's libmujoco-dev: bench/run_all.sh installs it).

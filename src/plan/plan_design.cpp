@@ -34,10 +34,12 @@ PlanDesign designPlan(const MechanismModel& model, const CollocationProblem& pro
     PlanPoint p;
     p.t = static_cast<double>(k) * step;
     p.x = d.solution.stateAt(p.t);
-    // Within the limit: the quadratic through the collocation's torques can overshoot it between
-    // them where the torque turns at the bound.
-    p.torque = std::clamp(d.solution.torqueAt(std::min(p.t + step / 2, duration)),
-                          -problem.torque_limit, problem.torque_limit);
+    // The quadratic through the collocation's torques is the motion's torque, and where it
+    // turns at the bound it overshoots it between the points a little (~0.6 % at the swing-up's
+    // 8 N m): kept, as planned, and clamped only where the drive would clamp it.
+    const double drive_limit = model.parameters().motor.torque_limit;
+    p.torque = std::clamp(d.solution.torqueAt(std::min(p.t + step / 2, duration)), -drive_limit,
+                          drive_limit);
     d.plan.points.push_back(p);
   }
   PlanPoint end;

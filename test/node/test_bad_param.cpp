@@ -141,6 +141,19 @@ TEST(BadParam, SmallNodesRefuseBadNumbersNamingThem) {
       {"pd_controller __name:=pd_ki _ki:=-5", "parameter /pd_ki/ki must be finite and >= 0"},
       {"pd_controller __name:=pd_stamped _stamped:=yes",
        "parameter /pd_stamped/stamped must be true or false"},
+      // The tracking controller: no plan, a device, a plan for another mechanism, a bad clamp.
+      {"tracking_controller __name:=track_none",
+       "parameter /track_none/plan must name a plan CSV"},
+      {"tracking_controller __name:=track_zero _plan:=/dev/zero",
+       "~plan: plan CSV '/dev/zero' is not a readable file (not a regular file"},
+      {"tracking_controller __name:=track_other _plan:=" KANE_SIM_CONFIG_DIR
+       "/swing_up_plan.csv _config:=" KANE_SIM_CONFIG_DIR "/mechanism.yaml",
+       "initial_state.q1: the plan starts at 0, the config at 0.52"},
+      {"tracking_controller __name:=track_limit _plan:=" KANE_SIM_CONFIG_DIR
+       "/swing_up_plan.csv _torque_limit:=-1e308",
+       "parameter /track_limit/torque_limit must be finite and > 0, got -1e+308"},
+      {"tracking_controller __name:=track_csv _plan:=" KANE_SIM_CONFIG_DIR "/mechanism.yaml",
+       "expected the plan's header 't,q1,q2,u1,u2,M_m,K_q1,K_q2,K_u1,K_u2'"},
   };
   std::vector<std::string> commands;
   for (const Case& c : cases)

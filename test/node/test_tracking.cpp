@@ -4,12 +4,15 @@
 // plan follower on the same seeded readings; and the crank, swung up from hanging by a drive of
 // less than half the torque gravity needs, stays within 0.05 rad of upright for 60 s.
 #include <cmath>
+#include <iterator>
+#include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <sensor_msgs/JointState.h>
 
 #include "controlled_run.h"
+#include "kane_sim/TorqueCommandStamped.h"
 #include "kane_sim/design/plan_file.h"
 #include "kane_sim/design/plan_follower.h"
 #include "kane_sim/ros/messages.h"
@@ -76,6 +79,45 @@ TEST(Tracking, TheNodeSwingsTheCrankUpAndHoldsItAsTheOfflineLoopDoes) {
               "hold %.4f rad\n",
               k, kHold, worst_hold);
   EXPECT_LE(worst_hold, 0.05);
+}
+
+// Readings a rig might send: not finite, a joint missing, a stamp gone back. Each is answered (a
+// lockstep node waits for every answer), never with a number that is not finite.
+TEST(Tracking, HostileReadingsAreAnsweredWithAFiniteTorque) {
+  ros::NodeHandle nh;
+  Recorder<TorqueCommandStamped> answers(nh, "torque_command_stamped");
+  ros::Publisher readings = nh.advertise<sensor_msgs::JointState>("joint_states", 10);
+  ASSERT_TRUE(test::waitFor([&] { return readings.getNumSubscribers() > 0; }, 20.0));
+  test::sleepWall(0.5);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  struct Reading {
+    double q1, u1;
+    bool slider4;
+    double stamp;
+  };
+  const Reading cases[] = {{nan, 0, true, 1e5}, {inf, 0, true, 1e5 + 1}, {3.1, -inf, true, 1e5 + 2},
+                           {3.1, 0.0, false, 1e5 + 3}, {1e308, 1e308, true, 1e5 + 4},
+                           {3.1, 0.0, true, 1.0}};
+  for (const Reading& r : cases) {
+    sensor_msgs::JointState m;
+    m.header.stamp = ros::Time(r.stamp);
+    m.name = {"crank_joint"};
+    m.position = {r.q1};
+    m.velocity = {r.u1};
+    if (r.slider4) {
+      m.name.push_back("slider4_joint");
+      m.position.push_back(-0.66);
+      m.velocity.push_back(0.0);
+    }
+    readings.publish(m);
+  }
+  ASSERT_TRUE(answers.waitForCount(std::size(cases), 20.0)) << answers.count();
+  for (const auto& a : answers.messages()) {
+    if (a.header.stamp.toSec() < 10.0 && a.header.stamp != ros::Time(1.0)) continue;  // the sim's
+    EXPECT_TRUE(std::isfinite(a.torque)) << a.header.stamp;
+    EXPECT_LE(std::abs(a.torque), 10.0) << a.header.stamp;
+  }
 }
 
 }  // namespace

@@ -29,17 +29,20 @@ class PlanFollower {
   // clock went back: a restarted simulation) restarts the plan there.
   std::optional<double> command(std::int64_t stamp, const State& x) {
     if (!x.isFinite()) return std::nullopt;
-    if (!start_ || stamp < *start_) start_ = stamp;
+    if (!started_ || stamp < start_) {
+      started_ = true;
+      start_ = stamp;
+    }
     const double torque = plan_.command(planTime(stamp), x);
     if (!std::isfinite(torque)) return std::nullopt;
     return std::clamp(torque, -torque_limit_, torque_limit_);
   }
 
   // The next reading starts the plan again.
-  void restart() { start_.reset(); }
+  void restart() { started_ = false; }
   // [s] of the plan at `stamp` [ns] (0 before the first reading).
   double planTime(std::int64_t stamp) const {
-    return start_ ? static_cast<double>(stamp - *start_) * 1e-9 : 0.0;
+    return started_ ? static_cast<double>(stamp - start_) * 1e-9 : 0.0;
   }
   const Plan& plan() const { return plan_; }
   double torqueLimit() const { return torque_limit_; }
@@ -47,7 +50,8 @@ class PlanFollower {
  private:
   Plan plan_;
   double torque_limit_;
-  std::optional<std::int64_t> start_;  // [ns]
+  bool started_ = false;
+  std::int64_t start_ = 0;  // [ns] the plan's t = 0
 };
 
 }  // namespace kane_sim

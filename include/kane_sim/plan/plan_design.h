@@ -21,7 +21,9 @@ struct PlanDesign {
 // The goal must be the crank held at rest (equilibriumAt(model, goal q1)); rows every
 // 1 / row_rate seconds: the state of the collocation's interpolant at each row's time and the
 // torque at the middle of the row's step (what a command held over the step should be, to
-// second order), then one row at the goal with its holding torque, held from then on.
+// second order; between the collocation's points it can pass the problem's torque limit a little
+// where it turns at the bound, never the drive's), then one row at the goal with its holding
+// torque, held from then on.
 PlanDesign designPlan(const MechanismModel& model, const CollocationProblem& problem,
                       double row_rate, const LqrWeights& weights,
                       const std::function<void(const CollocationProgress&)>& progress,
