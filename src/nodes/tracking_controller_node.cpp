@@ -100,6 +100,7 @@ void TrackingControllerNode::onJointState(const sensor_msgs::JointState::ConstPt
   }
   last_torque_ = *torque;
   answer(msg->header.stamp, *torque);
+  if (reference_pub_.getNumSubscribers() == 0) return;  // a message a reading, only when heard
   const PlanPoint reference = follower_->plan().at(follower_->planTime(stamp));
   sensor_msgs::JointState ref;
   ref.header.stamp = msg->header.stamp;

@@ -92,7 +92,7 @@ def test_cli_refuses_bad_arguments_by_name(args, words):
 
 def test_cli_refuses_a_method_it_does_not_know():
     r = run_tool("design", "plan9", "--config", config_path(), "--q1", "0", check=False)
-    assert r.returncode == 2 and "the method must be lqr, got 'plan9'" in r.stderr
+    assert r.returncode == 2 and "the method must be lqr or plan, got 'plan9'" in r.stderr
     r = run_tool("design", "--config", config_path(), "--q1", "0", check=False)
     assert r.returncode == 2 and "name the method" in r.stderr
 
