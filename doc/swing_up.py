@@ -2,7 +2,7 @@
 """Regenerates doc/swing_up.png: the shipped swing-up (config/swing_up.yaml, a 10 N m drive,
 sensors) followed by the tracking controller (kane_sim.control.follow: the node's lockstep loop,
 offline) against its plan (config/swing_up_plan.csv): the crank angle, slider 4 and the torque.
-Usage: doc/swing_up.py   (with the devel space sourced; needs python3-matplotlib)
+Usage: python3 doc/swing_up.py   (with the devel space sourced; needs python3-matplotlib)
 """
 import math
 import os

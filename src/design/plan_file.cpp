@@ -24,6 +24,21 @@ std::string exact(double value) {
   return text;
 }
 
+// Text from a file, fit for a message: bytes outside printable ASCII as \xNN, at most 80.
+std::string printable(const std::string& text) {
+  std::string out;
+  for (unsigned char c : text.substr(0, 80)) {
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02X", c);
+      out += escaped;
+    }
+  }
+  return text.size() > 80 ? out + "..." : out;
+}
+
 std::string trimmed(const std::string& text) {
   const size_t begin = text.find_first_not_of(" \t\r");
   if (begin == std::string::npos) return "";
@@ -34,8 +49,9 @@ double parseValue(const std::string& text, const std::string& where) {
   const std::string value = trimmed(text);
   char* end = nullptr;
   const double number = std::strtod(value.c_str(), &end);
-  if (value.empty() || *end != '\0') throw PlanError(where + ": '" + value + "' is not a number");
-  if (!std::isfinite(number)) throw PlanError(where + ": '" + value + "' is not finite");
+  if (value.empty() || *end != '\0')
+    throw PlanError(where + ": '" + printable(value) + "' is not a number");
+  if (!std::isfinite(number)) throw PlanError(where + ": '" + printable(value) + "' is not finite");
   return number;
 }
 
@@ -64,6 +80,7 @@ void writePlanCsv(std::ostream& out, const Plan& plan, const Config& config,
     for (int i = 0; i < 4; ++i) out << "," << exact(p.K[i]);
     out << "\n";
   }
+  out << "# end of plan: " << plan.points.size() << " rows\n";
 }
 
 bool isPlanCsv(const std::string& path) {
@@ -88,6 +105,7 @@ PlanFile readPlanCsv(const std::string& path) {
   }
   PlanFile file;
   bool header_seen = false;
+  long end_rows = -1;  // the end line's count
   int number = 0;
   for (std::string line; std::getline(in, line);) {
     ++number;
@@ -95,6 +113,13 @@ PlanFile readPlanCsv(const std::string& path) {
     const std::string text = trimmed(line);
     if (text.empty()) continue;
     if (text[0] == '#') {
+      const std::string end_mark = "# end of plan: ";
+      if (header_seen && text.rfind(end_mark, 0) == 0) {
+        end_rows = static_cast<long>(parseValue(
+            text.substr(end_mark.size(), text.find(' ', end_mark.size()) - end_mark.size()),
+            where + " (the end line's rows)"));
+        continue;
+      }
       const size_t equals = text.find('=');
       if (header_seen || equals == std::string::npos) continue;
       const std::string name = trimmed(text.substr(1, equals - 1));
@@ -108,10 +133,13 @@ PlanFile readPlanCsv(const std::string& path) {
     if (!header_seen) {
       if (text != kPlanColumns)
         throw PlanError(where + ": expected the plan's header '" + kPlanColumns + "', got '" +
-                        text + "'");
+                        printable(text) + "'");
       header_seen = true;
       continue;
     }
+    if (end_rows >= 0) throw PlanError(where + ": a row after the plan's end line");
+    if (static_cast<long>(file.plan.points.size()) >= kMaxPlanRows)
+      throw PlanError(where + ": more than " + std::to_string(kMaxPlanRows) + " rows");
     std::vector<double> values;
     std::stringstream fields(text);
     static const char* const names[] = {"t",   "q1",   "q2",   "u1",   "u2",
@@ -133,7 +161,12 @@ PlanFile readPlanCsv(const std::string& path) {
     if (points.empty() && p.t != 0.0)
       throw PlanError(where + ": the first row's t is " + formatNumber(p.t) +
                       ", a plan starts at 0");
-    if (points.size() == 1) file.plan.step = p.t - points[0].t;
+    if (points.size() == 1) {
+      file.plan.step = p.t - points[0].t;
+      if (!(file.plan.step >= 1e-6))
+        throw PlanError(where + ": rows " + formatNumber(file.plan.step) +
+                        " s apart: a plan's rows are at least 1e-06 s apart");
+    }
     if (points.size() >= 1) {
       const double step = file.plan.step;
       const double expected = static_cast<double>(points.size()) * step;
@@ -149,6 +182,12 @@ PlanFile readPlanCsv(const std::string& path) {
   if (file.plan.points.size() < 2)
     throw PlanError("plan CSV '" + path + "' has " + std::to_string(file.plan.points.size()) +
                     " rows: a plan has at least 2");
+  if (end_rows != static_cast<long>(file.plan.points.size()))
+    throw PlanError("plan CSV '" + path + "' " +
+                    (end_rows < 0 ? std::string("has no end line '# end of plan: N rows'")
+                                  : "says it has " + std::to_string(end_rows) + " rows") +
+                    " after its " + std::to_string(file.plan.points.size()) +
+                    " rows: cut off or edited? (design plan writes it whole)");
   return file;
 }
 

@@ -10,6 +10,8 @@
     p.write("plan.csv")                           # what the tracking controller follows
     run = kane_sim.control.follow("config/swing_up.yaml", "plan.csv", duration=10)
 """
+import os
+
 import numpy as np
 
 from kane_sim import core
@@ -151,6 +153,8 @@ def plan(config, to, start=None, objective="effort", duration=3.0, max_duration=
     ValueError saying why; Ctrl-C stops IPOPT (KeyboardInterrupt)."""
     cfg = config if isinstance(config, core.Config) else core.Config(config)
     to = _number("to", to, "plan")
+    if isinstance(start, str) and start == "initial":
+        start = None  # as the command line's --from initial
     start = _optional("plan", "start", start)
     for name, value in (("to", to), ("start", start)):
         if value is not None and abs(value) > 1e6:
@@ -159,10 +163,12 @@ def plan(config, to, start=None, objective="effort", duration=3.0, max_duration=
         raise ValueError("plan: objective must be 'effort' or 'time', got %r" % (objective,))
     duration = _number("duration", duration, "plan")
     max_duration = _number("max_duration", max_duration, "plan")
-    if isinstance(intervals, bool) or not isinstance(intervals, (int, np.integer)):
-        raise ValueError("plan: intervals must be a whole number, got %r" % (intervals,))
-    if isinstance(max_iterations, bool) or not isinstance(max_iterations, (int, np.integer)):
-        raise ValueError("plan: max_iterations must be a whole number, got %r" % (max_iterations,))
+    for name, value, lo, hi in (("intervals", intervals, 2, 20000),
+                                ("max_iterations", max_iterations, 1, 10**6)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+            raise ValueError("plan: %s must be a whole number, got %r" % (name, value))
+        if not lo <= value <= hi:
+            raise ValueError("plan: %s must be in [%d, %d], got %d" % (name, lo, hi, value))
     if q2_range is not None:
         if len(q2_range) != 2:
             raise ValueError("plan: q2_range must be (MIN, MAX), got %r" % (q2_range,))
@@ -183,6 +189,8 @@ def follow(config, plan_csv, duration, torque_limit=None):
     drive's). The node in lockstep gives the same states bit for bit. A plan for another
     mechanism or start is a ValueError naming what differs."""
     cfg = config if isinstance(config, core.Config) else core.Config(config)
+    if not isinstance(plan_csv, (str, os.PathLike)):
+        raise TypeError("follow: plan_csv must be a path, got %r" % (plan_csv,))
     duration = _number("duration", duration, "follow")
     fields = core._core.follow_plan(cfg._core, str(plan_csv), duration,
                                     _optional("follow", "torque_limit", torque_limit))

@@ -46,10 +46,20 @@ TrackingControllerNode::TrackingControllerNode(const ros::NodeHandle& nh,
       throw std::invalid_argument("~plan " + plan_path + " is not for ~config " + config_path +
                                   ": " + mismatch);
     torque_limit = config.command.torque_limit;
+  } else {
+    ROS_WARN("tracking_controller: no ~config: the plan is not checked against the mechanism "
+             "it drives, and the torque is clamped only where ~torque_limit says");
   }
   if (private_nh.hasParam("torque_limit"))
     torque_limit = boundedParam(private_nh, "torque_limit", 0.0, ParamBound::kPositive);
   follower_.emplace(plan.plan, torque_limit);
+  bool sim_time = false;
+  ros::param::get("/use_sim_time", sim_time);
+  if (!sim_time)
+    ROS_WARN("tracking_controller: /use_sim_time is false: the plan's clock is the readings' wall "
+             "stamps. A simulator that waits (lockstep, paused, slower than real time) falls "
+             "behind it: run it on /clock (simulation.publish_clock: true; sim.launch plan:= "
+             "does)");
   stamped_ = flagParam(private_nh, "stamped", false);
   torque_pub_ = stamped_ ? nh_.advertise<TorqueCommandStamped>("torque_command_stamped", 10)
                          : nh_.advertise<std_msgs::Float64>("torque_command", 10);
@@ -86,6 +96,11 @@ void TrackingControllerNode::onJointState(const sensor_msgs::JointState::ConstPt
   // Whole nanoseconds (the plan's clock is their difference: exact).
   const std::int64_t stamp = static_cast<std::int64_t>(msg->header.stamp.toNSec());
   std::optional<double> torque;
+  if (last_stamp_ && stamp < *last_stamp_)
+    ROS_WARN("tracking_controller: a reading stamped %.6f s before the last one: the plan "
+             "starts again from it",
+             static_cast<double>(*last_stamp_ - stamp) * 1e-9);
+  last_stamp_ = stamp;
   if (reading(*msg, kJointNames[kCrankJoint], &x.q1, &x.u1) &&
       reading(*msg, kJointNames[kSlider4Joint], &x.q2, &x.u2))
     torque = follower_->command(stamp, x);
@@ -127,6 +142,7 @@ void TrackingControllerNode::answer(const ros::Time& stamp, double torque) {
 void TrackingControllerNode::onResetEvent(const ResetEvent::ConstPtr& msg) {
   follower_->restart();
   last_torque_ = 0.0;
+  last_stamp_.reset();
   ROS_INFO(
       "tracking_controller: the mechanism was moved (%s at t = %.3f s): the plan starts "
       "again at the next reading",

@@ -9,6 +9,7 @@
 #ifndef KANE_SIM_NODES_TRACKING_CONTROLLER_NODE_H
 #define KANE_SIM_NODES_TRACKING_CONTROLLER_NODE_H
 
+#include <cstdint>
 #include <optional>
 
 #include <ros/ros.h>
@@ -32,6 +33,7 @@ class TrackingControllerNode {
   ros::NodeHandle nh_;
   std::optional<PlanFollower> follower_;
   double last_torque_ = 0.0;  // answered again for a reading it cannot use
+  std::optional<std::int64_t> last_stamp_;  // [ns] a reading before it restarts the plan
   bool stamped_ = false;
   ros::Subscriber joint_state_sub_;
   ros::Subscriber reset_event_sub_;

@@ -127,9 +127,10 @@ class HermiteSimpsonNlp : public Ipopt::TNLP {
 
   // The first guess: a given one (setGuess), else the crank from start to goal along
   //   q1(s) = q1_a + (q1_b - q1_a) blend(s),  s = t / T,
-  // blend a half cosine (rest to rest) for 0 swings, s cos(pi n (1 - s)) for n swings of
-  // growing amplitude (a crank that must pump energy); slider 4 blended by the half cosine;
-  // the speeds those curves have; no torque.
+  // blend a half cosine (rest to rest) for 0 swings; for n swings of growing amplitude (a crank
+  // that must pump energy) the half cosine plus D (s cos(pi n (1 - s)) - blend), D = q1_b - q1_a
+  // or, for a move shorter than 1 rad, 1 rad its way (so that swings are tried there too);
+  // slider 4 blended by the half cosine; the speeds those curves have; no torque.
   bool get_starting_point(Index n, bool, Number* z, bool, Number*, Number*, Index, bool,
                           Number*) override {
     if (static_cast<Index>(guess_.size()) == n) {
@@ -139,16 +140,22 @@ class HermiteSimpsonNlp : public Ipopt::TNLP {
     const Eigen::Vector2d a(p_.start.q1, p_.start.q2);
     const Eigen::Vector2d b(p_.goal.q1, p_.goal.q2);
     const double T = p_.duration, pi_n = M_PI * swings_;
+    const double span = b[0] - a[0];
+    const double swing = std::abs(span) >= 1.0 ? span : std::copysign(1.0, span);
     for (int k = 0; k < points_; ++k) {
       const double s = static_cast<double>(k) / (points_ - 1);
       const double smooth = (1 - std::cos(M_PI * s)) / 2;
       const double smooth_rate = M_PI / 2 * std::sin(M_PI * s) / T;
-      const double crank = swings_ == 0 ? smooth : s * std::cos(pi_n * (1 - s));
-      const double crank_rate =
+      const double pumped = swings_ == 0 ? smooth : s * std::cos(pi_n * (1 - s));
+      const double pumped_rate =
           swings_ == 0 ? smooth_rate
                        : (std::cos(pi_n * (1 - s)) + s * pi_n * std::sin(pi_n * (1 - s))) / T;
-      Eigen::Vector4d x(a[0] + crank * (b[0] - a[0]), a[1] + smooth * (b[1] - a[1]),
-                        crank_rate * (b[0] - a[0]), smooth_rate * (b[1] - a[1]));
+      const bool long_move = swing == span;
+      Eigen::Vector4d x(
+          a[0] + (long_move ? pumped * span : smooth * span + (pumped - smooth) * swing),
+          a[1] + smooth * (b[1] - a[1]),
+          long_move ? pumped_rate * span : smooth_rate * span + (pumped_rate - smooth_rate) * swing,
+          smooth_rate * (b[1] - a[1]));
       if (k == 0) x << p_.start.q1, p_.start.q2, p_.start.u1, p_.start.u2;
       if (k == points_ - 1) x << p_.goal.q1, p_.goal.q2, p_.goal.u1, p_.goal.u2;
       for (int c = 0; c < 4; ++c) z[kPointVariables * k + c] = x[c];
@@ -514,8 +521,8 @@ void checkCollocationProblem(const CollocationProblem& p) {
                         formatNumber(p.max_duration));
   if (p.intervals < 2 || p.intervals > 20000)
     throw PlanningError("the intervals must be in [2, 20000], got " + std::to_string(p.intervals));
-  if (!(p.torque_limit > 0.0 && std::isfinite(p.torque_limit)))
-    throw PlanningError("the torque limit must be finite and > 0 N m, got " +
+  if (!(p.torque_limit >= 1e-6 && std::isfinite(p.torque_limit)))
+    throw PlanningError("the torque limit must be finite and >= 1e-06 N m, got " +
                         formatNumber(p.torque_limit));
   if (p.q2_min) requireFinite(*p.q2_min, "slider 4's lowest q2");
   if (p.q2_max) requireFinite(*p.q2_max, "slider 4's highest q2");
@@ -527,7 +534,10 @@ void checkCollocationProblem(const CollocationProblem& p) {
       throw PlanningError(std::string("the ") + what + "'s q2 = " + formatNumber(q2) +
                           " m is outside slider 4's travel");
   }
-  if (p.gap) requireFinite(*p.gap, "the gap");
+  if (p.gap) {
+    requireFinite(*p.gap, "the gap");
+    if (*p.gap < 0) throw PlanningError("the gap must be >= 0 m, got " + formatNumber(*p.gap));
+  }
   if (p.max_iterations < 1)
     throw PlanningError("the iteration limit must be >= 1, got " +
                         std::to_string(p.max_iterations));

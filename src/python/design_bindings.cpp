@@ -140,6 +140,8 @@ py::dict plan(const PythonConfig& config, double to, const std::optional<double>
     p.gap = *gap;
   else if (c.mechanism.contact.enabled)
     p.gap = c.mechanism.contact.gap;
+  const std::string rate_problem = planRateProblem(p, rate ? *rate : c.simulation.physics_rate);
+  if (!rate_problem.empty()) throw py::value_error("plan: " + rate_problem);
   PlanDesign d;
   try {
     p.start = from ? equilibriumAt(model, *from).state : c.initial_state;
@@ -195,8 +197,12 @@ py::dict follow(const PythonConfig& config, const std::string& plan_path, double
   const std::string mismatch = planMismatch(file, c);
   if (!mismatch.empty())
     throw py::value_error("follow: the plan " + plan_path + " is not for this config: " + mismatch);
-  if (!(std::isfinite(duration) && duration > 0 && duration <= 1e6))
-    throw py::value_error("follow: duration must be in (0, 1e6] s, got " + formatNumber(duration));
+  // Every step is kept (48 bytes): at most 10 million of them (480 MB).
+  const double longest = 1e7 / c.simulation.physics_rate;
+  if (!(std::isfinite(duration) && duration > 0 && duration <= longest))
+    throw py::value_error("follow: duration must be in (0, " + formatNumber(longest) +
+                          "] s (10 million physics steps, each kept), got " +
+                          formatNumber(duration));
   const double limit = torque_limit ? *torque_limit : c.command.torque_limit;
   if (!(limit > 0))
     throw py::value_error("follow: torque_limit must be > 0, got " + formatNumber(limit));

@@ -4,7 +4,7 @@
 // lqr: the law that holds the crank at rest at q1 (design/lqr.h); plan: the optimal move to the
 // crank held at --to and the time-varying LQR along it (plan/plan_design.h).
 // Exit codes: 0 ok, 1 bad config, 2 bad command line, 3 no design (no equilibrium, no gain, no
-// plan), 4 the output cannot be written, 130 stopped by Ctrl-C.
+// plan), 4 the output cannot be written, 130 / 143 stopped by SIGINT / SIGTERM.
 #include <iostream>
 #include <set>
 #include <string>
@@ -64,7 +64,14 @@ int main(int argc, char** argv) {
   all.add(desc).add(hidden);
   po::variables_map vm;
   try {
-    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
+    // No guessing of abbreviations: --objectiv is a typo, not --objective.
+    po::store(po::command_line_parser(argc, argv)
+                  .options(all)
+                  .positional(positional)
+                  .style(po::command_line_style::default_style &
+                         ~po::command_line_style::allow_guessing)
+                  .run(),
+              vm);
     po::notify(vm);
   } catch (const po::error& e) {
     std::cerr << "design: " << e.what() << "\n" << desc << "\n";

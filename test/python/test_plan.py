@@ -129,7 +129,7 @@ def test_the_shipped_swing_up_is_followed_and_held():
     (["--to", "pi", "--duration", "-1"], "the duration must be in (0, 3600] s"),
     (["--to", "pi", "--duration", "inf"], "--duration must be a finite number"),
     (["--to", "pi", "--intervals", "1"], "the intervals must be in [2, 20000]"),
-    (["--to", "pi", "--torque-limit", "0"], "the torque limit must be finite and > 0"),
+    (["--to", "pi", "--torque-limit", "0"], "the torque limit must be finite and >= 1e-06 N m, got 0"),
     (["--to", "pi", "--torque-limit", "1e308"], "beyond the drive's command.torque_limit"),
     (["--to", "pi", "--Q", "1,nan,1,1"], "--Q's weight on q2 must be a finite number"),
     (["--to", "pi", "--Q", "1,-1,1,1"], "--Q's weight on q2 must be >= 0"),
@@ -139,12 +139,48 @@ def test_the_shipped_swing_up_is_followed_and_held():
     (["--to", "pi", "--objective", "fastest"], "--objective must be effort or time"),
     (["--to", "pi", "--q1", "1"], "--q1 is not a flag of design plan"),
     (["--to", "pi", "--rate", "0"], "the plan's row rate must be in [1, 1e6] Hz"),
+    (["--to", "pi", "--rate", "1e6", "--duration", "3600"],
+     "are more than the 300000 a plan may have"),
+    (["--to", "pi", "--gap", "-0.1"], "the gap must be >= 0 m"),
+    (["--to", "pi", "--torque-limit", "1e-300"], "the torque limit must be finite and >= 1e-06"),
+    (["--to", "pi", "--objectiv", "time"], "unrecognised option '--objectiv'"),
     (["--from", "x", "--to", "pi"], "--from must be a finite number, got 'x'"),
 ])
 def test_design_plan_refuses_bad_arguments_by_name(args, words):
     r = run_tool("design", "plan", "--config", SWING_UP, *args, check=False)
     assert r.returncode in (2, 3), (r.returncode, r.stderr)
     assert words in r.stderr, r.stderr
+
+
+def test_design_plan_usage_errors_exit_2():
+    for args in (["--rate", "0"], ["--rate", "1e6", "--duration", "3600"], ["--gap", "-1"]):
+        r = run_tool("design", "plan", "--config", SWING_UP, "--to", "pi", *args, check=False)
+        assert r.returncode == 2, (args, r.returncode, r.stderr)
+
+
+def test_a_move_to_where_the_crank_already_is_is_found():
+    # Slider 4 starts 0.039 m above its rest: the crank must move to settle it, and come back.
+    p = kane_sim.control.plan(SWING_UP, to=0.0, duration=2.0, intervals=60, torque_limit=8)
+    assert p.max_defect <= 1e-8
+    np.testing.assert_allclose(p.x[-1, 2:], [0, 0], atol=1e-12)
+
+
+def test_out_is_written_whole_or_not_at_all(tmp_path):
+    out = tmp_path / "plan.csv"
+    r = run_tool("design", "plan", "--config", SWING_UP, "--to", "pi", "--out",
+                 tmp_path / "no" / "such" / "plan.csv", check=False)
+    assert r.returncode == 4 and "cannot write --out" in r.stderr, r.stderr
+    assert "iteration" not in r.stderr  # refused before IPOPT ran
+    proc = subprocess.Popen([tool("design"), "plan", "--config", SWING_UP, "--to", "pi",
+                             "--duration", "3", "--intervals", "2000", "--torque-limit", "8",
+                             "--out", str(out)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    import time
+    time.sleep(1.0)
+    proc.send_signal(15)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 143 and "stopped by SIGTERM: no plan written" in err, err
+    assert not out.exists() and not (tmp_path / "plan.csv.partial").exists()
 
 
 def test_a_move_out_of_reach_is_refused_with_ipopts_status():
@@ -168,24 +204,35 @@ def test_ctrl_c_stops_ipopt(tmp_path):
     proc.send_signal(2)
     out, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
-    assert "stopped at the user's request (Ctrl-C)" in err, err
+    assert "stopped by Ctrl-C (SIGINT): no plan written" in err, err
 
 
 def test_plan_files_are_read_with_their_faults_named(tmp_path):
     good = open(config_path("swing_up_plan.csv")).read().splitlines()
-    header = [l for l in good if l.startswith("#") or l.startswith("t,")]
-    rows = [l for l in good if not (l.startswith("#") or l.startswith("t,"))]
+    end = [l for l in good if l.startswith("# end of plan:")]
+    assert len(end) == 1 and good[-1] == end[0]
+    header = [l for l in good[:-1] if l.startswith("#") or l.startswith("t,")]
+    rows = [l for l in good[:-1] if not (l.startswith("#") or l.startswith("t,"))]
+
+    def ended(body):
+        return body + ["# end of plan: %d rows" % len(body)]
+
     cases = {
-        "gap": (rows[:10] + rows[12:], "the rows must be evenly spaced"),
-        "nan": (rows[:5] + [rows[5].replace(rows[5].split(",")[2], "nan", 1)] + rows[6:],
+        "gap": (ended(rows[:10] + rows[12:]), "the rows must be evenly spaced"),
+        "nan": (ended(rows[:5] + [rows[5].replace(rows[5].split(",")[2], "nan", 1)] + rows[6:]),
                 "(q2): 'nan' is not finite"),
-        "short": ([rows[0] + ",1"] + rows[1:], "more than 10 columns"),
+        "extra": (ended([rows[0] + ",1"] + rows[1:]), "more than 10 columns"),
         "empty": ([], "has 0 rows: a plan has at least 2"),
+        "cut": (rows[:375], "has no end line '# end of plan: N rows' after its 375 rows"),
+        "miscounted": (rows + ["# end of plan: 999 rows"], "says it has 999 rows"),
+        "binary": (ended(["\x80\xff" + rows[0]] + rows[1:]), "'\\x80\\xFF0' is not a number"),
+        "squeezed": (ended(["%r,%s" % (float(r.split(",")[0]) * 1e-9, r.split(",", 1)[1])
+                            for r in rows[:20]]), "a plan's rows are at least 1e-06 s apart"),
     }
     for name, (body, words) in cases.items():
         path = tmp_path / (name + ".csv")
-        path.write_text("\n".join(header + body) + "\n")
-        with pytest.raises(ValueError, match=None) as e:
+        path.write_text("\n".join(header + body) + "\n", encoding="latin-1")
+        with pytest.raises(ValueError) as e:
             kane_sim.control.follow(SWING_UP, str(path), duration=1.0)
         assert words in str(e.value), (name, str(e.value))
     # Another mechanism's plan: refused by the follower, the controller and simulate alike.
@@ -205,9 +252,17 @@ def test_python_plan_refusals():
         kane_sim.control.plan(SWING_UP, to=float("nan"))
     with pytest.raises(ValueError, match="plan: objective must be 'effort' or 'time'"):
         kane_sim.control.plan(SWING_UP, to=math.pi, objective="fast")
-    with pytest.raises(ValueError, match="plan: the intervals must be in"):
+    with pytest.raises(ValueError, match="plan: intervals must be in"):
         kane_sim.control.plan(SWING_UP, to=math.pi, intervals=-5)
     with pytest.raises(ValueError, match="plan: Q must be 4 numbers"):
         kane_sim.control.plan(SWING_UP, to=math.pi, Q=[1, 2])
     with pytest.raises(ValueError, match="follow: duration must be in"):
         kane_sim.control.follow(SWING_UP, config_path("swing_up_plan.csv"), duration=-1)
+    with pytest.raises(ValueError, match=r"follow: duration must be in \(0, 10000\] s"):
+        kane_sim.control.follow(SWING_UP, config_path("swing_up_plan.csv"), duration=1e6)
+    with pytest.raises(TypeError, match="follow: plan_csv must be a path"):
+        kane_sim.control.follow(SWING_UP, None, duration=1)
+    with pytest.raises(ValueError, match=r"plan: intervals must be in \[2, 20000\]"):
+        kane_sim.control.plan(SWING_UP, to=math.pi, intervals=10**30)
+    with pytest.raises(ValueError, match="are more than the 300000 a plan may have"):
+        kane_sim.control.plan(SWING_UP, to=math.pi, rate=1e6, duration=3600)

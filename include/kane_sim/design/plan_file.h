@@ -8,6 +8,7 @@
 //   # periodic = 1                               the crank's error within (-pi, pi]
 //   t,q1,q2,u1,u2,M_m,K_q1,K_q2,K_u1,K_u2
 //   0,...                                        rows every `step` seconds from t = 0
+//   # end of plan: 602 rows                      so that a cut-off file is not taken for a plan
 //
 // ROS-free.
 #ifndef KANE_SIM_DESIGN_PLAN_FILE_H
@@ -25,6 +26,9 @@ namespace kane_sim {
 
 // The columns, in order.
 extern const char* const kPlanColumns;
+// The most rows a plan may have: a file of them (~200 bytes a row) stays within the 64 MiB every
+// table the tools read may have (config/input_file.h).
+constexpr long kMaxPlanRows = 300000;
 
 struct PlanFile {
   Plan plan;
@@ -41,7 +45,8 @@ void writePlanCsv(std::ostream& out, const Plan& plan, const Config& config,
 
 // Throws PlanError naming the file, the line and the value: not a plan's header, a row of
 // another length, a value not finite, times that do not start at 0 or are not evenly spaced (a
-// gap), fewer than 2 rows. A regular file of at most 64 MiB.
+// gap) or closer than 1 µs, fewer than 2 rows, no end line or one that counts other rows (a
+// file cut off). A regular file of at most 64 MiB.
 PlanFile readPlanCsv(const std::string& path);
 
 // Whether `path` holds a plan (its header line names the plan's columns); false when it cannot be

@@ -20,7 +20,8 @@ constexpr int kExitConfig = 1;
 constexpr int kExitUsage = 2;
 constexpr int kExitNoDesign = 3;
 constexpr int kExitOutput = 4;
-constexpr int kExitInterrupted = 130;
+constexpr int kExitInterrupted = 130;  // SIGINT
+constexpr int kExitTerminated = 143;   // SIGTERM
 
 struct UsageError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;

@@ -2,6 +2,10 @@
 // collocation (plan/collocation.h), sampled on the controller's grid with its time-varying LQR
 // gains; --out writes the plan CSV (design/plan_file.h). Progress on stderr; Ctrl-C stops IPOPT.
 #include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -19,8 +23,8 @@ namespace kane_sim {
 namespace design_cli {
 namespace {
 
-std::atomic<bool> stop_requested{false};
-void onInterrupt(int) { stop_requested = true; }
+std::atomic<int> stop_signal{0};  // SIGINT or SIGTERM once asked to stop
+void onStopSignal(int signal) { stop_signal = signal; }
 
 // --from: "initial" (the config's initial state, where the simulator starts) or a crank angle to
 // start held at rest from.
@@ -70,6 +74,22 @@ CollocationProblem problemFrom(const boost::program_options::variables_map& vm,
   }
   return p;
 }
+
+// Where --out FILE goes while the plan is made: FILE.partial, opened before IPOPT runs (a path
+// that cannot be written is said at once) and renamed to FILE when the plan is whole.
+struct PartialOut {
+  std::string path, partial;
+  std::ofstream out;
+  ~PartialOut() {
+    if (!partial.empty()) std::remove(partial.c_str());
+  }
+  void finish() {
+    out.close();
+    if (std::rename(partial.c_str(), path.c_str()) != 0)
+      throw std::runtime_error(std::strerror(errno));
+    partial.clear();
+  }
+};
 
 void printPlan(const PlanDesign& d, double torque_limit) {
   const CollocationSolution& s = d.solution;
@@ -127,12 +147,34 @@ int runPlan(const boost::program_options::variables_map& vm) {
   const MechanismModel model = mechanismModel(config);
   const double rate = vm.count("rate") ? number(vm["rate"].as<std::string>(), "--rate")
                                        : config.simulation.physics_rate;
-  std::signal(SIGINT, onInterrupt);
-  std::signal(SIGTERM, onInterrupt);
+  std::signal(SIGINT, onStopSignal);
+  std::signal(SIGTERM, onStopSignal);
+  const auto stopped = [] {
+    std::cerr << "design: stopped by " << (stop_signal == SIGTERM ? "SIGTERM" : "Ctrl-C (SIGINT)")
+              << ": no plan written\n";
+    return stop_signal == SIGTERM ? kExitTerminated : kExitInterrupted;
+  };
   PlanDesign design;
   try {
     const CollocationProblem problem = problemFrom(vm, config, model);
     const LqrWeights weights = weightsFrom(vm, config, model);
+    const std::string rate_problem = planRateProblem(problem, rate);
+    if (!rate_problem.empty()) throw UsageError(rate_problem);
+    PartialOut file;
+    if (vm.count("out") && vm["out"].as<std::string>() != "-") {
+      file.path = vm["out"].as<std::string>();
+      std::error_code same_error;
+      if (std::filesystem::equivalent(file.path, tool.path, same_error))
+        throw UsageError("--out " + file.path + " is the config itself: name another file");
+      file.partial = file.path + ".partial";
+      file.out.open(file.partial);
+      if (!file.out) {
+        std::cerr << "design: cannot write --out '" << file.path << "' (" << file.partial
+                  << "): " << std::strerror(errno) << "\n";
+        file.partial.clear();
+        return kExitOutput;
+      }
+    }
     design = designPlan(
         model, problem, rate, weights,
         [](const CollocationProgress& p) {
@@ -142,22 +184,37 @@ int runPlan(const boost::program_options::variables_map& vm) {
                          "infeasibility %.2e\n",
                          p.swings, p.iteration, p.objective, p.infeasibility);
         },
-        [] { return stop_requested.load(); });
+        [] { return stop_signal.load() != 0; });
+    if (stop_signal) return stopped();  // asked while the rows and gains were made
     const bool csv_to_stdout = vm.count("out") && vm["out"].as<std::string>() == "-";
     if (!csv_to_stdout) printPlan(design, problem.torque_limit);
-    if (vm.count("out")) {
-      const std::vector<std::string> notes = {
-          commandLine(vm), "mechanism: " + tool.path,
-          "columns: t [s], the state q1 [rad], q2 [m], u1 [rad/s], u2 [m/s], the torque M_m [N m] "
-          "held to the next row, the gain K of M_m = M_m(t) - K (x - x(t))"};
-      const int code = writeOut(vm, tool.path, "the plan", [&](std::ostream& out) {
-        writePlanCsv(out, design.plan, config, notes);
-      });
-      if (code != 0) return code;
+    const std::vector<std::string> notes = {
+        commandLine(vm), "mechanism: " + tool.path,
+        "columns: t [s], the state q1 [rad], q2 [m], u1 [rad/s], u2 [m/s], the torque M_m [N m] "
+        "held to the next row, the gain K of M_m = M_m(t) - K (x - x(t))"};
+    if (csv_to_stdout) writePlanCsv(std::cout, design.plan, config, notes);
+    if (!file.partial.empty()) {
+      writePlanCsv(file.out, design.plan, config, notes);
+      if (stop_signal) return stopped();
+      file.out.flush();
+      if (!file.out) {
+        std::cerr << "design: cannot write --out '" << file.path << "': " << std::strerror(errno)
+                  << "\n";
+        return kExitOutput;
+      }
+      try {
+        file.finish();
+      } catch (const std::runtime_error& e) {
+        std::cerr << "design: cannot rename " << file.partial << " to " << file.path << ": "
+                  << e.what() << "\n";
+        return kExitOutput;
+      }
+      std::printf("\nWrote the plan to %s\n", file.path.c_str());
     }
   } catch (const PlanningError& e) {
+    if (stop_signal) return stopped();
     std::cerr << "design: no plan: " << e.what() << "\n";
-    return stop_requested ? kExitInterrupted : kExitNoDesign;
+    return kExitNoDesign;
   } catch (const AnalysisError& e) {
     std::cerr << "design: " << e.what() << "\n";
     return kExitNoDesign;
