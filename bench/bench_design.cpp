@@ -14,8 +14,8 @@
 #include "kane_sim/design/lqr.h"
 #include "kane_sim/design/plan_file.h"
 #include "kane_sim/design/plan_follower.h"
-#include "kane_sim/plan/plan_design.h"
 #include "kane_sim/model/generated_mechanism.h"
+#include "kane_sim/plan/plan_design.h"
 
 namespace {
 
@@ -72,8 +72,7 @@ BENCHMARK(BM_LqrDesignUpright)->Unit(benchmark::kMicrosecond);
 // design plan --config config/swing_up.yaml --to pi --duration 3 --intervals 200
 //   --torque-limit 8 --Q 100,1,1,1 --R 1 (rows at the physics rate)
 void BM_PlanSwingUp200(benchmark::State& st) {
-  const kane_sim::Config c =
-      kane_sim::loadConfigFile(KANE_SIM_CONFIG_DIR "/swing_up.yaml").config;
+  const kane_sim::Config c = kane_sim::loadConfigFile(KANE_SIM_CONFIG_DIR "/swing_up.yaml").config;
   const kane_sim::MechanismModel model = kane_sim::mechanismModel(c);
   kane_sim::CollocationProblem problem;
   problem.start = c.initial_state;

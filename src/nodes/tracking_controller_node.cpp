@@ -47,8 +47,9 @@ TrackingControllerNode::TrackingControllerNode(const ros::NodeHandle& nh,
                                   ": " + mismatch);
     torque_limit = config.command.torque_limit;
   } else {
-    ROS_WARN("tracking_controller: no ~config: the plan is not checked against the mechanism "
-             "it drives, and the torque is clamped only where ~torque_limit says");
+    ROS_WARN(
+        "tracking_controller: no ~config: the plan is not checked against the mechanism "
+        "it drives, and the torque is clamped only where ~torque_limit says");
   }
   if (private_nh.hasParam("torque_limit"))
     torque_limit = boundedParam(private_nh, "torque_limit", 0.0, ParamBound::kPositive);
@@ -56,10 +57,11 @@ TrackingControllerNode::TrackingControllerNode(const ros::NodeHandle& nh,
   bool sim_time = false;
   ros::param::get("/use_sim_time", sim_time);
   if (!sim_time)
-    ROS_WARN("tracking_controller: /use_sim_time is false: the plan's clock is the readings' wall "
-             "stamps. A simulator that waits (lockstep, paused, slower than real time) falls "
-             "behind it: run it on /clock (simulation.publish_clock: true; sim.launch plan:= "
-             "does)");
+    ROS_WARN(
+        "tracking_controller: /use_sim_time is false: the plan's clock is the readings' wall "
+        "stamps. A simulator that waits (lockstep, paused, slower than real time) falls "
+        "behind it: run it on /clock (simulation.publish_clock: true; sim.launch plan:= "
+        "does)");
   stamped_ = flagParam(private_nh, "stamped", false);
   torque_pub_ = stamped_ ? nh_.advertise<TorqueCommandStamped>("torque_command_stamped", 10)
                          : nh_.advertise<std_msgs::Float64>("torque_command", 10);
@@ -97,9 +99,10 @@ void TrackingControllerNode::onJointState(const sensor_msgs::JointState::ConstPt
   const std::int64_t stamp = static_cast<std::int64_t>(msg->header.stamp.toNSec());
   std::optional<double> torque;
   if (last_stamp_ && stamp < *last_stamp_)
-    ROS_WARN("tracking_controller: a reading stamped %.6f s before the last one: the plan "
-             "starts again from it",
-             static_cast<double>(*last_stamp_ - stamp) * 1e-9);
+    ROS_WARN(
+        "tracking_controller: a reading stamped %.6f s before the last one: the plan "
+        "starts again from it",
+        static_cast<double>(*last_stamp_ - stamp) * 1e-9);
   last_stamp_ = stamp;
   if (reading(*msg, kJointNames[kCrankJoint], &x.q1, &x.u1) &&
       reading(*msg, kJointNames[kSlider4Joint], &x.q2, &x.u2))

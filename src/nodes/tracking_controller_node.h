@@ -32,7 +32,7 @@ class TrackingControllerNode {
 
   ros::NodeHandle nh_;
   std::optional<PlanFollower> follower_;
-  double last_torque_ = 0.0;  // answered again for a reading it cannot use
+  double last_torque_ = 0.0;                // answered again for a reading it cannot use
   std::optional<std::int64_t> last_stamp_;  // [ns] a reading before it restarts the plan
   bool stamped_ = false;
   ros::Subscriber joint_state_sub_;

@@ -19,8 +19,8 @@ using Ipopt::Number;
 
 constexpr int kPointVariables = 5;  // q1, q2, u1, u2, M_m
 constexpr double kInfinity = 1e20;
-constexpr int kMostSwings = 4;            // first guesses with 0 to this many swings
-constexpr int kIterationsPerGuess = 60;   // each guess's share (the last gets what is left)
+constexpr int kMostSwings = 4;           // first guesses with 0 to this many swings
+constexpr int kIterationsPerGuess = 60;  // each guess's share (the last gets what is left)
 constexpr int kBlockEntries =
     kPointVariables * (kPointVariables + 1) /
     2;  // a lower triangle  // IPOPT's "no bound" (nlp_upper_bound_inf is 1e19)

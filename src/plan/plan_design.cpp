@@ -14,8 +14,8 @@ std::string planRateProblem(const CollocationProblem& problem, double row_rate) 
   if (!(row_rate >= 1.0 && row_rate <= 1e6))
     return "the plan's row rate must be in [1, 1e6] Hz, got " + formatNumber(row_rate);
   const double longest = problem.objective == PlanObjective::kEffort ? problem.duration
-                         : problem.max_duration > 0                   ? problem.max_duration
-                                                                      : 10 * problem.duration;
+                         : problem.max_duration > 0                  ? problem.max_duration
+                                                                     : 10 * problem.duration;
   if (longest * row_rate > static_cast<double>(kMaxPlanRows) - 2)
     return "rows at " + formatNumber(row_rate) + " Hz over " + formatNumber(longest) +
            " s are more than the " + std::to_string(kMaxPlanRows) +
@@ -92,7 +92,8 @@ PlanDesign designPlan(const MechanismModel& model, const CollocationProblem& pro
     Plan fine = fineGrid(d.solution, d.plan);
     fillTimeVaryingLqr(model, weights, d.goal_lqr.P, &fine);
     const size_t per_row = (fine.points.size() - 1) / (d.plan.points.size() - 1);
-    for (size_t k = 0; k < d.plan.points.size(); ++k) d.plan.points[k].K = fine.points[k * per_row].K;
+    for (size_t k = 0; k < d.plan.points.size(); ++k)
+      d.plan.points[k].K = fine.points[k * per_row].K;
   }
   return d;
 }

@@ -14,9 +14,9 @@
 #include "kane_sim/design/plan_file.h"
 #include "kane_sim/design/plan_follower.h"
 #include "kane_sim/design/riccati.h"
+#include "kane_sim/format_number.h"
 #include "kane_sim/plan/plan_design.h"
 #include "kane_sim/sim/closed_loop.h"
-#include "kane_sim/format_number.h"
 #include "python_layer.h"
 
 namespace kane_sim {
@@ -112,10 +112,10 @@ void planArrays(const Plan& plan, py::dict* out) {
 // design plan's work (plan/plan_design.h): the same problem from the same arguments.
 py::dict plan(const PythonConfig& config, double to, const std::optional<double>& from,
               const std::string& objective, double duration, double max_duration, int intervals,
-              const std::optional<double>& torque_limit, const std::optional<Eigen::Vector2d>& q2_range,
-              const std::optional<double>& gap, const std::optional<double>& rate,
-              const std::optional<Eigen::MatrixXd>& Q, const std::optional<double>& R,
-              int max_iterations) {
+              const std::optional<double>& torque_limit,
+              const std::optional<Eigen::Vector2d>& q2_range, const std::optional<double>& gap,
+              const std::optional<double>& rate, const std::optional<Eigen::MatrixXd>& Q,
+              const std::optional<double>& R, int max_iterations) {
   const Config& c = config.config();
   const MechanismModel model = mechanismModel(c);
   const LqrWeights weights = weightsFrom("plan", c, model, Q, R);
@@ -147,11 +147,10 @@ py::dict plan(const PythonConfig& config, double to, const std::optional<double>
     p.start = from ? equilibriumAt(model, *from).state : c.initial_state;
     p.goal = equilibriumAt(model, to).state;
     py::gil_scoped_release release;
-    d = designPlan(model, p, rate ? *rate : c.simulation.physics_rate, weights, {},
-                   [] {
-                     py::gil_scoped_acquire acquire;
-                     return PyErr_CheckSignals() != 0;  // Ctrl-C stops IPOPT
-                   });
+    d = designPlan(model, p, rate ? *rate : c.simulation.physics_rate, weights, {}, [] {
+      py::gil_scoped_acquire acquire;
+      return PyErr_CheckSignals() != 0;  // Ctrl-C stops IPOPT
+    });
   } catch (const PlanningError& e) {
     if (PyErr_Occurred()) throw py::error_already_set();
     throw py::value_error(std::string("plan: ") + e.what());
@@ -168,8 +167,9 @@ py::dict plan(const PythonConfig& config, double to, const std::optional<double>
     double sum = 0.0;
     const double h = s.duration / static_cast<double>((s.time.size() - 1) / 2);
     for (size_t i = 0; i + 2 < s.torque.size(); i += 2)
-      sum += h / 6 * (s.torque[i] * s.torque[i] + 4 * s.torque[i + 1] * s.torque[i + 1] +
-                      s.torque[i + 2] * s.torque[i + 2]);
+      sum += h / 6 *
+             (s.torque[i] * s.torque[i] + 4 * s.torque[i + 1] * s.torque[i + 1] +
+              s.torque[i + 2] * s.torque[i + 2]);
     return sum;
   }();
   out["status"] = s.status;
@@ -178,7 +178,8 @@ py::dict plan(const PythonConfig& config, double to, const std::optional<double>
   out["guess_swings"] = s.guess_swings;
   out["goal_K"] = Eigen::RowVector4d(d.goal_lqr.feedback.K);
   std::ostringstream csv;
-  writePlanCsv(csv, d.plan, c, {"kane_sim plan: kane_sim.control.plan", "mechanism: " + config.source()});
+  writePlanCsv(csv, d.plan, c,
+               {"kane_sim plan: kane_sim.control.plan", "mechanism: " + config.source()});
   out["csv"] = csv.str();
   return out;
 }
@@ -251,8 +252,8 @@ void bindDesign(py::module_& m) {
         py::arg("R") = py::none());
   m.def("design_plan", &plan, py::arg("config"), py::arg("to"), py::arg("from_q1"),
         py::arg("objective"), py::arg("duration"), py::arg("max_duration"), py::arg("intervals"),
-        py::arg("torque_limit"), py::arg("q2_range"), py::arg("gap"), py::arg("rate"),
-        py::arg("Q"), py::arg("R"), py::arg("max_iterations"));
+        py::arg("torque_limit"), py::arg("q2_range"), py::arg("gap"), py::arg("rate"), py::arg("Q"),
+        py::arg("R"), py::arg("max_iterations"));
   m.def("follow_plan", &follow, py::arg("config"), py::arg("plan"), py::arg("duration"),
         py::arg("torque_limit") = py::none());
 }

@@ -121,12 +121,13 @@ TorqueProfile TorqueProfile::fromCsvFile(const std::string& path) {
     first_row = false;
     const size_t end = line.find_last_not_of(" \t\r");
     if (line[end] == ',')
-      throw std::invalid_argument(where + ": '" + line + "' ends with a comma (a value is missing)");
+      throw std::invalid_argument(where + ": '" + line +
+                                  "' ends with a comma (a value is missing)");
     if (fields.size() < 2 || (columns == 2 && fields.size() != 2) || fields.size() != columns)
-      throw std::invalid_argument(where + ": expected " +
-                                  (columns == 2 ? std::string("'t,torque'")
-                                                : std::to_string(columns) + " columns") +
-                                  ", got '" + line + "'");
+      throw std::invalid_argument(
+          where + ": expected " +
+          (columns == 2 ? std::string("'t,torque'") : std::to_string(columns) + " columns") +
+          ", got '" + line + "'");
     const double t = parseNumber(fields[time_column], where + " (time)");
     const double torque = parseNumber(fields[torque_column], where + " (torque)");
     if (!points.empty() && t < points.back().first)

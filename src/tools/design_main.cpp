@@ -65,13 +65,13 @@ int main(int argc, char** argv) {
   po::variables_map vm;
   try {
     // No guessing of abbreviations: --objectiv is a typo, not --objective.
-    po::store(po::command_line_parser(argc, argv)
-                  .options(all)
-                  .positional(positional)
-                  .style(po::command_line_style::default_style &
-                         ~po::command_line_style::allow_guessing)
-                  .run(),
-              vm);
+    po::store(
+        po::command_line_parser(argc, argv)
+            .options(all)
+            .positional(positional)
+            .style(po::command_line_style::default_style & ~po::command_line_style::allow_guessing)
+            .run(),
+        vm);
     po::notify(vm);
   } catch (const po::error& e) {
     std::cerr << "design: " << e.what() << "\n" << desc << "\n";

@@ -25,6 +25,7 @@
 #include "kane_sim/cli/simulate_options.h"
 #include "kane_sim/config/input_file.h"
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/design/plan_file.h"
 #include "kane_sim/format_number.h"
 #include "kane_sim/ros/bag_writer.h"
 #include "kane_sim/sim/config_check.h"
@@ -33,7 +34,6 @@
 #include "kane_sim/sim/profile_commands.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/sweep.h"
-#include "kane_sim/design/plan_file.h"
 #include "kane_sim/sim/torque_profile.h"
 #include "simulate/outputs.h"
 #include "simulate/replay.h"
@@ -197,8 +197,10 @@ int run(const Options& options) {
       throw UsageError(std::string("--torque-csv: ") + e.what());
     }
     if (!mismatch.empty())
-      throw UsageError("--torque-csv " + options.torque_csv + " is a plan for another mechanism or "
-                       "start than --config " + options.config_path + ": " + mismatch +
+      throw UsageError("--torque-csv " + options.torque_csv +
+                       " is a plan for another mechanism or "
+                       "start than --config " +
+                       options.config_path + ": " + mismatch +
                        " (design the plan for this config, or play a t,torque CSV)");
   }
 

@@ -4,7 +4,10 @@
 #ifndef KANE_SIM_TEST_NODE_CONTROLLED_RUN_H
 #define KANE_SIM_TEST_NODE_CONTROLLED_RUN_H
 
+#include <vector>
+
 #include <gtest/gtest.h>
+#include <sensor_msgs/JointState.h>
 #include <std_srvs/Empty.h>
 
 #include "kane_sim/ros/param_yaml.h"
@@ -14,6 +17,36 @@
 
 namespace kane_sim {
 namespace test {
+
+// The paused node's start, as every lockstep case begins: its initial state published and answered
+// by the controller (in /clock mode the paused state is repeated once a second; its answer is in
+// after 1.5 s), then `recorder` cleared. Returns the paused state's stamp: a repeat that lands
+// after the clear carries it and is not a stepped state (steppedMessages drops it).
+template <class M>
+::testing::AssertionResult awaitPausedStart(Recorder<M>* recorder, ros::Time* paused_stamp) {
+  if (!recorder->waitForCount(1, 20.0))
+    return ::testing::AssertionFailure() << "no paused initial state in 20 s";
+  const bool repeated = waitFor(
+      [] {
+        return ros::topic::waitForMessage<sensor_msgs::JointState>("joint_states",
+                                                                   ros::Duration(2.0)) != nullptr;
+      },
+      5.0);
+  if (!repeated) return ::testing::AssertionFailure() << "joint_states stopped while paused";
+  sleepWall(1.5);
+  *paused_stamp = recorder->last().header.stamp;
+  recorder->clear();
+  return ::testing::AssertionSuccess();
+}
+
+// What `recorder` holds but repeats of the paused state.
+template <class M>
+std::vector<M> steppedMessages(const Recorder<M>& recorder, const ros::Time& paused_stamp) {
+  std::vector<M> stepped;
+  for (const M& m : recorder.messages())
+    if (m.header.stamp != paused_stamp) stepped.push_back(m);
+  return stepped;
+}
 
 // Unpauses the node, waits until `recorder` holds `count` messages (`timeout_s` at most), pauses
 // it.

@@ -43,16 +43,8 @@ TEST(Controller, HoldsTheCrankAtItsSetpointAndFollowsTheSetpointTopic) {
 TEST(ControllerLaw, HoldsTheCrankUprightAsTheOfflineDriverDoes) {
   ros::NodeHandle nh;
   Recorder<sensor_msgs::JointState> js(nh, "joint_states");
-  ASSERT_TRUE(js.waitForCount(1, 20.0));  // the paused initial state
-  ASSERT_TRUE(test::waitFor(
-      [] {
-        return ros::topic::waitForMessage<sensor_msgs::JointState>("joint_states",
-                                                                   ros::Duration(2.0)) != nullptr;
-      },
-      5.0));
-  test::sleepWall(1.5);  // the controller has answered the paused state
-  const ros::Time paused_stamp = js.last().header.stamp;
-  js.clear();
+  ros::Time paused_stamp;
+  ASSERT_TRUE(test::awaitPausedStart(&js, &paused_stamp));
   constexpr size_t kPublishes = 1000;  // 10 s of sim time at 100 Hz
   // A bound, not an expectation: ~1 s here, longer on one core beside a CPU hog.
   ASSERT_TRUE(test::runUnpausedFor(js, kPublishes + 2, 500.0));
@@ -66,9 +58,7 @@ TEST(ControllerLaw, HoldsTheCrankUprightAsTheOfflineDriverDoes) {
   ASSERT_TRUE(ros::param::get("/pd_controller/torque_limit", torque_limit));
   const StateFeedback law = readStateFeedbackFile(law_file);
   SimDriver driver(config, {});
-  std::vector<sensor_msgs::JointState> recorded;
-  for (const auto& m : js.messages())
-    if (m.header.stamp != paused_stamp) recorded.push_back(m);
+  const std::vector<sensor_msgs::JointState> recorded = test::steppedMessages(js, paused_stamp);
   ASSERT_GE(recorded.size(), kPublishes);
   const int ticks_per_publish = static_cast<int>(
       wholeStepsPerPeriod(config.simulation.physics_rate, config.simulation.publish_rate));

@@ -57,17 +57,8 @@ TEST(Lockstep, TheTrajectoryIsTheOfflineOneBitForBitWhateverTheLoad) {
   bool hog_on = false;
   pnh.getParam("hog", hog_on);
   Recorder<sensor_msgs::JointState> js(nh, "joint_states");
-  ASSERT_TRUE(js.waitForCount(1, 20.0));  // the paused initial state
-  // The controller answers it (once a second the paused state is repeated; its answer is in).
-  ASSERT_TRUE(test::waitFor(
-      [] {
-        return ros::topic::waitForMessage<sensor_msgs::JointState>("joint_states",
-                                                                   ros::Duration(2.0)) != nullptr;
-      },
-      5.0));
-  test::sleepWall(1.5);
-  const ros::Time paused_stamp = js.last().header.stamp;
-  js.clear();
+  ros::Time paused_stamp;
+  ASSERT_TRUE(test::awaitPausedStart(&js, &paused_stamp));
   CpuHog hog(hog_on);
   ASSERT_EQ(hog.size(), hog_on ? 2u : 0u);
   constexpr size_t kPublishes = 300;  // 3 s of sim time at 100 Hz
@@ -81,9 +72,7 @@ TEST(Lockstep, TheTrajectoryIsTheOfflineOneBitForBitWhateverTheLoad) {
   const double setpoint = run.setpoint;
   SimDriver driver(config, {});
   // The paused state may be repeated (once a second) after the clear: not a stepped state.
-  std::vector<sensor_msgs::JointState> recorded;
-  for (const auto& m : js.messages())
-    if (m.header.stamp != paused_stamp) recorded.push_back(m);
+  const std::vector<sensor_msgs::JointState> recorded = test::steppedMessages(js, paused_stamp);
   ASSERT_GE(recorded.size(), kPublishes);
   // The first message after unpausing is the first stepped state; the paused one was answered.
   const int ticks_per_publish = static_cast<int>(

@@ -71,13 +71,15 @@ TEST(Tracking, TheNodeSwingsTheCrankUpAndHoldsItAsTheOfflineLoopDoes) {
           EXPECT_EQ(m.velocity[i], j.velocity[i]) << "publish " << k << " joint " << i;
         }
         if (d.time() >= plan.duration())
-          worst_hold = std::max(worst_hold, std::abs(std::remainder(m.position[0] - M_PI, 2 * M_PI)));
+          worst_hold =
+              std::max(worst_hold, std::abs(std::remainder(m.position[0] - M_PI, 2 * M_PI)));
         return !::testing::Test::HasFailure();
       }));
   EXPECT_EQ(k, publishes);
-  std::printf("tracking: %zu publishes equal to the offline loop; worst |q1 - pi| over the %g s "
-              "hold %.4f rad\n",
-              k, kHold, worst_hold);
+  std::printf(
+      "tracking: %zu publishes equal to the offline loop; worst |q1 - pi| over the %g s "
+      "hold %.4f rad\n",
+      k, kHold, worst_hold);
   EXPECT_LE(worst_hold, 0.05);
 }
 
@@ -96,9 +98,9 @@ TEST(Tracking, HostileReadingsAreAnsweredWithAFiniteTorque) {
     bool slider4;
     double stamp;
   };
-  const Reading cases[] = {{nan, 0, true, 1e5}, {inf, 0, true, 1e5 + 1}, {3.1, -inf, true, 1e5 + 2},
-                           {3.1, 0.0, false, 1e5 + 3}, {1e308, 1e308, true, 1e5 + 4},
-                           {3.1, 0.0, true, 1.0}};
+  const Reading cases[] = {{nan, 0, true, 1e5},           {inf, 0, true, 1e5 + 1},
+                           {3.1, -inf, true, 1e5 + 2},    {3.1, 0.0, false, 1e5 + 3},
+                           {1e308, 1e308, true, 1e5 + 4}, {3.1, 0.0, true, 1.0}};
   for (const Reading& r : cases) {
     sensor_msgs::JointState m;
     m.header.stamp = ros::Time(r.stamp);

@@ -3,12 +3,12 @@
 // gains; --out writes the plan CSV (design/plan_file.h). Progress on stderr; Ctrl-C stops IPOPT.
 #include <atomic>
 #include <cerrno>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
