@@ -133,15 +133,19 @@ class VectorEnv(_VECTOR_ENV_BASE):
     is in info["final_obs"], with info["_final_obs"] the mask) or "disabled" (reset them with
     reset(options={"reset_mask": mask}); stepping one that ended is refused).
 
-    reset: seed an int (each mechanism's sensor noise from seed + i, and the random starts'
-    generator) or a list of n ints (each mechanism's own); options {"reset_mask": bools} resets
+    reset: seed an int s (the same as the list s, s + 1, ..., s + n - 1; also seeds np_random)
+    or a list of n ints (each mechanism's sensor noise and stream of random starts its own);
+    options {"reset_mask": bools} resets
     only those, {"states": (n, 4)} starts them from the given states instead of the config's.
     start_noise {"q1": a, "q2": b, "u1": c, "u2": d} draws every start (reset and autoreset)
     uniformly within +- those of the config's initial state, from reset's seed (a draw the
     simulator refuses, such as sliders crossed, is drawn again, up to 100 times).
 
-    info: "times" (each mechanism's sim time), "reasons" (why a mechanism terminated) when one
-    did, each with its "_key" mask as Gymnasium's vector infos. close() (and `with VectorEnv(...)
+    info: "times" (each mechanism's sim time, running on across episodes), "episode_steps" (the
+    actions of each mechanism's episode so far), "clamped" (the actions beyond a mechanism's range,
+    clamped to it), "reasons" (why a mechanism terminated) when one did, each with its "_key" mask
+    as Gymnasium's vector infos. A reward that is not finite is refused naming the mechanism;
+    the step is kept, its observation in env.last_obs. close() (and `with VectorEnv(...)
     as env:`) ends it: later calls are refused."""
 
     def __init__(self, n, config=None, params=None, reward=None, substeps=10,
@@ -210,6 +214,7 @@ class VectorEnv(_VECTOR_ENV_BASE):
         self.action_space = _box(self.action_low[:, None], self.action_high[:, None],
                                  (self.num_envs, 1), self.dtype)
         self._rng = np.random.default_rng()
+        self.last_obs = None  # the last step's observation (kept when its reward is refused)
         self._seeds = None  # per mechanism, after reset(seed=[...])
         self._draws = np.zeros(self.num_envs, dtype=np.int64)
         self._steps = np.zeros(self.num_envs, dtype=np.int64)
@@ -331,14 +336,23 @@ class VectorEnv(_VECTOR_ENV_BASE):
             self.sim.check_states(states, m)
         if seed is not None:
             self.sim.reset(m, seed)  # the sensors' noise afresh; validates the seed
+            # Each mechanism its own stream of starts, seed[i] and its start count; an int s is
+            # the list s, s + 1, ... (as Gymnasium's vector envs take it, and as the sensors' noise).
             if np.ndim(seed) == 0:
-                self._rng, self._seeds = np.random.default_rng(seed), None
-            else:  # each mechanism its own stream of starts: seed[i] and its start count
+                self._rng = np.random.default_rng(seed)
+                self._seeds = int(seed) + np.arange(self.num_envs)
+            else:
                 self._seeds = np.array([int(v) for v in seed])
-                self._draws = np.zeros(self.num_envs, dtype=np.int64)
+            self._draws = np.zeros(self.num_envs, dtype=np.int64)
         self._start(m, states)
         self._started = True
         return self._observe(), {}
+
+    @property
+    def np_random(self):
+        """The env's generator (numpy.random.Generator), seeded by reset(seed=int): for a
+        learner's own draws. The starts come from each mechanism's own stream."""
+        return self._rng
 
     def _actions(self, actions):
         a = _real_array("step: actions", actions, self.num_envs)
@@ -371,17 +385,30 @@ class VectorEnv(_VECTOR_ENV_BASE):
         self.sim.step(np.where(restart, 0.0, a), self.substeps, mask=~restart)
         obs = self._observe()
         self._steps[~restart] += 1
-        # The physics has stepped: a reward that fails is raised with the step taken.
+        # The physics has stepped and is kept: a reward that fails is named, and the step's
+        # observation stays readable (env.last_obs) for the caller that catches it.
+        self.last_obs = obs
         reward = np.asarray(self.reward(obs, a))
-        if reward.shape != (self.num_envs,) or reward.dtype.kind not in "iuf" or \
-                not np.all(np.isfinite(reward)):
-            raise ValueError("reward(obs, actions) must return %d finite reals, got %s of %s"
+        if reward.shape != (self.num_envs,) or reward.dtype.kind not in "iuf":
+            raise ValueError("reward(obs, actions) must return %d finite reals, got %s of %s "
+                             "(the step was taken: its observation is env.last_obs)"
                              % (self.num_envs, reward.shape, reward.dtype))
+        bad = np.flatnonzero(~np.isfinite(reward))
+        if bad.size:
+            raise ValueError("reward(obs, actions)[%d] = %r is not finite (%d of %d) (the step was "
+                             "taken: its observation is env.last_obs)"
+                             % (bad[0], reward[bad[0]], bad.size, self.num_envs))
         reward = np.where(restart, 0.0, reward.astype(float))
         terminated = self.sim.terminated & ~restart
         truncated = (self._steps >= self.max_episode_steps) & ~terminated & ~restart
         ended = terminated | truncated
-        info = {"times": self.sim.times, "_times": np.ones(self.num_envs, dtype=bool)}
+        every = np.ones(self.num_envs, dtype=bool)
+        # The mechanisms whose action was beyond their range and clamped to it (effort: the
+        # torque limit), and each episode's actions so far (after an autoreset: the new one's).
+        clamped = ~restart & ((a > self.action_high) | (a < self.action_low)) & self._effort
+        info = {"times": self.sim.times, "_times": every,
+                "clamped": clamped, "_clamped": every.copy(),
+                "episode_steps": self._steps.copy(), "_episode_steps": every.copy()}
         if terminated.any():  # n strings only when one has a reason
             reasons = np.array(self.sim.reasons, dtype=object)
             info["reasons"], info["_reasons"] = np.where(terminated, reasons, None), terminated

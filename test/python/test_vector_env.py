@@ -315,3 +315,50 @@ def test_randomised_physics_from_a_table_is_the_loaders_configs_bit_for_bit(tmp_
             with pytest.raises(kane_sim.ConfigError, match=words):
                 kane_sim.BatchSimulator(n, config_path(),
                                         dict({"mechanism.rod_mass": masses}, **extra))
+
+
+def test_an_int_seed_is_the_list_of_consecutive_seeds_through_autoresets():
+    noise = {"q1": 0.3, "u1": 2.0}
+    runs = []
+    for seed in (11, [11, 12, 13, 14]):
+        env = kane_sim.VectorEnv(4, config_path(), start_noise=noise, max_episode_steps=3)
+        obs = [env.reset(seed=seed)[0]]
+        for _ in range(8):  # two autoresets each
+            obs.append(env.step(np.full(4, 2.0))[0])
+        runs.append(np.array(obs))
+    np.testing.assert_array_equal(runs[0], runs[1])
+    env = kane_sim.VectorEnv(2, config_path())
+    env.reset(seed=3)
+    first = env.np_random.uniform()
+    env.reset(seed=3)
+    assert env.np_random.uniform() == first  # np_random is seeded by reset
+
+
+def test_info_names_clamped_actions_and_counts_each_episode():
+    env = kane_sim.VectorEnv(3, config_path(), max_episode_steps=2)
+    env.reset(seed=0)
+    limit = env.action_high[0]
+    _, _, _, _, info = env.step([1e6, -1e300, 0.5 * limit])
+    assert info["clamped"].tolist() == [True, True, False] and info["_clamped"].all()
+    assert info["episode_steps"].tolist() == [1, 1, 1]
+    _, _, _, truncated, info = env.step([limit, -limit, 0.0])  # at the limit: not clamped
+    assert info["clamped"].tolist() == [False, False, False]
+    assert truncated.all() and info["episode_steps"].tolist() == [2, 2, 2]
+    _, _, _, _, info = env.step(np.zeros(3))  # next_step: the autoreset step
+    assert info["episode_steps"].tolist() == [0, 0, 0]
+    assert np.all(info["times"] > 0)  # sim time runs on across episodes
+
+
+def test_a_reward_that_is_not_finite_is_named_and_the_step_kept():
+    def reward(obs, actions):
+        r = obs[:, 2].copy()
+        r[1] = np.nan
+        return r
+
+    env = kane_sim.VectorEnv(3, config_path(), reward=reward)
+    env.reset(seed=0)
+    before = env.sim.times.copy()
+    with pytest.raises(ValueError, match=r"reward\(obs, actions\)\[1\] = nan is not finite \(1 of 3\)"):
+        env.step(np.ones(3))
+    assert np.all(env.sim.times > before) and env.last_obs.shape == (3, 4)
+    np.testing.assert_array_equal(env.last_obs, env._observe())
