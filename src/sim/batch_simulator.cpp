@@ -234,10 +234,16 @@ std::string BatchSimulator::refusalText(std::size_t lane, const State& x, double
   const double torque = std::clamp(action, -configs_[lane].command.torque_limit,
                                    configs_[lane].command.torque_limit);  // as the driver sends it
   Simulator single(configs_[lane]);
-  if (single.setState(x).ok && single.setTorque(torque).ok) {
+  const Status placed = single.setState(x);
+  if (placed.ok && single.setTorque(torque).ok) {
     const Status step = single.step();
     if (!step.ok) return step.error;
   }
+  // A state whose first rk4 step set_state already judges too fast: the step's own words (a
+  // lane is refused where the single run's step is, from the same state).
+  if (!placed.ok && placed.error.find("more than 1 rad") != std::string::npos)
+    return std::string(Simulator::kCrankTurnRefusal) + " from " + Simulator::stateText(x) +
+           " with M_m = " + num(torque) + " N m; step refused, the last good state is kept";
   return "the step was refused (it would go non-finite or beyond 1e100, or turn the crank more "
          "than 1 rad) from " +
          Simulator::stateText(x) + " with M_m = " + num(torque) +

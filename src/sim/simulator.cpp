@@ -64,9 +64,7 @@ const char* Simulator::advanceChecked(const System& system, OdeState* x, double 
     error = "the step produced a non-finite or runaway state (beyond 1e100)";
   if (!error && integrator_type_ == IntegratorType::kRk4 &&
       !(std::abs((*x)[2]) * step_size_ <= kMaxCrankTurnPerStep))
-    error =
-        "the crank would turn more than 1 rad in one rk4 step, which rk4 cannot resolve "
-        "(use simulation.integrator dopri5 or a higher simulation.physics_rate)";
+    error = kCrankTurnRefusal;
   return error;
 }
 

@@ -421,3 +421,19 @@ def test_vector_env_terminates_a_crossing_and_restarts_it():
     assert ended is not None
     obs, r, term, trunc, info = env.step(np.array([50.0, 0.0]))
     assert np.array_equal(obs[0], obs0[0]) and r[0] == 0.0 and not term[0]
+
+
+def test_a_refused_step_is_named_in_the_single_runs_words_on_every_path():
+    # 1e5 N m with a limit that lets it through: rk4 at 1 kHz cannot follow the crank. The lanes
+    # know only that a check refused; they say what the single run's step says.
+    cfg = kane_sim.Config(config_path()).with_values({"command.torque_limit": 1e5})
+    words = "the crank would turn more than 1 rad in one rk4 step, which rk4 cannot resolve"
+    for simd in ("auto", "off"):
+        batch = kane_sim.BatchSimulator(4, cfg, simd=simd)
+        batch.step(np.full(4, 1e5), 10)
+        assert all(words in r for r in batch.reasons), (simd, batch.reasons)
+    single = kane_sim.Simulator(cfg)
+    with pytest.raises(Exception, match=words):
+        for _ in range(10):
+            single.set_torque(1e5)
+            single.step(1)

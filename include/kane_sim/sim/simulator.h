@@ -93,6 +93,10 @@ class Simulator {
   static constexpr double kMaxCrankAnglePerStep = 0.05;  // [rad]
   // Past this rk4 does not integrate the motion at all: a step that would reach it is refused.
   static constexpr double kMaxCrankTurnPerStep = 1.0;  // [rad]
+  // Why a step that would turn the crank further is refused (rk4), in the words every path uses.
+  static constexpr const char* kCrankTurnRefusal =
+      "the crank would turn more than 1 rad in one rk4 step, which rk4 cannot resolve (use "
+      "simulation.integrator dopri5 or a higher simulation.physics_rate)";
   bool stepTooCoarse() const { return step_too_coarse_; }
   const MechanismModel& model() const { return model_; }
   EquationsSource equations() const { return equations_; }
