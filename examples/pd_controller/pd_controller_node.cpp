@@ -6,6 +6,7 @@
 #include <string>
 
 #include "kane_sim/design/lqr_file.h"
+#include "kane_sim/ros/joint_reading.h"
 #include "kane_sim/ros/node_params.h"
 
 namespace kane_sim {
@@ -48,24 +49,9 @@ PdControllerNode::PdControllerNode(const ros::NodeHandle& nh, const ros::NodeHan
         setpoint_, gains_.kp, gains_.kd, gains_.ki);
 }
 
-namespace {
-
-// Position and velocity of `joint` in a JointState; false when it is missing or not finite.
-bool reading(const sensor_msgs::JointState& msg, const char* joint, double* position,
-             double* velocity) {
-  const auto it = std::find(msg.name.begin(), msg.name.end(), joint);
-  const size_t i = static_cast<size_t>(it - msg.name.begin());
-  if (it == msg.name.end() || i >= msg.position.size() || i >= msg.velocity.size()) return false;
-  *position = msg.position[i];
-  *velocity = msg.velocity[i];
-  return std::isfinite(*position) && std::isfinite(*velocity);
-}
-
-}  // namespace
-
 void PdControllerNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
   State x;
-  if (!reading(*msg, "crank_joint", &x.q1, &x.u1)) {
+  if (!jointReading(*msg, "crank_joint", &x.q1, &x.u1)) {
     ROS_WARN_THROTTLE(5.0,
                       "pd_controller: joint_states without a finite crank_joint position and "
                       "velocity");
@@ -73,7 +59,7 @@ void PdControllerNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg
   }
   double torque = 0.0;
   if (law_) {
-    if (!reading(*msg, "slider4_joint", &x.q2, &x.u2)) {
+    if (!jointReading(*msg, "slider4_joint", &x.q2, &x.u2)) {
       ROS_WARN_THROTTLE(5.0,
                         "pd_controller: the state feedback needs slider4_joint's position and "
                         "velocity in joint_states");

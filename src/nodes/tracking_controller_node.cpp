@@ -12,6 +12,7 @@
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/design/plan_file.h"
 #include "kane_sim/model/joint_names.h"
+#include "kane_sim/ros/joint_reading.h"
 #include "kane_sim/ros/node_params.h"
 
 namespace kane_sim {
@@ -78,21 +79,6 @@ TrackingControllerNode::TrackingControllerNode(const ros::NodeHandle& nh,
       torque_limit);
 }
 
-namespace {
-
-// Position and velocity of `joint`; false when missing or not finite.
-bool reading(const sensor_msgs::JointState& msg, const char* joint, double* position,
-             double* velocity) {
-  const auto it = std::find(msg.name.begin(), msg.name.end(), joint);
-  const size_t i = static_cast<size_t>(it - msg.name.begin());
-  if (it == msg.name.end() || i >= msg.position.size() || i >= msg.velocity.size()) return false;
-  *position = msg.position[i];
-  *velocity = msg.velocity[i];
-  return std::isfinite(*position) && std::isfinite(*velocity);
-}
-
-}  // namespace
-
 void TrackingControllerNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
   State x;
   // Whole nanoseconds (the plan's clock is their difference: exact).
@@ -104,8 +90,8 @@ void TrackingControllerNode::onJointState(const sensor_msgs::JointState::ConstPt
         "starts again from it",
         static_cast<double>(*last_stamp_ - stamp) * 1e-9);
   last_stamp_ = stamp;
-  if (reading(*msg, kJointNames[kCrankJoint], &x.q1, &x.u1) &&
-      reading(*msg, kJointNames[kSlider4Joint], &x.q2, &x.u2))
+  if (jointReading(*msg, kJointNames[kCrankJoint], &x.q1, &x.u1) &&
+      jointReading(*msg, kJointNames[kSlider4Joint], &x.q2, &x.u2))
     torque = follower_->command(stamp, x);
   if (!torque) {
     // Still answered (lockstep waits for every answer): the last command, kept.
