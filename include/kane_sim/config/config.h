@@ -95,6 +95,16 @@ struct SensorSettings {
   std::array<JointSensorSettings, kNumJoints> joints{};  // joint_states' order
 };
 
+// How the estimator (`observer`, estimate/) trusts the model and when it raises its alarm; the
+// sensors' noise model above is its measurement model.
+struct EstimatorSettings {
+  double crank_acceleration_noise = 0.05;    // [rad/s^2/sqrt(Hz)] model error on u1'
+  double slider4_acceleration_noise = 0.005; // [m/s^2/sqrt(Hz)] model error on u2'
+  double alarm_window = 0.5;                 // [s] readings per test of the innovations
+  double false_alarms_per_hour = 0.001;      // ERROR's rate on a rig that is its model
+  double restart_gap = 1.0;                  // [s] a longer silence restarts the filter
+};
+
 struct Config {
   MechanismParameters mechanism;
   State initial_state;  // q10, q20, u10, u20; the spring is unstretched at (q10, q20)
@@ -103,6 +113,7 @@ struct Config {
   FrameSettings frames;
   DiagnosticsSettings diagnostics;
   SensorSettings sensors;
+  EstimatorSettings estimator;
 };
 
 // Sensor readings per second of sim time: sensors.rate, or simulation.publish_rate when it is 0;

@@ -1,0 +1,81 @@
+// The model-mismatch alarm: the Kalman filter's normalised innovations squared (NIS), summed over
+// a window of readings, tested against their chi-square bound. On a rig that behaves like its
+// model the sum over n readings of m coordinates each is chi-square with n m degrees of freedom;
+// and each coordinate's normalised innovations nu_i / sqrt(S_ii) average to zero: their sum over
+// the window, squared and divided by n, is chi-square with one degree of freedom (a model error
+// that pushes one way - a mass, a spring, a latency - shows there long before in the squares).
+// ERROR's bound is the quantile a window exceeds with probability p = false_alarms_per_hour x
+// window / 3600 (so a clean rig raises it that often; split evenly between the tests), WARN's the
+// one exceeded 100 times as often. The coordinate named is the least likely one.
+// ROS-free; the observer publishes the report on /diagnostics.
+#ifndef KANE_SIM_ESTIMATE_INNOVATION_ALARM_H
+#define KANE_SIM_ESTIMATE_INNOVATION_ALARM_H
+
+#include <array>
+#include <cstddef>
+#include <string>
+
+namespace kane_sim {
+
+// What the filter measures: the crank's and slider 4's positions, and their speeds when the
+// readings carry them.
+enum MeasuredCoordinate { kCrankPosition, kSlider4Position, kCrankVelocity, kSlider4Velocity };
+constexpr std::size_t kMeasuredCoordinates = 4;
+// "crank_joint position", ...: joint_states' joint and field.
+const char* measuredCoordinateName(std::size_t coordinate);
+
+enum class AlarmLevel { kOk = 0, kWarn = 1, kError = 2 };  // diagnostic_msgs' levels
+const char* alarmLevelName(AlarmLevel level);                  // "OK", "WARN", "ERROR"
+
+// The last closed window's verdict.
+struct AlarmReport {
+  AlarmLevel level = AlarmLevel::kOk;
+  double since = 0.0;          // [s] the estimate time this level (not OK) began; 0 when OK
+  std::size_t coordinate = 0;  // the least likely coordinate (meaningful when not OK)
+  double nis = 0.0;            // the window's sum of NIS
+  double dof = 0.0;            // its degrees of freedom (readings x coordinates)
+  double warn_bound = 0.0;     // the NIS test's chi-square quantiles for dof
+  double error_bound = 0.0;
+  double p_value = 1.0;        // the least likely of the window's tests, under the model
+  double window_end = 0.0;     // [s] when the window closed
+  std::size_t windows = 0;     // windows closed since the start
+  std::string text() const;    // one line: "ERROR since t = 12.5 s: slider4_joint position ..."
+};
+
+class InnovationAlarm {
+ public:
+  // window [s] > 0, false_alarms_per_hour > 0 (the config's rules).
+  InnovationAlarm(double window, double false_alarms_per_hour);
+
+  // One reading's innovation: its NIS over `measured` coordinates, and each measured
+  // coordinate's own normalised square (nu_i^2 / S_ii). Returns true when a window closed.
+  // `normalised` holds each coordinate's nu_i / sqrt(S_ii).
+  bool add(double time, double nis, const std::array<bool, kMeasuredCoordinates>& measured,
+           const std::array<double, kMeasuredCoordinates>& normalised);
+  void restart();  // a new start of the filter: the open window is dropped, the verdict OK
+
+  const AlarmReport& report() const { return report_; }
+  // P(a window of `dof` NIS >= bound) under the model: the bounds' probabilities.
+  double errorProbability() const { return error_probability_; }
+  double warnProbability() const { return warn_probability_; }
+
+ private:
+  void closeWindow(double time);
+
+  double window_;
+  double error_probability_, warn_probability_;
+  bool open_ = false;
+  double window_start_ = 0.0;
+  double nis_ = 0.0, dof_ = 0.0;
+  std::array<double, kMeasuredCoordinates> sums_{}, signed_sums_{}, counts_{};
+  AlarmReport report_;
+};
+
+// The chi-square quantile with `dof` degrees of freedom exceeded with probability p.
+double chiSquareUpperQuantile(double dof, double p);
+// P(X >= x) for X chi-square with `dof` degrees of freedom.
+double chiSquareUpperTail(double dof, double x);
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_ESTIMATE_INNOVATION_ALARM_H

@@ -1,0 +1,133 @@
+// The twin beside the rig: an extended Kalman filter on the textbook example's Kane equations
+// (the generated equations and their exact Jacobian, model/generated_jacobian.h) that turns a
+// rig's joint readings (crank angle and slider 4's position, their speeds when given, the
+// delivered torque) into the whole state with its covariance.
+//
+//   x = (q1, q2, u1, u2, b1, b2)      b: the encoders' position biases (sensors' bias_walk)
+//   predict:  x' = f(x, M_m) by rk4 on the physics step; M_m one reading's effort until an answer
+//             to it can be in force (MeasurementNoise::answer_delay), then the next reading's;
+//             P' = Phi P Phi' + Q, Phi = exp(A h) to third order, A the exact Jacobian, Q white
+//             acceleration noise (estimator.*_acceleration_noise) and the biases' walk
+//   update:   z = (q1 + b1, q2 + b2 [, u1, u2]) at the reading's sample instant, stamp minus the
+//             sensors' latency (and half their jitter); R from the sensors' noise model: white
+//             noise, the encoder's step^2 / 12, and the jitter's timing error (speed^2 var)
+//
+// The measurement model is config's `sensors:` section (a fitted config from identify, say);
+// `estimator:` says how far the model is trusted. Readings that cannot be used are refused,
+// named, and the estimate kept; a gap beyond estimator.restart_gap restarts the filter. ROS-free.
+#ifndef KANE_SIM_ESTIMATE_MECHANISM_ESTIMATOR_H
+#define KANE_SIM_ESTIMATE_MECHANISM_ESTIMATOR_H
+
+#include <array>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "kane_sim/config/config.h"
+#include "kane_sim/estimate/innovation_alarm.h"
+#include "kane_sim/model/generated_mechanism.h"
+#include "kane_sim/model/state.h"
+
+namespace kane_sim {
+
+// One reading of the rig as joint_states carries it.
+struct RigReading {
+  double stamp = 0.0;  // [s] the message's stamp: when it arrived (sampled `latency` earlier)
+  double q1 = 0.0;     // [rad] crank_joint's position
+  double q2 = 0.0;     // [m] slider4_joint's position
+  bool has_velocity = false;
+  double u1 = 0.0;      // [rad/s] crank_joint's velocity (when has_velocity)
+  double u2 = 0.0;      // [m/s] slider4_joint's velocity
+  double torque = 0.0;  // [N m] crank_joint's effort: M_m in force when it was sampled
+};
+
+// The measurement model the config's sensors give (exact readings get a floor of 1e-6).
+struct MeasurementNoise {
+  std::array<double, 2> position_variance{};  // [rad^2, m^2] white noise + encoder step^2 / 12
+  std::array<double, 2> velocity_variance{};  // [(rad/s)^2, (m/s)^2]
+  std::array<double, 2> bias_walk_rate{};     // [rad^2/s, m^2/s] the biases' variance per second
+  double latency = 0.0;          // [s] mean age of a reading at its stamp (latency + jitter / 2)
+  double timing_variance = 0.0;  // [s^2] the jitter's variance around that age
+  // [s] after a sample, when a controller answering it is in force (latency + command_latency):
+  // the torque between readings is the first's effort until then, the next's after.
+  double answer_delay = 0.0;
+  double command_latency = 0.0;  // [s] sensors.command_latency in physics steps
+};
+MeasurementNoise measurementNoise(const Config& config);
+
+using EstimateVector = Eigen::Matrix<double, 6, 1>;
+using EstimateCovariance = Eigen::Matrix<double, 6, 6>;
+
+// The filter's estimate at one instant.
+struct StateEstimate {
+  double time = 0.0;  // [s] on the readings' clock
+  State state;
+  std::array<double, 2> bias{};  // [rad, m] b1, b2
+  EstimateCovariance covariance = EstimateCovariance::Zero();
+  double torque = 0.0;  // [N m] M_m held
+  std::array<double, 4> sigma() const;  // standard deviations of q1, q2, u1, u2
+};
+
+enum class EstimatorEvent {
+  kUpdated,    // the reading corrected the estimate
+  kStarted,    // the first reading (or the first after restart()) started the filter
+  kRestarted,  // a gap or a diverged prediction: the filter started again from this reading
+  kRefused,    // the reading is unusable (`reason` names the field and value); nothing changed
+};
+struct EstimatorStep {
+  EstimatorEvent event = EstimatorEvent::kRefused;
+  std::string reason;
+};
+
+class MechanismEstimator {
+ public:
+  explicit MechanismEstimator(const Config& config);
+
+  EstimatorStep update(const RigReading& reading);
+  void restart();  // forget the estimate (the rig was reset): the next reading starts it again
+
+  bool started() const { return started_; }
+  double lastStamp() const { return last_stamp_; }  // [s] the last used reading's stamp
+  // At the last reading's sample instant (stamp - latency): what the filter corrected.
+  const StateEstimate& atSample() const { return sample_; }
+  // The same carried forward to the last reading's stamp with the torque held: the state now,
+  // what a controller reading the estimate wants (latency compensated).
+  StateEstimate atStamp() const;
+  // The last update's innovation: each coordinate's nu, S_ii, and whether it was measured.
+  const std::array<double, kMeasuredCoordinates>& innovation() const { return innovation_; }
+  const std::array<double, kMeasuredCoordinates>& innovationVariance() const { return s_ii_; }
+  const std::array<bool, kMeasuredCoordinates>& measured() const { return measured_; }
+  double nis() const { return nis_; }  // nu' S^-1 nu of the last update
+  const InnovationAlarm& alarm() const { return alarm_; }
+  const MeasurementNoise& noise() const { return noise_; }
+  std::size_t restarts() const { return restarts_; }
+
+ private:
+  void start(const RigReading& reading, double sample_time);
+  // Carries `e` forward by `span` seconds (steps of at most the physics step), the torque going
+  // from e.torque to end_torque; false when the state left the finite or the model's scale.
+  bool predict(StateEstimate* e, double span, double end_torque) const;
+  // [s] where in a reading interval of `span` the torque takes the next reading's effort.
+  double switchOffset(double span) const;
+  void correct(const RigReading& reading);
+  std::string unusable(const RigReading& reading) const;
+
+  GeneratedMechanism mechanism_;
+  MeasurementNoise noise_;
+  std::array<double, 2> acceleration_density_;  // [rad^2/s^3, m^2/s^3] of the process noise
+  double step_;                                 // [s] the physics step
+  double restart_gap_;
+  double max_speed_;  // beyond this |u| the prediction diverged (the simulator's own refusal)
+  InnovationAlarm alarm_;
+  bool started_ = false;
+  double last_stamp_ = 0.0;
+  StateEstimate sample_;
+  std::array<double, kMeasuredCoordinates> innovation_{}, s_ii_{};
+  std::array<bool, kMeasuredCoordinates> measured_{};
+  double nis_ = 0.0;
+  std::size_t restarts_ = 0;
+};
+
+}  // namespace kane_sim
+
+#endif  // KANE_SIM_ESTIMATE_MECHANISM_ESTIMATOR_H

@@ -1,0 +1,282 @@
+#include "kane_sim/estimate/mechanism_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+#include "kane_sim/format_number.h"
+#include "kane_sim/model/joint_names.h"
+#include "kane_sim/model/rk4_step.h"
+#include "kane_sim/sensors/joint_sensors.h"
+
+namespace kane_sim {
+namespace {
+
+// Exact readings (sensors off) still need a measurement variance for the gain's inverse: a
+// micro-radian (micrometre), and a micro-radian per second, far below any encoder.
+constexpr double kPositionFloor = 1e-6;
+constexpr double kVelocityFloor = 1e-6;
+// The speeds' spread before the first reading that carries none [rad/s, m/s].
+constexpr double kUnknownCrankSpeed = 10.0;
+constexpr double kUnknownSliderSpeed = 1.0;
+
+using Matrix4 = Eigen::Matrix4d;
+
+double encoderStepVariance(const JointSensorSettings& s, bool revolute) {
+  if (!(s.encoder_counts > 0.0)) return 0.0;
+  const double step = (revolute ? 2.0 * M_PI : 1.0) / s.encoder_counts;
+  return step * step / 12.0;
+}
+
+}  // namespace
+
+MeasurementNoise measurementNoise(const Config& config) {
+  MeasurementNoise n;
+  const SensorSettings& sensors = config.sensors;
+  const int joints[2] = {kCrankJoint, kSlider4Joint};
+  for (int i = 0; i < 2; ++i) {
+    const JointSensorSettings s = sensors.enabled ? sensors.joints[joints[i]] : JointSensorSettings{};
+    n.position_variance[i] = s.position_noise * s.position_noise +
+                             encoderStepVariance(s, i == 0) + kPositionFloor * kPositionFloor;
+    n.velocity_variance[i] = s.velocity_noise * s.velocity_noise + kVelocityFloor * kVelocityFloor;
+    n.bias_walk_rate[i] = s.bias_walk * s.bias_walk;
+  }
+  if (sensors.enabled) {
+    // The sensors' own rounding to physics steps (sensors/joint_sensors.h): a latency of L
+    // ticks plus a jitter uniform over the whole ticks 0..J.
+    const double rate = config.simulation.physics_rate;
+    const double latency = static_cast<double>(physicsTicks(sensors.latency, rate));
+    const double jitter = static_cast<double>(physicsTicks(sensors.latency_jitter, rate));
+    n.latency = (latency + jitter / 2.0) / rate;
+    n.timing_variance = ((jitter + 1.0) * (jitter + 1.0) - 1.0) / 12.0 / (rate * rate);
+    n.command_latency = static_cast<double>(physicsTicks(sensors.command_latency, rate)) / rate;
+    n.answer_delay = n.latency + n.command_latency;
+  }
+  return n;
+}
+
+std::array<double, 4> StateEstimate::sigma() const {
+  return {std::sqrt(covariance(0, 0)), std::sqrt(covariance(1, 1)), std::sqrt(covariance(2, 2)),
+          std::sqrt(covariance(3, 3))};
+}
+
+MechanismEstimator::MechanismEstimator(const Config& config)
+    : mechanism_(mechanismModel(config)),
+      noise_(measurementNoise(config)),
+      acceleration_density_{
+          config.estimator.crank_acceleration_noise * config.estimator.crank_acceleration_noise,
+          config.estimator.slider4_acceleration_noise *
+              config.estimator.slider4_acceleration_noise},
+      step_(1.0 / config.simulation.physics_rate),
+      restart_gap_(config.estimator.restart_gap),
+      max_speed_(1.0 / step_),
+      alarm_(config.estimator.alarm_window, config.estimator.false_alarms_per_hour) {}
+
+void MechanismEstimator::restart() {
+  started_ = false;
+  alarm_.restart();
+}
+
+std::string MechanismEstimator::unusable(const RigReading& r) const {
+  const auto field = [](const char* name, double value) {
+    return std::string(name) + " = " + formatNumber(value) + " is not finite";
+  };
+  if (!std::isfinite(r.stamp)) return field("the stamp", r.stamp);
+  if (!std::isfinite(r.q1)) return field("crank_joint's position", r.q1);
+  if (!std::isfinite(r.q2)) return field("slider4_joint's position", r.q2);
+  if (!std::isfinite(r.torque)) return field("crank_joint's effort", r.torque);
+  if (r.has_velocity && !std::isfinite(r.u1)) return field("crank_joint's velocity", r.u1);
+  if (r.has_velocity && !std::isfinite(r.u2)) return field("slider4_joint's velocity", r.u2);
+  if (started_ && r.stamp < last_stamp_)
+    return "the stamp " + formatNumber(r.stamp) + " s goes back " +
+           formatNumber(last_stamp_ - r.stamp) + " s before the last reading's";
+  return "";
+}
+
+EstimatorStep MechanismEstimator::update(const RigReading& reading) {
+  const std::string refusal = unusable(reading);
+  if (!refusal.empty()) return {EstimatorEvent::kRefused, refusal};
+  const double sample_time = reading.stamp - noise_.latency;
+  if (!started_) {
+    start(reading, sample_time);
+    return {EstimatorEvent::kStarted, ""};
+  }
+  const double gap = reading.stamp - last_stamp_;
+  std::string restart_reason;
+  if (gap > restart_gap_) {
+    restart_reason = "a gap of " + formatNumber(gap) + " s between readings (> estimator.restart_gap " +
+                     formatNumber(restart_gap_) + " s)";
+  } else {
+    StateEstimate predicted = sample_;
+    if (predict(&predicted, sample_time - sample_.time, reading.torque))
+      sample_ = predicted;
+    else
+      restart_reason = "the prediction left the model's range (|u1| > " +
+                       formatNumber(max_speed_) + " rad/s or not finite) with M_m = " +
+                       formatNumber(sample_.torque) + " N m";
+  }
+  if (!restart_reason.empty()) {
+    alarm_.restart();
+    start(reading, sample_time);
+    ++restarts_;
+    return {EstimatorEvent::kRestarted, restart_reason};
+  }
+  last_stamp_ = reading.stamp;
+  correct(reading);
+  return {EstimatorEvent::kUpdated, ""};
+}
+
+void MechanismEstimator::start(const RigReading& r, double sample_time) {
+  started_ = true;
+  last_stamp_ = r.stamp;
+  sample_ = StateEstimate{};
+  sample_.time = sample_time;
+  sample_.torque = r.torque;
+  sample_.state = {r.q1, r.q2, r.has_velocity ? r.u1 : 0.0, r.has_velocity ? r.u2 : 0.0};
+  EstimateCovariance& P = sample_.covariance;
+  P(0, 0) = noise_.position_variance[0];
+  P(1, 1) = noise_.position_variance[1];
+  P(2, 2) = r.has_velocity ? noise_.velocity_variance[0] : kUnknownCrankSpeed * kUnknownCrankSpeed;
+  P(3, 3) =
+      r.has_velocity ? noise_.velocity_variance[1] : kUnknownSliderSpeed * kUnknownSliderSpeed;
+  // The biases start at zero, as the sensors' do, and walk from there (P(4..5) grows by Q).
+  innovation_.fill(0.0);
+  s_ii_.fill(0.0);
+  measured_.fill(false);
+  nis_ = 0.0;
+}
+
+bool MechanismEstimator::predict(StateEstimate* e, double span, double end_torque) const {
+  if (!(span > 0.0)) return true;
+  const auto steps = static_cast<long>(std::ceil(span / step_ - 1e-9));
+  const double h = span / static_cast<double>(steps);
+  const generated::Constants& constants = mechanism_.constants();
+  const generated::RatesVariant variant = mechanism_.variant();
+  const double start_torque = e->torque;
+  double torque = start_torque;
+  const double switch_at = switchOffset(span);
+  const auto rates = [&](const std::array<double, 4>& x, std::array<double, 4>& dxdt) {
+    const generated::Rates r =
+        generated::ratesFor(variant, constants, x[0], x[1], x[2], x[3], torque);
+    dxdt = {x[2], x[3], r.u1_dot, r.u2_dot};
+  };
+  // Process noise of one step h: white accelerations (q, u pairs) and the biases' walks.
+  EstimateCovariance Q = EstimateCovariance::Zero();
+  for (int i = 0; i < 2; ++i) {
+    const double s = acceleration_density_[i];
+    Q(i, i) = s * h * h * h / 3.0;
+    Q(i, 2 + i) = Q(2 + i, i) = s * h * h / 2.0;
+    Q(2 + i, 2 + i) = s * h;
+    Q(4 + i, 4 + i) = noise_.bias_walk_rate[i] * h;
+  }
+  std::array<double, 4> x = {e->state.q1, e->state.q2, e->state.u1, e->state.u2};
+  EstimateCovariance& P = e->covariance;
+  for (long k = 0; k < steps; ++k) {
+    // The torque between two readings' efforts: a controller answering every reading changes
+    // it once per reading period, answer_delay after a sample (a period's whole multiples
+    // later: the answer to an earlier reading); the first reading's effort until then, the
+    // next one's after.
+    torque = (static_cast<double>(k) + 0.5) * h < switch_at ? start_torque : end_torque;
+    const generated::RateJacobian d =
+        generated::rateJacobian(constants, x[0], x[1], x[2], x[3], torque);
+    Matrix4 A = Matrix4::Zero();
+    A(0, 2) = A(1, 3) = 1.0;
+    for (int row = 0; row < 2; ++row)
+      for (int col = 0; col < 4; ++col) A(2 + row, col) = d.d[row][col];
+    const Matrix4 Ah = A * h;
+    const Matrix4 Phi = Matrix4::Identity() + Ah * (Matrix4::Identity() + Ah / 2.0 *
+                                                        (Matrix4::Identity() + Ah / 3.0));
+    // P <- Phi P Phi' + Q on the (q, u) block; the biases' rows carry through Phi's identity.
+    P.topLeftCorner<4, 4>() = Phi * P.topLeftCorner<4, 4>() * Phi.transpose();
+    P.topRightCorner<4, 2>() = Phi * P.topRightCorner<4, 2>();
+    P.bottomLeftCorner<2, 4>() = P.topRightCorner<4, 2>().transpose();
+    P += Q;
+    rk4Step(rates, x, h);
+  }
+  // The switch's instant is known only to the readings' jitter: its torque step's impulse is
+  // uncertain by (B dM)^2 var(instant) on the speeds (B = du'/dM_m).
+  if (start_torque != end_torque && noise_.timing_variance > 0.0) {
+    const generated::RateJacobian d =
+        generated::rateJacobian(constants, x[0], x[1], x[2], x[3], torque);
+    const Eigen::Vector2d impulse(d.d[0][4] * (end_torque - start_torque),
+                                  d.d[1][4] * (end_torque - start_torque));
+    P.block<2, 2>(2, 2) += impulse * impulse.transpose() * noise_.timing_variance;
+  }
+  e->state = {x[0], x[1], x[2], x[3]};
+  e->time += span;
+  e->torque = end_torque;
+  return e->state.isFinite() && std::abs(x[2]) <= max_speed_ && P.allFinite();
+}
+
+double MechanismEstimator::switchOffset(double span) const {
+  // In physics steps: a sample at tick s sees the torque of the step after it, so an answer in
+  // force a whole number of periods after a sample (command latency > 0) is the next reading's
+  // effort from its start; with no command latency the drive takes it the step the reading
+  // arrived, after that tick's sample: from the interval's start.
+  const double period = span / step_;
+  const double offset = std::fmod(noise_.answer_delay / step_, period);
+  if (offset < 1e-6 || period - offset < 1e-6) return noise_.command_latency > 0.0 ? span : 0.0;
+  return offset * step_;
+}
+
+StateEstimate MechanismEstimator::atStamp() const {
+  StateEstimate now = sample_;
+  if (started_ && !predict(&now, last_stamp_ - sample_.time, sample_.torque)) return sample_;
+  return now;
+}
+
+void MechanismEstimator::correct(const RigReading& r) {
+  // The measured coordinates this reading holds, in MeasuredCoordinate order.
+  measured_ = {true, true, r.has_velocity, r.has_velocity};
+  const State& x = sample_.state;
+  // Rates at the estimate for the jitter's share of the velocity readings' variance.
+  const generated::Rates rates = generated::ratesFor(mechanism_.variant(), mechanism_.constants(),
+                                                     x.q1, x.q2, x.u1, x.u2, sample_.torque);
+  const double z[4] = {r.q1, r.q2, r.u1, r.u2};
+  const double predicted[4] = {x.q1 + sample_.bias[0], x.q2 + sample_.bias[1], x.u1, x.u2};
+  const double variance[4] = {
+      noise_.position_variance[0] + x.u1 * x.u1 * noise_.timing_variance,
+      noise_.position_variance[1] + x.u2 * x.u2 * noise_.timing_variance,
+      noise_.velocity_variance[0] + rates.u1_dot * rates.u1_dot * noise_.timing_variance,
+      noise_.velocity_variance[1] + rates.u2_dot * rates.u2_dot * noise_.timing_variance};
+  const int m = r.has_velocity ? 4 : 2;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(m, 6);
+  Eigen::VectorXd nu(m);
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(m, m);
+  for (int i = 0; i < m; ++i) {
+    H(i, i) = 1.0;             // q1, q2, u1, u2
+    if (i < 2) H(i, 4 + i) = 1.0;  // + the encoder's bias
+    nu(i) = z[i] - predicted[i];
+    R(i, i) = variance[i];
+  }
+  nu(0) = std::remainder(nu(0), 2.0 * M_PI);  // a crank reading wrapped to a turn is the same angle
+  EstimateCovariance& P = sample_.covariance;
+  const Eigen::MatrixXd PHt = P * H.transpose();
+  const Eigen::MatrixXd S = H * PHt + R;
+  const Eigen::LLT<Eigen::MatrixXd> llt(S);
+  const Eigen::MatrixXd K = llt.solve(PHt.transpose()).transpose();
+  const EstimateVector dx = K * nu;
+  sample_.state.q1 += dx(0);
+  sample_.state.q2 += dx(1);
+  sample_.state.u1 += dx(2);
+  sample_.state.u2 += dx(3);
+  sample_.bias[0] += dx(4);
+  sample_.bias[1] += dx(5);
+  // Joseph's form keeps P symmetric and positive whatever the gain's rounding.
+  const EstimateCovariance IKH = EstimateCovariance::Identity() - K * H;
+  P = IKH * P * IKH.transpose() + K * R * K.transpose();
+  P = 0.5 * (P + P.transpose()).eval();
+  nis_ = nu.dot(llt.solve(nu));
+  innovation_.fill(0.0);
+  s_ii_.fill(0.0);
+  std::array<double, kMeasuredCoordinates> normalised{};
+  for (int i = 0; i < m; ++i) {
+    innovation_[i] = nu(i);
+    s_ii_[i] = S(i, i);
+    normalised[i] = nu(i) / std::sqrt(S(i, i));
+  }
+  alarm_.add(sample_.time, nis_, measured_, normalised);
+}
+
+}  // namespace kane_sim
