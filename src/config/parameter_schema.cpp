@@ -190,34 +190,31 @@ std::vector<ParameterSpec> declareParameters() {
           .doc("plus a delay uniform in [0, this] per reading; readings never overtake"),
       row("sensors", "command_latency", KANE_SIM_FIELD(sensors.command_latency), "s", kLatencyRule)
           .doc("a torque command is in force this much after it arrives (rounded to physics steps)"),
-      // ---- estimator: the observer's trust in the model and its alarm (estimate/) --------------
+      // ---- estimator: the state estimator's trust in the model and its alarm (estimate/) -------
       row("estimator", "crank_acceleration_noise",
           KANE_SIM_FIELD(estimator.crank_acceleration_noise), "rad/s^2/sqrt(Hz)", kNoiseRule)
-          .doc("observer: how far u1' may stray from the model, as white noise (process noise)"),
+          .doc("estimator: how far u1' may stray from the model, as white noise (process noise)"),
       row("estimator", "slider4_acceleration_noise",
           KANE_SIM_FIELD(estimator.slider4_acceleration_noise), "m/s^2/sqrt(Hz)", kNoiseRule)
-          .doc("observer: how far u2' may stray from the model, as white noise (process noise)"),
+          .doc("estimator: how far u2' may stray from the model, as white noise (process noise)"),
       row("estimator", "alarm_window", KANE_SIM_FIELD(estimator.alarm_window), "s",
           {ValueRule::kRange, 0.01, 3600.0, "s"})
-          .doc("observer: the innovations of this much time are tested together (NIS)"),
+          .doc("estimator: the innovations of this much time are tested together (NIS)"),
       row("estimator", "false_alarms_per_hour", KANE_SIM_FIELD(estimator.false_alarms_per_hour),
           "1/h", {ValueRule::kRange, 1e-9, 1e3, "per hour"})
-          .doc("observer: ERROR's false-alarm rate on a rig that is its model (WARN: 100 times "
+          .doc("estimator: ERROR's false-alarm rate on a rig that is its model (WARN: 100 times "
                "it)"),
       row("estimator", "restart_gap", KANE_SIM_FIELD(estimator.restart_gap), "s",
           {ValueRule::kRange, 1e-3, 60.0, "s"})
-          .doc("observer: readings further apart restart the filter from the later one"),
+          .doc("estimator: readings further apart restart the filter from the later one"),
   };
   // clang-format on
   // The sections whose rows are all of one role say it here, once; any other row says its own
   // (parameterSchema() refuses a row without one, so a new section cannot go unclassified).
   const std::pair<const char*, ParameterRole> kSectionRoles[] = {
-      {"simulation", ParameterRole::kOperational},
-      {"command", ParameterRole::kOperational},
-      {"frames", ParameterRole::kOperational},
-      {"diagnostics", ParameterRole::kOperational},
-      {"sensors", ParameterRole::kMeasurement},
-      {"estimator", ParameterRole::kOperational}};
+      {"simulation", ParameterRole::kOperational}, {"command", ParameterRole::kOperational},
+      {"frames", ParameterRole::kOperational},     {"diagnostics", ParameterRole::kOperational},
+      {"sensors", ParameterRole::kMeasurement},    {"estimator", ParameterRole::kOperational}};
   appendJointSensor<kCrankJoint>(&parameters);
   appendJointSensor<kCouplerJoint>(&parameters);
   appendJointSensor<kSlider3Joint>(&parameters);

@@ -20,7 +20,8 @@ std::vector<EstimateColumn> makeColumns() {
       {"sigma_q2", "[m]", [](R r) { return r.estimate.sigma()[1]; }},
       {"sigma_u1", "[rad/s]", [](R r) { return r.estimate.sigma()[2]; }},
       {"sigma_u2", "[m/s]", [](R r) { return r.estimate.sigma()[3]; }},
-      {"bias_q1", "[rad] the crank encoder's estimated bias", [](R r) { return r.estimate.bias[0]; }},
+      {"bias_q1", "[rad] the crank encoder's estimated bias",
+       [](R r) { return r.estimate.bias[0]; }},
       {"bias_q2", "[m] slider 4's", [](R r) { return r.estimate.bias[1]; }},
       {"applied_torque", "[N m] M_m held (the reading's effort)",
        [](R r) { return r.estimate.torque; }},
@@ -76,8 +77,8 @@ bool VirtualSensors::evaluate(const StateEstimate& e, Snapshot* snapshot, std::s
   *snapshot = simulator_->snapshot();
   snapshot->time = e.time;
   if (!snapshot->allFinite()) {
-    *why = "the virtual sensors of the estimate " + Simulator::stateText(e.state) +
-           " are not finite";
+    *why =
+        "the virtual sensors of the estimate " + Simulator::stateText(e.state) + " are not finite";
     return false;
   }
   return true;

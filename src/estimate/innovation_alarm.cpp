@@ -113,8 +113,8 @@ void InnovationAlarm::closeWindow(double time) {
   for (std::size_t i = 0; i < kMeasuredCoordinates; ++i) {
     if (counts_[i] == 0.0) continue;
     const double mean_statistic = signed_sums_[i] * signed_sums_[i] / counts_[i];
-    const double p = std::min(chiSquareUpperTail(1.0, mean_statistic),
-                              chiSquareUpperTail(counts_[i], sums_[i]));
+    const double p =
+        std::min(chiSquareUpperTail(1.0, mean_statistic), chiSquareUpperTail(counts_[i], sums_[i]));
     if (p < least_likely_coordinate) {
       least_likely_coordinate = p;
       r.coordinate = i;

@@ -36,9 +36,10 @@ MeasurementNoise measurementNoise(const Config& config) {
   const SensorSettings& sensors = config.sensors;
   const int joints[2] = {kCrankJoint, kSlider4Joint};
   for (int i = 0; i < 2; ++i) {
-    const JointSensorSettings s = sensors.enabled ? sensors.joints[joints[i]] : JointSensorSettings{};
-    n.position_variance[i] = s.position_noise * s.position_noise +
-                             encoderStepVariance(s, i == 0) + kPositionFloor * kPositionFloor;
+    const JointSensorSettings s =
+        sensors.enabled ? sensors.joints[joints[i]] : JointSensorSettings{};
+    n.position_variance[i] = s.position_noise * s.position_noise + encoderStepVariance(s, i == 0) +
+                             kPositionFloor * kPositionFloor;
     n.velocity_variance[i] = s.velocity_noise * s.velocity_noise + kVelocityFloor * kVelocityFloor;
     n.bias_walk_rate[i] = s.bias_walk * s.bias_walk;
   }
@@ -105,16 +106,16 @@ EstimatorStep MechanismEstimator::update(const RigReading& reading) {
   const double gap = reading.stamp - last_stamp_;
   std::string restart_reason;
   if (gap > restart_gap_) {
-    restart_reason = "a gap of " + formatNumber(gap) + " s between readings (> estimator.restart_gap " +
-                     formatNumber(restart_gap_) + " s)";
+    restart_reason = "a gap of " + formatNumber(gap) +
+                     " s between readings (> estimator.restart_gap " + formatNumber(restart_gap_) +
+                     " s)";
   } else {
     StateEstimate predicted = sample_;
     if (predict(&predicted, sample_time - sample_.time, reading.torque))
       sample_ = predicted;
     else
-      restart_reason = "the prediction left the model's range (|u1| > " +
-                       formatNumber(max_speed_) + " rad/s or not finite) with M_m = " +
-                       formatNumber(sample_.torque) + " N m";
+      restart_reason = "the prediction left the model's range (|u1| > " + formatNumber(max_speed_) +
+                       " rad/s or not finite) with M_m = " + formatNumber(sample_.torque) + " N m";
   }
   if (!restart_reason.empty()) {
     alarm_.restart();
@@ -185,8 +186,8 @@ bool MechanismEstimator::predict(StateEstimate* e, double span, double end_torqu
     for (int row = 0; row < 2; ++row)
       for (int col = 0; col < 4; ++col) A(2 + row, col) = d.d[row][col];
     const Matrix4 Ah = A * h;
-    const Matrix4 Phi = Matrix4::Identity() + Ah * (Matrix4::Identity() + Ah / 2.0 *
-                                                        (Matrix4::Identity() + Ah / 3.0));
+    const Matrix4 Phi = Matrix4::Identity() +
+                        Ah * (Matrix4::Identity() + Ah / 2.0 * (Matrix4::Identity() + Ah / 3.0));
     // P <- Phi P Phi' + Q on the (q, u) block; the biases' rows carry through Phi's identity.
     P.topLeftCorner<4, 4>() = Phi * P.topLeftCorner<4, 4>() * Phi.transpose();
     P.topRightCorner<4, 2>() = Phi * P.topRightCorner<4, 2>();
@@ -245,7 +246,7 @@ void MechanismEstimator::correct(const RigReading& r) {
   Eigen::VectorXd nu(m);
   Eigen::MatrixXd R = Eigen::MatrixXd::Zero(m, m);
   for (int i = 0; i < m; ++i) {
-    H(i, i) = 1.0;             // q1, q2, u1, u2
+    H(i, i) = 1.0;                 // q1, q2, u1, u2
     if (i < 2) H(i, 4 + i) = 1.0;  // + the encoder's bias
     nu(i) = z[i] - predicted[i];
     R(i, i) = variance[i];

@@ -43,18 +43,17 @@ struct RigRecording {
 };
 
 struct RigDrive {
-  double kp = 40.0, kd = 4.0;        // [N m/rad], [N m s/rad] on the readings
-  double torque_limit = 30.0;        // [N m]
-  double setpoint_range = 1.5;       // [rad] setpoints uniform in +- this
+  double kp = 40.0, kd = 4.0;             // [N m/rad], [N m s/rad] on the readings
+  double torque_limit = 30.0;             // [N m]
+  double setpoint_range = 1.5;            // [rad] setpoints uniform in +- this
   double hold_min = 0.3, hold_max = 1.5;  // [s] each setpoint held this long
   unsigned seed = 1;
 };
 
 // Runs `rig` for `duration` s of sim time. `at_tick` (when set) is called before every step with
 // the driver (a fault injected at a time, say).
-inline RigRecording recordRig(
-    const Config& rig, double duration, const RigDrive& drive,
-    const std::function<void(SimDriver&)>& at_tick = {}) {
+inline RigRecording recordRig(const Config& rig, double duration, const RigDrive& drive,
+                              const std::function<void(SimDriver&)>& at_tick = {}) {
   SimDriver driver(rig, {});
   std::mt19937 random(drive.seed);
   std::uniform_real_distribution<double> setpoints(-drive.setpoint_range, drive.setpoint_range);

@@ -98,11 +98,11 @@ struct SensorSettings {
 // How the estimator (`observer`, estimate/) trusts the model and when it raises its alarm; the
 // sensors' noise model above is its measurement model.
 struct EstimatorSettings {
-  double crank_acceleration_noise = 0.05;    // [rad/s^2/sqrt(Hz)] model error on u1'
-  double slider4_acceleration_noise = 0.005; // [m/s^2/sqrt(Hz)] model error on u2'
-  double alarm_window = 0.5;                 // [s] readings per test of the innovations
-  double false_alarms_per_hour = 0.001;      // ERROR's rate on a rig that is its model
-  double restart_gap = 1.0;                  // [s] a longer silence restarts the filter
+  double crank_acceleration_noise = 0.05;     // [rad/s^2/sqrt(Hz)] model error on u1'
+  double slider4_acceleration_noise = 0.005;  // [m/s^2/sqrt(Hz)] model error on u2'
+  double alarm_window = 0.5;                  // [s] readings per test of the innovations
+  double false_alarms_per_hour = 0.001;       // ERROR's rate on a rig that is its model
+  double restart_gap = 1.0;                   // [s] a longer silence restarts the filter
 };
 
 struct Config {

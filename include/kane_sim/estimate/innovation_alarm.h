@@ -25,7 +25,7 @@ constexpr std::size_t kMeasuredCoordinates = 4;
 const char* measuredCoordinateName(std::size_t coordinate);
 
 enum class AlarmLevel { kOk = 0, kWarn = 1, kError = 2 };  // diagnostic_msgs' levels
-const char* alarmLevelName(AlarmLevel level);                  // "OK", "WARN", "ERROR"
+const char* alarmLevelName(AlarmLevel level);              // "OK", "WARN", "ERROR"
 
 // The last closed window's verdict.
 struct AlarmReport {
@@ -36,10 +36,10 @@ struct AlarmReport {
   double dof = 0.0;            // its degrees of freedom (readings x coordinates)
   double warn_bound = 0.0;     // the NIS test's chi-square quantiles for dof
   double error_bound = 0.0;
-  double p_value = 1.0;        // the least likely of the window's tests, under the model
-  double window_end = 0.0;     // [s] when the window closed
-  std::size_t windows = 0;     // windows closed since the start
-  std::string text() const;    // one line: "ERROR since t = 12.5 s: slider4_joint position ..."
+  double p_value = 1.0;      // the least likely of the window's tests, under the model
+  double window_end = 0.0;   // [s] when the window closed
+  std::size_t windows = 0;   // windows closed since the start
+  std::string text() const;  // one line: "ERROR since t = 12.5 s: slider4_joint position ..."
 };
 
 class InnovationAlarm {

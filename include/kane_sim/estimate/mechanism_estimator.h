@@ -64,7 +64,7 @@ struct StateEstimate {
   State state;
   std::array<double, 2> bias{};  // [rad, m] b1, b2
   EstimateCovariance covariance = EstimateCovariance::Zero();
-  double torque = 0.0;  // [N m] M_m held
+  double torque = 0.0;                  // [N m] M_m held
   std::array<double, 4> sigma() const;  // standard deviations of q1, q2, u1, u2
 };
 
