@@ -67,7 +67,7 @@ void writeEstimateCsvRow(std::ostream& out, const EstimateRow& row) {
 VirtualSensors::VirtualSensors(const Config& config) : simulator_(new Simulator(config)) {}
 VirtualSensors::~VirtualSensors() = default;
 
-bool VirtualSensors::evaluate(const StateEstimate& e, Snapshot* snapshot, std::string* why) {
+bool VirtualSensors::evaluate(const FilterEstimate& e, Snapshot* snapshot, std::string* why) {
   const Status torque = simulator_->setTorque(e.torque);
   const Status state = torque.ok ? simulator_->setState(e.state) : torque;
   if (!state.ok) {

@@ -57,7 +57,7 @@ MeasurementNoise measurementNoise(const Config& config) {
   return n;
 }
 
-std::array<double, 4> StateEstimate::sigma() const {
+std::array<double, 4> FilterEstimate::sigma() const {
   return {std::sqrt(covariance(0, 0)), std::sqrt(covariance(1, 1)), std::sqrt(covariance(2, 2)),
           std::sqrt(covariance(3, 3))};
 }
@@ -110,7 +110,7 @@ EstimatorStep MechanismEstimator::update(const RigReading& reading) {
                      " s between readings (> estimator.restart_gap " + formatNumber(restart_gap_) +
                      " s)";
   } else {
-    StateEstimate predicted = sample_;
+    FilterEstimate predicted = sample_;
     if (predict(&predicted, sample_time - sample_.time, reading.torque))
       sample_ = predicted;
     else
@@ -131,7 +131,7 @@ EstimatorStep MechanismEstimator::update(const RigReading& reading) {
 void MechanismEstimator::start(const RigReading& r, double sample_time) {
   started_ = true;
   last_stamp_ = r.stamp;
-  sample_ = StateEstimate{};
+  sample_ = FilterEstimate{};
   sample_.time = sample_time;
   sample_.torque = r.torque;
   sample_.state = {r.q1, r.q2, r.has_velocity ? r.u1 : 0.0, r.has_velocity ? r.u2 : 0.0};
@@ -148,7 +148,7 @@ void MechanismEstimator::start(const RigReading& r, double sample_time) {
   nis_ = 0.0;
 }
 
-bool MechanismEstimator::predict(StateEstimate* e, double span, double end_torque) const {
+bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torque) const {
   if (!(span > 0.0)) return true;
   const auto steps = static_cast<long>(std::ceil(span / step_ - 1e-9));
   const double h = span / static_cast<double>(steps);
@@ -221,8 +221,8 @@ double MechanismEstimator::switchOffset(double span) const {
   return offset * step_;
 }
 
-StateEstimate MechanismEstimator::atStamp() const {
-  StateEstimate now = sample_;
+FilterEstimate MechanismEstimator::atStamp() const {
+  FilterEstimate now = sample_;
   if (started_ && !predict(&now, last_stamp_ - sample_.time, sample_.torque)) return sample_;
   return now;
 }

@@ -14,6 +14,7 @@ _CORE = ("Config", "ConfigError", "Result", "Simulator", "StepRefused", "TorqueP
          "analyze", "equilibria", "load_config", "sweep")
 _PLOTS = ("animate", "plot_result")
 _BATCH = ("BatchSimulator", "VectorEnv")
+_ESTIMATE = ("Estimator",)
 
 
 def __getattr__(name):
@@ -26,6 +27,9 @@ def __getattr__(name):
     if name == "VectorEnv":
         from kane_sim import vector_env
         return vector_env.VectorEnv
+    if name == "Estimator":
+        from kane_sim import estimator
+        return estimator.Estimator
     if name == "animate":
         from kane_sim.animation import animate
         return animate
@@ -39,4 +43,4 @@ def __getattr__(name):
 
 
 def __dir__():
-    return sorted(list(globals()) + list(_CORE) + list(_PLOTS) + list(_BATCH))
+    return sorted(list(globals()) + list(_CORE) + list(_PLOTS) + list(_BATCH) + list(_ESTIMATE))

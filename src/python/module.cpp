@@ -11,6 +11,7 @@ PYBIND11_MODULE(_core, m) {
   kane_sim::python::bindSimulator(m);
   kane_sim::python::bindAnalysis(m);
   kane_sim::python::bindDesign(m);
+  kane_sim::python::bindEstimate(m);
   kane_sim::python::bindIdentify(m);
   kane_sim::python::bindBatch(m);
   kane_sim::python::bindCli(m);

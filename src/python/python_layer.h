@@ -100,6 +100,7 @@ void bindConfig(py::module_& m);
 void bindSimulator(py::module_& m);
 void bindAnalysis(py::module_& m);
 void bindDesign(py::module_& m);
+void bindEstimate(py::module_& m);
 void bindIdentify(py::module_& m);
 void bindBatch(py::module_& m);
 void bindCli(py::module_& m);

@@ -51,7 +51,7 @@ RunErrors estimateRun(const Config& model, const test::RigRecording& recording, 
     if (r.stamp < settle || i == 0) continue;
     // The filter's estimate at the sample instant (its accuracy and honesty), and the same
     // carried to the stamp (what a controller reads; future torques unknown to it).
-    const StateEstimate& est = estimator.atSample();
+    const FilterEstimate& est = estimator.atSample();
     const State x = recording.at(est.time);
     const double du1 = est.state.u1 - x.u1, du2 = est.state.u2 - x.u2;
     const double dt = r.stamp - rec[i - 1].reading.stamp;
@@ -63,7 +63,7 @@ RunErrors estimateRun(const Config& model, const test::RigRecording& recording, 
     e.u2_rms += du2 * du2;
     e.fd_u1_rms += fd1 * fd1;
     e.fd_u2_rms += fd2 * fd2;
-    const StateEstimate now = estimator.atStamp();
+    const FilterEstimate now = estimator.atStamp();
     const double dn = now.state.u1 - rec[i].truth.state.u1;
     e.now_u1_rms += dn * dn;
     Snapshot snap;
@@ -343,7 +343,7 @@ TEST(Estimator, RefusesWhatItCannotUse) {
   r.q2 = 1.1;
   r.torque = 0.0;
   EXPECT_EQ(estimator.update(r).event, EstimatorEvent::kStarted);
-  const StateEstimate before = estimator.atSample();
+  const FilterEstimate before = estimator.atSample();
   const auto refused = [&](RigReading bad, const std::string& words) {
     const EstimatorStep step = estimator.update(bad);
     EXPECT_EQ(step.event, EstimatorEvent::kRefused) << words;

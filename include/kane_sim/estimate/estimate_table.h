@@ -21,7 +21,7 @@ namespace kane_sim {
 // One row's sources.
 struct EstimateRow {
   double t = 0.0;  // [s] since the run's first reading's stamp
-  StateEstimate estimate;
+  FilterEstimate estimate;
   double nis = 0.0;
   double nis_dof = 0.0;
   AlarmLevel alarm = AlarmLevel::kOk;
@@ -44,7 +44,7 @@ class VirtualSensors {
   ~VirtualSensors();
   // The snapshot of `e` (time = e.time); false, with `why`, when the simulator refuses the state
   // (beyond its checks): the caller keeps its last row.
-  bool evaluate(const StateEstimate& e, Snapshot* snapshot, std::string* why);
+  bool evaluate(const FilterEstimate& e, Snapshot* snapshot, std::string* why);
 
  private:
   std::unique_ptr<Simulator> simulator_;

@@ -59,7 +59,7 @@ using EstimateVector = Eigen::Matrix<double, 6, 1>;
 using EstimateCovariance = Eigen::Matrix<double, 6, 6>;
 
 // The filter's estimate at one instant.
-struct StateEstimate {
+struct FilterEstimate {
   double time = 0.0;  // [s] on the readings' clock
   State state;
   std::array<double, 2> bias{};  // [rad, m] b1, b2
@@ -89,10 +89,10 @@ class MechanismEstimator {
   bool started() const { return started_; }
   double lastStamp() const { return last_stamp_; }  // [s] the last used reading's stamp
   // At the last reading's sample instant (stamp - latency): what the filter corrected.
-  const StateEstimate& atSample() const { return sample_; }
+  const FilterEstimate& atSample() const { return sample_; }
   // The same carried forward to the last reading's stamp with the torque held: the state now,
   // what a controller reading the estimate wants (latency compensated).
-  StateEstimate atStamp() const;
+  FilterEstimate atStamp() const;
   // The last update's innovation: each coordinate's nu, S_ii, and whether it was measured.
   const std::array<double, kMeasuredCoordinates>& innovation() const { return innovation_; }
   const std::array<double, kMeasuredCoordinates>& innovationVariance() const { return s_ii_; }
@@ -106,7 +106,7 @@ class MechanismEstimator {
   void start(const RigReading& reading, double sample_time);
   // Carries `e` forward by `span` seconds (steps of at most the physics step), the torque going
   // from e.torque to end_torque; false when the state left the finite or the model's scale.
-  bool predict(StateEstimate* e, double span, double end_torque) const;
+  bool predict(FilterEstimate* e, double span, double end_torque) const;
   // [s] where in a reading interval of `span` the torque takes the next reading's effort.
   double switchOffset(double span) const;
   void correct(const RigReading& reading);
@@ -121,7 +121,7 @@ class MechanismEstimator {
   InnovationAlarm alarm_;
   bool started_ = false;
   double last_stamp_ = 0.0;
-  StateEstimate sample_;
+  FilterEstimate sample_;
   std::array<double, kMeasuredCoordinates> innovation_{}, s_ii_{};
   std::array<bool, kMeasuredCoordinates> measured_{};
   double nis_ = 0.0;

@@ -1,0 +1,96 @@
+#include "observer_node.h"
+
+#include <stdexcept>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+
+#include "kane_sim/MechanismState.h"
+#include "kane_sim/StateEstimate.h"
+#include "kane_sim/config/frame_names.h"
+#include "kane_sim/config/load_config.h"
+#include "kane_sim/ros/estimate_messages.h"
+#include "kane_sim/ros/messages.h"
+#include "kane_sim/sim/config_check.h"
+
+namespace kane_sim {
+
+ObserverNode::ObserverNode(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh)
+    : nh_(nh) {
+  // ~config: the rig's mechanism and sensors (a fitted config from identify, say).
+  std::string path;
+  if (!private_nh.getParam("config", path) || path.empty()) {
+    path = defaultConfigFile();
+    ROS_WARN("observer: no ~config: estimating with the package's default %s", path.c_str());
+  }
+  try {
+    const LoadedConfig loaded = loadSimulationConfigFile(path);
+    for (const std::string& warning : loaded.warnings) ROS_WARN("observer: %s", warning.c_str());
+    config_ = loaded.config;
+  } catch (const ConfigError& e) {
+    throw std::invalid_argument("~config " + path + ": " + e.what());
+  }
+  estimator_ = std::make_unique<MechanismEstimator>(config_);
+  sensors_ = std::make_unique<VirtualSensors>(config_);
+  ros::NodeHandle pnh(private_nh);
+  estimate_pub_ = pnh.advertise<StateEstimate>("estimate", 10);
+  joint_state_pub_ = pnh.advertise<sensor_msgs::JointState>("joint_states", 10);
+  mechanism_state_pub_ = pnh.advertise<MechanismState>("mechanism_state", 10);
+  diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  joint_state_sub_ = nh_.subscribe("joint_states", 100, &ObserverNode::onJointState, this,
+                                   ros::TransportHints().tcpNoDelay());
+  reset_event_sub_ = nh_.subscribe("kane_sim/reset_event", 10, &ObserverNode::onResetEvent, this);
+  diagnostics_timer_ = nh_.createSteadyTimer(ros::WallDuration(1.0),
+                                             [this](const ros::SteadyTimerEvent&) {
+                                               publishDiagnostics();
+                                             });
+  const MeasurementNoise& noise = estimator_->noise();
+  ROS_INFO(
+      "observer: estimating from %s with %s; readings sampled %.4g s before their stamp; "
+      "alarm: windows of %g s, ERROR %g times per hour on a rig that is its model",
+      nh_.resolveName("joint_states").c_str(), path.c_str(), noise.latency,
+      config_.estimator.alarm_window, config_.estimator.false_alarms_per_hour);
+}
+
+void ObserverNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
+  RigReading reading;
+  std::string why;
+  if (!rigReading(*msg, ros::Time::now(), &reading, &why)) {
+    ROS_WARN_THROTTLE(1.0, "observer: a joint_states message is not usable: %s", why.c_str());
+    return;
+  }
+  const EstimatorStep step = estimator_->update(reading);
+  if (step.event == EstimatorEvent::kRefused) {
+    ROS_WARN_THROTTLE(1.0, "observer: reading refused, estimate kept: %s", step.reason.c_str());
+    return;
+  }
+  if (step.event == EstimatorEvent::kStarted || step.event == EstimatorEvent::kRestarted)
+    first_stamp_ = reading.stamp;
+  if (step.event == EstimatorEvent::kRestarted)
+    ROS_WARN("observer: the filter restarted: %s", step.reason.c_str());
+  EstimateRow row;
+  if (!estimateRow(*estimator_, sensors_.get(), first_stamp_, &row, &why)) {
+    ROS_WARN_THROTTLE(1.0, "observer: estimate not published: %s", why.c_str());
+    return;
+  }
+  const ros::Time stamp = msg->header.stamp.isZero() ? ros::Time(reading.stamp) : msg->header.stamp;
+  estimate_pub_.publish(stateEstimateMessage(row, *estimator_, stamp));
+  joint_state_pub_.publish(jointStateMessage(row.snapshot, stamp));
+  mechanism_state_pub_.publish(
+      mechanismStateMessage(row.snapshot, 0.0, stamp, FrameNames(config_.frames).mechanism));
+  if (estimator_->alarm().report().level != published_level_) publishDiagnostics();
+}
+
+void ObserverNode::onResetEvent(const ResetEvent::ConstPtr& msg) {
+  ROS_INFO("observer: the rig was moved (%s): the filter starts again", msg->cause.c_str());
+  estimator_->restart();
+}
+
+void ObserverNode::publishDiagnostics() {
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = ros::Time::now();
+  array.status.push_back(estimatorStatus(*estimator_, ros::this_node::getName()));
+  published_level_ = estimator_->alarm().report().level;
+  diagnostics_pub_.publish(array);
+}
+
+}  // namespace kane_sim
