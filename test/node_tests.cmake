@@ -26,6 +26,7 @@ catkin_add_executable_with_gtest(node_tests
   test/node/test_stamps.cpp
   test/node/test_one_truth.cpp
   test/node/test_tracking.cpp
+  test/node/test_observer.cpp
   EXCLUDE_FROM_ALL)
 if(TARGET node_tests)
   target_include_directories(node_tests PRIVATE ${urdfdom_INCLUDE_DIRS})
@@ -48,9 +49,9 @@ if(TARGET node_tests)
       reconfigure crank_marker teleop options fuzz resets resets_rsp lockstep lockstep_hog
       lockstep_fallback lockstep_python lockstep_start stamps resets_paused_clock
       resets_paused_clock_rsp one_truth sensors servo
-      replay tracking)
+      replay tracking observer)
     add_rostest(test/node/${case}.test DEPENDENCIES node_tests kane_sim_node pd_controller simulate
-      crank_marker teleop_key tracking_controller)
+      crank_marker teleop_key tracking_controller observer)
   endforeach()
 endif()
 if(TARGET node_tests)

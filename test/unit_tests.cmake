@@ -123,6 +123,7 @@ add_test(NAME doc_links
 add_test(NAME guides_history
   COMMAND /usr/bin/python3 ${tools_dir}/guides_history_test.py ${PROJECT_SOURCE_DIR})
 add_test(NAME analyze_cli COMMAND /usr/bin/python3 ${tools_dir}/analyze_cli_test.py ${CMAKE_BINARY_DIR})
+add_test(NAME observer_cli COMMAND /usr/bin/python3 ${tools_dir}/observer_cli_test.py ${CMAKE_BINARY_DIR})
 add_test(NAME config_fuzz COMMAND /usr/bin/python3 ${tools_dir}/config_fuzz_test.py ${CMAKE_BINARY_DIR} 300)
 add_test(NAME plot_bag COMMAND bash ${tools_dir}/plot_bag_test.sh ${CMAKE_BINARY_DIR})
 add_test(NAME rviz_smoke COMMAND bash ${tools_dir}/rviz_smoke_test.sh ${CMAKE_BINARY_DIR})

@@ -11,7 +11,7 @@
 
 namespace {
 constexpr const char* kUsage =
-    "Usage: rosrun kane_sim observer [_config:=MECHANISM.yaml]\n"
+    "Usage: rosrun kane_sim observer [_config:=MECHANISM.yaml | _config_from:=/kane_sim]\n"
     "       rosrun kane_sim observer --bag BAG [--topic T] [--config FILE] [--csv FILE]\n\n"
     "The rig's state from its joint_states (crank_joint and slider4_joint positions, the\n"
     "crank's effort, velocities when present) by an extended Kalman filter on the Kane\n"
@@ -19,7 +19,8 @@ constexpr const char* kUsage =
     "estimator: section the trust in the model. Publishes ~estimate (kane_sim/StateEstimate,\n"
     "with covariance), ~joint_states and ~mechanism_state (the virtual sensors) of the estimate\n"
     "at each reading's stamp, and the model-mismatch alarm on /diagnostics. --bag replays a\n"
-    "recording offline into a CSV (observer --bag x --help for its options).\n";
+    "recording offline into a CSV (observer --bag x --help for its options). _config_from\n"
+    "takes the config of a running kane_sim_node from its parameters (at start).\n";
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -10,24 +10,37 @@
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/ros/estimate_messages.h"
 #include "kane_sim/ros/messages.h"
+#include "kane_sim/ros/param_yaml.h"
 #include "kane_sim/sim/config_check.h"
 
 namespace kane_sim {
 
-ObserverNode::ObserverNode(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh)
-    : nh_(nh) {
-  // ~config: the rig's mechanism and sensors (a fitted config from identify, say).
-  std::string path;
-  if (!private_nh.getParam("config", path) || path.empty()) {
-    path = defaultConfigFile();
-    ROS_WARN("observer: no ~config: estimating with the package's default %s", path.c_str());
-  }
+ObserverNode::ObserverNode(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh) : nh_(nh) {
+  // ~config: the rig's mechanism and sensors (a fitted config from identify, say), or
+  // ~config_from: the parameter namespace of a running kane_sim_node (its config at start).
+  std::string path, from;
+  private_nh.getParam("config", path);
+  private_nh.getParam("config_from", from);
   try {
-    const LoadedConfig loaded = loadSimulationConfigFile(path);
+    LoadedConfig loaded;
+    if (!from.empty()) {
+      XmlRpc::XmlRpcValue params;
+      if (!ros::param::get(from, params))
+        throw std::invalid_argument("~config_from " + from + ": no such parameter namespace");
+      loaded = loadSimulationConfig(yamlFromXmlRpc(params));
+      path = "the parameters of " + from;
+    } else {
+      if (path.empty()) {
+        path = defaultConfigFile();
+        ROS_WARN("observer: no ~config: estimating with the package's default %s", path.c_str());
+      }
+      loaded = loadSimulationConfigFile(path);
+    }
     for (const std::string& warning : loaded.warnings) ROS_WARN("observer: %s", warning.c_str());
     config_ = loaded.config;
   } catch (const ConfigError& e) {
-    throw std::invalid_argument("~config " + path + ": " + e.what());
+    throw std::invalid_argument((from.empty() ? "~config " : "~config_from ") + path + ": " +
+                                e.what());
   }
   estimator_ = std::make_unique<MechanismEstimator>(config_);
   sensors_ = std::make_unique<VirtualSensors>(config_);
@@ -39,10 +52,8 @@ ObserverNode::ObserverNode(const ros::NodeHandle& nh, const ros::NodeHandle& pri
   joint_state_sub_ = nh_.subscribe("joint_states", 100, &ObserverNode::onJointState, this,
                                    ros::TransportHints().tcpNoDelay());
   reset_event_sub_ = nh_.subscribe("kane_sim/reset_event", 10, &ObserverNode::onResetEvent, this);
-  diagnostics_timer_ = nh_.createSteadyTimer(ros::WallDuration(1.0),
-                                             [this](const ros::SteadyTimerEvent&) {
-                                               publishDiagnostics();
-                                             });
+  diagnostics_timer_ = nh_.createSteadyTimer(
+      ros::WallDuration(1.0), [this](const ros::SteadyTimerEvent&) { publishDiagnostics(); });
   const MeasurementNoise& noise = estimator_->noise();
   ROS_INFO(
       "observer: estimating from %s with %s; readings sampled %.4g s before their stamp; "

@@ -142,7 +142,8 @@ py::tuple estimateRun(const PythonConfig& config, const Array& t, const Array& q
         summary = runEstimator(
             config.config(), columns,
             [&](const EstimateRow& row) {
-              for (std::size_t i = 0; i < names.size(); ++i) values[i].push_back(names[i].value(row));
+              for (std::size_t i = 0; i < names.size(); ++i)
+                values[i].push_back(names[i].value(row));
             },
             [&] { return stop.load(); });
       },
@@ -150,8 +151,8 @@ py::tuple estimateRun(const PythonConfig& config, const Array& t, const Array& q
   if (raised) throw *raised;
   py::dict out;
   for (std::size_t i = 0; i < names.size(); ++i)
-    out[names[i].name.c_str()] = py::array_t<double>(static_cast<py::ssize_t>(values[i].size()),
-                                                     values[i].data());
+    out[names[i].name.c_str()] =
+        py::array_t<double>(static_cast<py::ssize_t>(values[i].size()), values[i].data());
   py::dict s;
   s["rows"] = summary.rows;
   s["refused"] = summary.refused;
@@ -171,8 +172,8 @@ void bindEstimate(py::module_& m) {
       .def("restart", &PythonEstimator::restart)
       .def_property_readonly("estimate", &PythonEstimator::estimate)
       .def_property_readonly("alarm", &PythonEstimator::alarm);
-  m.def("estimate_run", &estimateRun, py::arg("config"), py::arg("t"), py::arg("q1"),
-        py::arg("q2"), py::arg("effort"), py::arg("u1") = py::none(), py::arg("u2") = py::none());
+  m.def("estimate_run", &estimateRun, py::arg("config"), py::arg("t"), py::arg("q1"), py::arg("q2"),
+        py::arg("effort"), py::arg("u1") = py::none(), py::arg("u2") = py::none());
 }
 
 }  // namespace python

@@ -32,7 +32,7 @@ helps() {  # helps EXE: --help and -h print a usage and exit 0 at once, without 
     grep -qi "usage" "$work/out" || { echo "     $1 $flag: no usage"; cat "$work/out"; return 1; }
   done
 }
-for exe in kane_sim_node pd_controller tracking_controller crank_marker teleop_key simulate analyze design config_info; do
+for exe in kane_sim_node pd_controller tracking_controller observer crank_marker teleop_key simulate analyze design config_info; do
   check "$exe --help" helps "$exe"
 done
 
@@ -114,7 +114,7 @@ refuses_name() {  # refuses_name EXE ARG TEXT: exit 1 with TEXT on stderr, no ab
   local code=$?
   [ "$code" -eq 1 ] && grep -q "$3" "$work/err" || { echo "     $1 $2: exit $code"; cat "$work/err"; return 1; }
 }
-for exe in kane_sim_node pd_controller tracking_controller crank_marker teleop_key; do
+for exe in kane_sim_node pd_controller tracking_controller observer crank_marker teleop_key; do
   check "$exe __ns:=robot-a exits 1 naming it" refuses_name "$exe" "__ns:=robot-a" "robot-a"
   check "$exe __name:=k-s exits 1 naming it" refuses_name "$exe" "__name:=k-s" "k-s"
 done
@@ -143,7 +143,7 @@ tab_completion() {
   libexec=$(catkin_find --first-only --without-underlays --libexec kane_sim 2>/dev/null)
   find -L "$pkg" $libexec -type f -perm /111 ! -regex ".*/[.][^./].*" -printf '%f\n' | sort >"$work/tab"
   printf '%s\n' analyze bag_summary config_info crank_marker demo_supervisor design identify kane_sim_node \
-    lockstep_controller loop_bag node_tests pd_controller plot_bag simulate sweep teleop_key \
+    lockstep_controller loop_bag node_tests observer pd_controller plot_bag simulate sweep teleop_key \
     tracking_controller web |
     sort >"$work/want"
   diff "$work/want" "$work/tab" >"$work/diff" || { echo "     expected < > offered:"; sed 's/^/     /' "$work/diff"; return 1; }

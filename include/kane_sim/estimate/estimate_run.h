@@ -23,7 +23,7 @@ struct ReadingColumns {
 
 struct EstimateRunSummary {
   std::size_t rows = 0, refused = 0, restarts = 0;
-  AlarmReport alarm;  // the last window's verdict
+  AlarmReport alarm;               // the last window's verdict
   std::vector<std::string> notes;  // "reading 12 (t = 0.12 s): refused: ..." (the first 20)
   bool interrupted = false;
 };

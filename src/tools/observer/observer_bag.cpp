@@ -54,8 +54,7 @@ ReadingColumns readingColumns(const JointStateColumns& bag) {
 
 bool wantsBagReplay(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
-    if (std::strcmp(argv[i], "--bag") == 0 || std::strncmp(argv[i], "--bag=", 6) == 0)
-      return true;
+    if (std::strcmp(argv[i], "--bag") == 0 || std::strncmp(argv[i], "--bag=", 6) == 0) return true;
   return false;
 }
 
