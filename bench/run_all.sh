@@ -51,3 +51,5 @@ echo; echo "## The Python module against simulate; rates"
 /usr/bin/python3 bench/python_perf.py "$build"
 echo; echo "## BatchSimulator (one and ten physics steps per call, rollout)"
 /usr/bin/python3 bench/batch_simulator.py
+echo; echo "## The estimator: an hour's readings offline, the observer node at 1 kHz"
+/usr/bin/python3 bench/estimator_speed.py

@@ -92,7 +92,7 @@ bool estimateRow(const MechanismEstimator& estimator, VirtualSensors* sensors, d
   next.nis = estimator.nis();
   for (bool m : estimator.measured()) next.nis_dof += m ? 1.0 : 0.0;
   next.alarm = estimator.alarm().report().level;
-  if (!sensors->evaluate(next.estimate, &next.snapshot, why)) return false;
+  if (sensors && !sensors->evaluate(next.estimate, &next.snapshot, why)) return false;
   *row = next;
   return true;
 }

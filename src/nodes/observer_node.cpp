@@ -78,16 +78,23 @@ void ObserverNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
     first_stamp_ = reading.stamp;
   if (step.event == EstimatorEvent::kRestarted)
     ROS_WARN("observer: the filter restarted: %s", step.reason.c_str());
+  // The virtual sensors cost a snapshot of the model: only for someone listening.
+  const bool virtual_sensors =
+      joint_state_pub_.getNumSubscribers() > 0 || mechanism_state_pub_.getNumSubscribers() > 0;
   EstimateRow row;
-  if (!estimateRow(*estimator_, sensors_.get(), first_stamp_, &row, &why)) {
+  if (!estimateRow(*estimator_, virtual_sensors ? sensors_.get() : nullptr, first_stamp_, &row,
+                   &why)) {
     ROS_WARN_THROTTLE(1.0, "observer: estimate not published: %s", why.c_str());
     return;
   }
   const ros::Time stamp = msg->header.stamp.isZero() ? ros::Time(reading.stamp) : msg->header.stamp;
-  estimate_pub_.publish(stateEstimateMessage(row, *estimator_, stamp));
-  joint_state_pub_.publish(jointStateMessage(row.snapshot, stamp));
-  mechanism_state_pub_.publish(
-      mechanismStateMessage(row.snapshot, 0.0, stamp, FrameNames(config_.frames).mechanism));
+  if (estimate_pub_.getNumSubscribers() > 0)
+    estimate_pub_.publish(stateEstimateMessage(row, *estimator_, stamp));
+  if (virtual_sensors) {
+    joint_state_pub_.publish(jointStateMessage(row.snapshot, stamp));
+    mechanism_state_pub_.publish(
+        mechanismStateMessage(row.snapshot, 0.0, stamp, FrameNames(config_.frames).mechanism));
+  }
   if (estimator_->alarm().report().level != published_level_) publishDiagnostics();
 }
 

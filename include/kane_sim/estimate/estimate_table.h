@@ -50,7 +50,9 @@ class VirtualSensors {
   std::unique_ptr<Simulator> simulator_;
 };
 
-// Fills `row` from the estimator's last update (`first_stamp`: the run's first reading's).
+// Fills `row` from the estimator's last update (`first_stamp`: the run's first reading's); the
+// snapshot (virtual sensors) only with `sensors` (null: left as it was, for a caller that
+// publishes none of them).
 bool estimateRow(const MechanismEstimator& estimator, VirtualSensors* sensors, double first_stamp,
                  EstimateRow* row, std::string* why);
 
