@@ -306,6 +306,15 @@ void checkSensors(const Section& s, const Config& config, std::vector<std::strin
                         "jitter below the period");
 }
 
+// The estimator's restart gap against the readings it will see (the sensors' rate).
+void checkEstimator(const Config& config, std::vector<std::string>* warnings) {
+  const double rate = sensorReadingRate(config);
+  if (rate > 0.0 && config.estimator.restart_gap * rate < 2.0)
+    warnings->push_back("estimator.restart_gap " + formatNumber(config.estimator.restart_gap) +
+                        " s is shorter than two sensor readings (" + formatNumber(2.0 / rate) +
+                        " s): the estimator would restart at almost every reading");
+}
+
 void checkFrames(const Section& s, const FrameSettings& f) {
   // world is the parent of the mechanism's frames: naming it like one of them makes a loop.
   const FrameNames names(f);
@@ -364,6 +373,7 @@ LoadedConfig loadConfig(const YAML::Node& root) {
     if (s.name() == "simulation") checkSimulation(s, config.simulation);
     if (s.name() == "frames") checkFrames(s, config.frames);
     if (s.name() == "sensors") checkSensors(s, config, &loaded.warnings);
+    if (s.name() == "estimator") checkEstimator(config, &loaded.warnings);
   }
   config.mechanism.motor.torque_limit = config.command.torque_limit;  // the line's stall torque
 

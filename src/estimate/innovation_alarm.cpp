@@ -38,7 +38,9 @@ double chiSquareUpperTail(double dof, double x) {
 std::string AlarmReport::text() const {
   char line[320];
   if (windows == 0) {
-    std::snprintf(line, sizeof line, "OK: no window of innovations closed yet");
+    std::snprintf(line, sizeof line,
+                  "no verdict yet: no window of innovations has closed since the filter "
+                  "(re)started");
   } else if (level == AlarmLevel::kOk) {
     std::snprintf(line, sizeof line,
                   "OK: the last window's innovations are as the model expects (NIS %.4g over "

@@ -72,9 +72,11 @@ MechanismEstimator::MechanismEstimator(const Config& config)
       step_(1.0 / config.simulation.physics_rate),
       restart_gap_(config.estimator.restart_gap),
       max_speed_(1.0 / step_),
+      torque_limit_(config.command.torque_limit),
       alarm_(config.estimator.alarm_window, config.estimator.false_alarms_per_hour) {}
 
 void MechanismEstimator::restart() {
+  if (started_) ++restarts_;
   started_ = false;
   alarm_.restart();
 }
@@ -89,6 +91,11 @@ std::string MechanismEstimator::unusable(const RigReading& r) const {
   if (!std::isfinite(r.torque)) return field("crank_joint's effort", r.torque);
   if (r.has_velocity && !std::isfinite(r.u1)) return field("crank_joint's velocity", r.u1);
   if (r.has_velocity && !std::isfinite(r.u2)) return field("slider4_joint's velocity", r.u2);
+  // The drive cannot deliver more than its limit: such an effort is not this rig's.
+  if (std::abs(r.torque) > torque_limit_ * (1.0 + 1e-9))
+    return "crank_joint's effort = " + formatNumber(r.torque) +
+           " N m is beyond command.torque_limit " + formatNumber(torque_limit_) +
+           " N m (is the config the rig's?)";
   if (started_ && r.stamp < last_stamp_)
     return "the stamp " + formatNumber(r.stamp) + " s goes back " +
            formatNumber(last_stamp_ - r.stamp) + " s before the last reading's";
@@ -114,13 +121,16 @@ EstimatorStep MechanismEstimator::update(const RigReading& reading) {
     if (predict(&predicted, sample_time - sample_.time, reading.torque))
       sample_ = predicted;
     else
-      restart_reason = "the prediction left the model's range (|u1| > " + formatNumber(max_speed_) +
-                       " rad/s or not finite) with M_m = " + formatNumber(sample_.torque) + " N m";
+      restart_reason = "the prediction to the reading at " + formatNumber(reading.stamp) +
+                       " s (q1 = " + formatNumber(reading.q1) +
+                       ", q2 = " + formatNumber(reading.q2) + ", effort " +
+                       formatNumber(reading.torque) + " N m) left the model's range (|u1| > " +
+                       formatNumber(max_speed_) + " rad/s, |u2| > " + formatNumber(max_speed_) +
+                       " m/s or not finite)";
   }
   if (!restart_reason.empty()) {
-    alarm_.restart();
+    restart();
     start(reading, sample_time);
-    ++restarts_;
     return {EstimatorEvent::kRestarted, restart_reason};
   }
   last_stamp_ = reading.stamp;
@@ -129,7 +139,14 @@ EstimatorStep MechanismEstimator::update(const RigReading& reading) {
 }
 
 void MechanismEstimator::start(const RigReading& r, double sample_time) {
-  started_ = true;
+  // The encoders' biases belong to the sensors, not to the motion: a restart keeps them and
+  // their uncertainty, grown by their walk over the silence (the first start has them at 0,
+  // as the sensors' start).
+  const bool keep_biases = ever_started_;
+  const std::array<double, 2> biases = sample_.bias;
+  const Eigen::Matrix2d bias_covariance = sample_.covariance.bottomRightCorner<2, 2>();
+  const double silence = std::max(0.0, sample_time - sample_.time);
+  started_ = ever_started_ = true;
   last_stamp_ = r.stamp;
   sample_ = FilterEstimate{};
   sample_.time = sample_time;
@@ -141,7 +158,11 @@ void MechanismEstimator::start(const RigReading& r, double sample_time) {
   P(2, 2) = r.has_velocity ? noise_.velocity_variance[0] : kUnknownCrankSpeed * kUnknownCrankSpeed;
   P(3, 3) =
       r.has_velocity ? noise_.velocity_variance[1] : kUnknownSliderSpeed * kUnknownSliderSpeed;
-  // The biases start at zero, as the sensors' do, and walk from there (P(4..5) grows by Q).
+  if (keep_biases) {
+    sample_.bias = biases;
+    P.bottomRightCorner<2, 2>() = bias_covariance;
+    for (int i = 0; i < 2; ++i) P(4 + i, 4 + i) += noise_.bias_walk_rate[i] * silence;
+  }
   innovation_.fill(0.0);
   s_ii_.fill(0.0);
   measured_.fill(false);
@@ -207,7 +228,8 @@ bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torq
   e->state = {x[0], x[1], x[2], x[3]};
   e->time += span;
   e->torque = end_torque;
-  return e->state.isFinite() && std::abs(x[2]) <= max_speed_ && P.allFinite();
+  return e->state.isFinite() && std::abs(x[2]) <= max_speed_ && std::abs(x[3]) <= max_speed_ &&
+         P.allFinite();
 }
 
 double MechanismEstimator::switchOffset(double span) const {

@@ -21,6 +21,12 @@ ObserverNode::ObserverNode(const ros::NodeHandle& nh, const ros::NodeHandle& pri
   std::string path, from;
   private_nh.getParam("config", path);
   private_nh.getParam("config_from", from);
+  if (!path.empty() && !from.empty())
+    throw std::invalid_argument(
+        "both ~config (" + path + ") and ~config_from (" + from +
+        ") are set: give one (a value left by an earlier rosrun stays on the parameter server: "
+        "rosparam delete " +
+        private_nh.resolveName("config_from") + ")");
   try {
     LoadedConfig loaded;
     if (!from.empty()) {

@@ -371,20 +371,32 @@ TEST(Estimator, RefusesWhatItCannotUse) {
   refused(bad, "goes back 0.5 s");
   bad.stamp = nan;
   refused(bad, "the stamp = nan");
-  // A gap beyond estimator.restart_gap restarts from the later reading.
+  // An effort beyond the drive's limit is not this rig's.
+  bad.stamp = 1.01;
+  bad.torque = 1e300;
+  refused(bad, "crank_joint's effort = 1e+300 N m is beyond command.torque_limit 50 N m");
+  // A gap beyond estimator.restart_gap restarts from the later reading, keeping the encoders'
+  // biases (they belong to the sensors) and their uncertainty, grown by their walk.
   RigReading late = r;
   late.stamp = 1.0 + rig.estimator.restart_gap + 2.0;
   const EstimatorStep gap = estimator.update(late);
   EXPECT_EQ(gap.event, EstimatorEvent::kRestarted);
   EXPECT_NE(gap.reason.find("a gap of 3 s"), std::string::npos) << gap.reason;
-  // A torque of 1e300 N m sends the prediction out of the model's range: the filter restarts
-  // from the reading instead of publishing what it cannot hold (never a NaN).
-  RigReading wild = late;
-  wild.stamp += 0.005;
-  wild.torque = 1e300;
-  const EstimatorStep diverged = estimator.update(wild);
+  EXPECT_EQ(estimator.atSample().bias, before.bias);
+  EXPECT_GT(estimator.atSample().covariance(4, 4), before.covariance(4, 4));
+  EXPECT_EQ(estimator.restarts(), 1u);
+  // Slider 4 read 1000 km away: the spring's force sends the prediction out of the model's
+  // range; the filter restarts from the reading, naming it, instead of holding a NaN.
+  RigReading far = late;
+  far.stamp += 0.005;
+  far.q2 = 1e6;
+  EXPECT_EQ(estimator.update(far).event, EstimatorEvent::kUpdated);
+  RigReading after = far;
+  after.stamp += 0.005;
+  const EstimatorStep diverged = estimator.update(after);
   EXPECT_EQ(diverged.event, EstimatorEvent::kRestarted);
   EXPECT_NE(diverged.reason.find("left the model's range"), std::string::npos) << diverged.reason;
+  EXPECT_NE(diverged.reason.find("q2 = 1e+06"), std::string::npos) << diverged.reason;
   EXPECT_TRUE(estimator.atSample().state.isFinite());
   EXPECT_TRUE(estimator.atSample().covariance.allFinite());
   EXPECT_TRUE(estimator.atStamp().state.isFinite());

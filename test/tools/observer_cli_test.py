@@ -114,6 +114,14 @@ def main(build_dir):
             "/nonexistent/dir/x.csv", "an unwritable CSV")
     refused(["--bag", bag, "--frobnicate"], 2, "frobnicate", "a typo in an option")
     refused(["--bag"], 2, "bag", "--bag without its value")
+    refused(["--config", config], 2, "'--bag' is required", "an option without --bag (no node)")
+    refused(["--bag", bag, "extra"], 2, "positional", "a stray word")
+    size = os.path.getsize(bag)
+    refused(["--bag", bag, "--config", config, "--csv", bag], 2, "is the --bag file",
+            "--csv naming the bag")
+    check(os.path.getsize(bag) == size, "the bag untouched")
+    refused(["--bag", bag, "--config", config, "--csv", config], 2, "is the --config file",
+            "--csv naming the config")
 
     # A bag of another robot, and readings with NaN and a stamp going back.
     import rosbag
@@ -131,17 +139,19 @@ def main(build_dir):
     with rosbag.Bag(hostile, "w") as b:
         for k in range(300):
             q1 = 0.52 if k != 100 else float("nan")
+            effort = 0.0 if k != 150 else 1e300
             stamp = 1 + 0.01 * k if k != 200 else 0.5
             m = JointState(name=names4, position=[q1, -1.04, 0.866, 1.166],
-                           velocity=[0, 0, 0, 0], effort=[0, 0, 0, 0])
+                           velocity=[0, 0, 0, 0], effort=[effort, 0, 0, 0])
             m.header.stamp = rospy.Time(stamp)
             b.write("/joint_states", m, rospy.Time(1 + 0.01 * k))
     r = run("--bag", hostile, "--config", config, "--csv", csv)
     rows = np.genfromtxt(csv, delimiter=",", names=True)
-    check(r.returncode == 0 and "298 rows from 300 readings" in r.stderr and
+    check(r.returncode == 0 and "297 rows from 300 readings" in r.stderr and
           "crank_joint's position = nan" in r.stderr and "goes back" in r.stderr and
+          "effort = 1e+300 N m is beyond command.torque_limit" in r.stderr and
           all(np.all(np.isfinite(rows[c])) for c in rows.dtype.names),
-          "NaN and a stamp going back: refused by name, 298 finite rows (%s)" %
+          "NaN, 1e300 N m and a stamp going back: refused by name, 297 finite rows (%s)" %
           r.stderr.strip()[-300:])
 
     # Ctrl-C: a long recording stops with 130, the rows so far in place.

@@ -100,7 +100,7 @@ class MechanismEstimator {
   double nis() const { return nis_; }  // nu' S^-1 nu of the last update
   const InnovationAlarm& alarm() const { return alarm_; }
   const MeasurementNoise& noise() const { return noise_; }
-  std::size_t restarts() const { return restarts_; }
+  std::size_t restarts() const { return restarts_; }  // gaps, diverged predictions, restart()
 
  private:
   void start(const RigReading& reading, double sample_time);
@@ -117,9 +117,11 @@ class MechanismEstimator {
   std::array<double, 2> acceleration_density_;  // [rad^2/s^3, m^2/s^3] of the process noise
   double step_;                                 // [s] the physics step
   double restart_gap_;
-  double max_speed_;  // beyond this |u| the prediction diverged (the simulator's own refusal)
+  double max_speed_;     // [rad/s, m/s] beyond this |u1|, |u2| the prediction diverged (1 per step)
+  double torque_limit_;  // [N m] command.torque_limit: a larger effort is refused
   InnovationAlarm alarm_;
   bool started_ = false;
+  bool ever_started_ = false;  // a restart keeps the biases once there are some
   double last_stamp_ = 0.0;
   FilterEstimate sample_;
   std::array<double, kMeasuredCoordinates> innovation_{}, s_ii_{};

@@ -3,9 +3,11 @@
 #include <atomic>
 #include <csignal>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <system_error>
 
 #include <boost/program_options.hpp>
 
@@ -34,7 +36,7 @@ constexpr const char* kUsage =
     "t from the first reading's stamp, the state at the stamp with its standard deviations,\n"
     "the encoders' biases, the innovations' test and the virtual sensors (reactions, spring\n"
     "force, energies, each load's power). The alarm's verdict and what was refused go to\n"
-    "stderr. Without --bag it runs as a ROS node (observer --help-node).\n\n"
+    "stderr. Without options it runs as a ROS node (observer --help).\n\n"
     "Options";
 
 ReadingColumns readingColumns(const JointStateColumns& bag) {
@@ -53,8 +55,10 @@ ReadingColumns readingColumns(const JointStateColumns& bag) {
 }  // namespace
 
 bool wantsBagReplay(int argc, char** argv) {
+  // Any option but --help is the offline tool's (the node takes only ROS arguments: name:=,
+  // _param:=): an option without --bag is a usage error there, not a node started silently.
   for (int i = 1; i < argc; ++i)
-    if (std::strcmp(argv[i], "--bag") == 0 || std::strncmp(argv[i], "--bag=", 6) == 0) return true;
+    if (std::strncmp(argv[i], "--", 2) == 0 && std::strcmp(argv[i], "--help") != 0) return true;
   return false;
 }
 
@@ -69,7 +73,8 @@ int runBagReplay(int argc, char** argv) {
       "csv", po::value<std::string>()->default_value(""), "the rows (default: stdout)");
   po::variables_map vm;
   try {
-    po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
+    const po::positional_options_description none;  // a stray word is an error, not ignored
+    po::store(po::command_line_parser(argc, argv).options(desc).positional(none).run(), vm);
     if (vm.count("help")) {
       std::cout << desc << "\n";
       return 0;
@@ -81,6 +86,17 @@ int runBagReplay(int argc, char** argv) {
   }
   std::optional<std::string> config_path;
   if (vm.count("config")) config_path = vm["config"].as<std::string>();
+  // The CSV must not replace an input (a typo away: --csv rig.bag).
+  const std::string csv = vm["csv"].as<std::string>();
+  for (const char* input : {"bag", "config"}) {
+    std::error_code error;
+    if (!csv.empty() && vm.count(input) &&
+        std::filesystem::equivalent(csv, vm[input].as<std::string>(), error)) {
+      std::cerr << "observer: --csv " << csv << " is the --" << input
+                << " file: it would be overwritten; name another CSV\n";
+      return kExitUsage;
+    }
+  }
   Config config;
   try {
     config = cli::loadToolConfig("observer", config_path).loaded.config;
@@ -108,13 +124,14 @@ int runBagReplay(int argc, char** argv) {
     return kExitBag;
   }
   try {
-    cli::CsvOutput out(vm["csv"].as<std::string>());
+    cli::CsvOutput out(csv);
     writeEstimateCsvHeader(out.stream());
     const EstimateRunSummary summary = runEstimator(
         config, columns, [&](const EstimateRow& row) { writeEstimateCsvRow(out.stream(), row); },
         interrupted);
     out.finish();
     for (const std::string& note : summary.notes) std::cerr << "observer: " << note << "\n";
+    if (summary.interrupted) std::cerr << "observer: interrupted: the rows so far are written\n";
     std::cerr << "observer: " << summary.rows << " rows from " << columns.t.size()
               << " readings of " << topic << " (" << summary.refused << " refused, "
               << summary.restarts << " restarts" << (columns.hasVelocity() ? "" : ", no velocities")
