@@ -216,14 +216,15 @@ bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torq
     P += Q;
     rk4Step(rates, x, h);
   }
-  // The switch's instant is known only to the readings' jitter: its torque step's impulse is
-  // uncertain by (B dM)^2 var(instant) on the speeds (B = du'/dM_m).
-  if (start_torque != end_torque && noise_.timing_variance > 0.0) {
+  // The switch's instant is known to the readings' jitter and, for a controller behind a
+  // transport (ROS), to about a physics step: its torque step's impulse is uncertain by
+  // (B dM)^2 var(instant) on the speeds (B = du'/dM_m).
+  if (start_torque != end_torque) {
     const generated::RateJacobian d =
         generated::rateJacobian(constants, x[0], x[1], x[2], x[3], torque);
     const Eigen::Vector2d impulse(d.d[0][4] * (end_torque - start_torque),
                                   d.d[1][4] * (end_torque - start_torque));
-    P.block<2, 2>(2, 2) += impulse * impulse.transpose() * noise_.timing_variance;
+    P.block<2, 2>(2, 2) += impulse * impulse.transpose() * (noise_.timing_variance + step_ * step_);
   }
   e->state = {x[0], x[1], x[2], x[3]};
   e->time += span;
