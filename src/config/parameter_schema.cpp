@@ -207,6 +207,10 @@ std::vector<ParameterSpec> declareParameters() {
       row("estimator", "restart_gap", KANE_SIM_FIELD(estimator.restart_gap), "s",
           {ValueRule::kRange, 1e-3, 60.0, "s"})
           .doc("estimator: readings further apart restart the filter from the later one"),
+      row("estimator", "answer_timing_noise", KANE_SIM_FIELD(estimator.answer_timing_noise), "s",
+          {ValueRule::kRange, 0.0, 1.0, "s"})
+          .doc("estimator: how uncertain the instant a controller's answer to a reading takes "
+               "effect (sigma; a ROS transport and scheduler beyond the sensors' jitter)"),
   };
   // clang-format on
   // The sections whose rows are all of one role say it here, once; any other row says its own

@@ -54,6 +54,10 @@ MeasurementNoise measurementNoise(const Config& config) {
     n.command_latency = static_cast<double>(physicsTicks(sensors.command_latency, rate)) / rate;
     n.answer_delay = n.latency + n.command_latency;
   }
+  const double step = 1.0 / config.simulation.physics_rate;
+  n.answer_timing_variance =
+      n.timing_variance + step * step +
+      config.estimator.answer_timing_noise * config.estimator.answer_timing_noise;
   return n;
 }
 
@@ -73,7 +77,9 @@ MechanismEstimator::MechanismEstimator(const Config& config)
       restart_gap_(config.estimator.restart_gap),
       max_speed_(1.0 / step_),
       torque_limit_(config.command.torque_limit),
-      alarm_(config.estimator.alarm_window, config.estimator.false_alarms_per_hour) {}
+      alarm_(config.estimator.alarm_window, config.estimator.false_alarms_per_hour),
+      // The intervals stray by the jitter's span and a physics step without being late.
+      arrival_(std::sqrt(12.0 * noise_.timing_variance) + step_) {}
 
 void MechanismEstimator::restart() {
   if (started_) ++restarts_;
@@ -105,11 +111,15 @@ std::string MechanismEstimator::unusable(const RigReading& r) const {
 EstimatorStep MechanismEstimator::update(const RigReading& reading) {
   const std::string refusal = unusable(reading);
   if (!refusal.empty()) return {EstimatorEvent::kRefused, refusal};
-  const double sample_time = reading.stamp - noise_.latency;
   if (!started_) {
-    start(reading, sample_time);
+    start(reading, reading.stamp - noise_.latency);
     return {EstimatorEvent::kStarted, ""};
   }
+  // Sampled latency before its stamp, and earlier when the stamp came late (a burst).
+  const ArrivalDelay::Lateness late = arrival_.add(reading.stamp);
+  arrival_variance_ = late.uncertainty * late.uncertainty;
+  // Readings never overtake each other: none was sampled before the last one.
+  const double sample_time = std::max(reading.stamp - noise_.latency - late.delay, sample_.time);
   const double gap = reading.stamp - last_stamp_;
   std::string restart_reason;
   if (gap > restart_gap_) {
@@ -148,6 +158,8 @@ void MechanismEstimator::start(const RigReading& r, double sample_time) {
   const double silence = std::max(0.0, sample_time - sample_.time);
   started_ = ever_started_ = true;
   last_stamp_ = r.stamp;
+  arrival_.restart();
+  arrival_.add(r.stamp);
   sample_ = FilterEstimate{};
   sample_.time = sample_time;
   sample_.torque = r.torque;
@@ -216,15 +228,15 @@ bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torq
     P += Q;
     rk4Step(rates, x, h);
   }
-  // The switch's instant is known to the readings' jitter and, for a controller behind a
-  // transport (ROS), to about a physics step: its torque step's impulse is uncertain by
+  // The switch's instant is known to the readings' jitter, a physics step and the transport's
+  // delays (answer_timing_variance): its torque step's impulse is uncertain by
   // (B dM)^2 var(instant) on the speeds (B = du'/dM_m).
   if (start_torque != end_torque) {
     const generated::RateJacobian d =
         generated::rateJacobian(constants, x[0], x[1], x[2], x[3], torque);
     const Eigen::Vector2d impulse(d.d[0][4] * (end_torque - start_torque),
                                   d.d[1][4] * (end_torque - start_torque));
-    P.block<2, 2>(2, 2) += impulse * impulse.transpose() * (noise_.timing_variance + step_ * step_);
+    P.block<2, 2>(2, 2) += impulse * impulse.transpose() * noise_.answer_timing_variance;
   }
   e->state = {x[0], x[1], x[2], x[3]};
   e->time += span;
@@ -259,11 +271,12 @@ void MechanismEstimator::correct(const RigReading& r) {
                                                      x.q1, x.q2, x.u1, x.u2, sample_.torque);
   const double z[4] = {r.q1, r.q2, r.u1, r.u2};
   const double predicted[4] = {x.q1 + sample_.bias[0], x.q2 + sample_.bias[1], x.u1, x.u2};
-  const double variance[4] = {
-      noise_.position_variance[0] + x.u1 * x.u1 * noise_.timing_variance,
-      noise_.position_variance[1] + x.u2 * x.u2 * noise_.timing_variance,
-      noise_.velocity_variance[0] + rates.u1_dot * rates.u1_dot * noise_.timing_variance,
-      noise_.velocity_variance[1] + rates.u2_dot * rates.u2_dot * noise_.timing_variance};
+  // The sample instant is uncertain by the jitter and, for a late stamp, by how late it is.
+  const double timing = noise_.timing_variance + arrival_variance_;
+  const double variance[4] = {noise_.position_variance[0] + x.u1 * x.u1 * timing,
+                              noise_.position_variance[1] + x.u2 * x.u2 * timing,
+                              noise_.velocity_variance[0] + rates.u1_dot * rates.u1_dot * timing,
+                              noise_.velocity_variance[1] + rates.u2_dot * rates.u2_dot * timing};
   const int m = r.has_velocity ? 4 : 2;
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(m, 6);
   Eigen::VectorXd nu(m);

@@ -72,7 +72,7 @@ kane_sim::StateEstimate stateEstimateMessage(const EstimateRow& row,
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j) msg.covariance[4 * i + j] = e.covariance(i, j);
   msg.encoder_bias = {{e.bias[0], e.bias[1]}};
-  msg.sample_age = estimator.noise().latency;
+  msg.sample_age = estimator.lastStamp() - estimator.atSample().time;
   msg.applied_torque = e.torque;
   msg.nis = row.nis;
   msg.nis_dof = static_cast<std::uint8_t>(row.nis_dof);

@@ -48,6 +48,10 @@ struct RigDrive {
   double setpoint_range = 1.5;            // [rad] setpoints uniform in +- this
   double hold_min = 0.3, hold_max = 1.5;  // [s] each setpoint held this long
   unsigned seed = 1;
+  // While this says true (sim time), the rig's driver is stalled, as a loaded scheduler stalls a
+  // node stamping on the wall clock: its readings are held and then published in a burst, 0.1 ms
+  // apart, the controller answering each as it comes; no answer lands during the stall.
+  std::function<bool(double)> stalled;
 };
 
 // Runs `rig` for `duration` s of sim time. `at_tick` (when set) is called before every step with
@@ -61,6 +65,11 @@ inline RigRecording recordRig(const Config& rig, double duration, const RigDrive
   double setpoint = setpoints(random), next_change = holds(random);
   std::vector<RecordedReading> readings;
   std::vector<State> history = {driver.simulator().state()};  // by tick
+  std::vector<RecordedReading> held;                          // a stalled driver's readings
+  const auto answer = [&](const RigReading& reading) {
+    const double torque = drive.kp * (setpoint - reading.q1) - drive.kd * reading.u1;
+    driver.command(std::clamp(torque, -drive.torque_limit, drive.torque_limit));
+  };
   const auto steps = static_cast<std::uint64_t>(duration * rig.simulation.physics_rate);
   for (std::uint64_t k = 0; k < steps; ++k) {
     if (at_tick) at_tick(driver);
@@ -69,6 +78,16 @@ inline RigRecording recordRig(const Config& rig, double duration, const RigDrive
     if (driver.time() >= next_change) {
       setpoint = setpoints(random);
       next_change = driver.time() + holds(random);
+    }
+    const bool stalled = drive.stalled && drive.stalled(driver.time());
+    if (!stalled && !held.empty()) {
+      for (std::size_t i = 0; i < held.size(); ++i) {
+        held[i].reading.stamp =
+            driver.time() - 1e-4 * static_cast<double>(held.size() - i);  // the burst
+        readings.push_back(held[i]);
+        answer(held[i].reading);
+      }
+      held.clear();
     }
     SensorReading r;
     while (driver.takeSensorReading(&r)) {
@@ -83,9 +102,12 @@ inline RigRecording recordRig(const Config& rig, double duration, const RigDrive
       rec.truth = driver.snapshot();
       rec.sampled = history.at(r.sample_tick);
       rec.sample_time = r.sample_time;
+      if (stalled) {
+        held.push_back(rec);
+        continue;
+      }
       readings.push_back(rec);
-      const double torque = drive.kp * (setpoint - rec.reading.q1) - drive.kd * rec.reading.u1;
-      driver.command(std::clamp(torque, -drive.torque_limit, drive.torque_limit));
+      answer(rec.reading);
     }
   }
   return {readings, history, rig.simulation.physics_rate};

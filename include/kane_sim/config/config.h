@@ -103,6 +103,9 @@ struct EstimatorSettings {
   double alarm_window = 0.5;                  // [s] readings per test of the innovations
   double false_alarms_per_hour = 0.001;       // ERROR's rate on a rig that is its model
   double restart_gap = 1.0;                   // [s] a longer silence restarts the filter
+  // [s] how uncertain the instant a controller's answer to a reading takes effect, beyond the
+  // sensors' jitter: a ROS transport and scheduler (0 for a drive that applies it at a known tick)
+  double answer_timing_noise = 0.002;
 };
 
 struct Config {

@@ -11,6 +11,7 @@
 //   update:   z = (q1 + b1, q2 + b2 [, u1, u2]) at the reading's sample instant, stamp minus the
 //             sensors' latency (and half their jitter); R from the sensors' noise model: white
 //             noise, the encoder's step^2 / 12, and the jitter's timing error (speed^2 var)
+//             plus a late stamp's (ArrivalDelay: a stalled driver's readings come in a burst)
 //
 // The measurement model is config's `sensors:` section (a fitted config from identify, say);
 // `estimator:` says how far the model is trusted. Readings that cannot be used are refused,
@@ -24,6 +25,7 @@
 #include <Eigen/Core>
 
 #include "kane_sim/config/config.h"
+#include "kane_sim/estimate/arrival_delay.h"
 #include "kane_sim/estimate/innovation_alarm.h"
 #include "kane_sim/model/generated_mechanism.h"
 #include "kane_sim/model/state.h"
@@ -52,6 +54,9 @@ struct MeasurementNoise {
   // the torque between readings is the first's effort until then, the next's after.
   double answer_delay = 0.0;
   double command_latency = 0.0;  // [s] sensors.command_latency in physics steps
+  // [s^2] how uncertain that instant is beyond the jitter: a physics step (where in it the drive
+  // takes the answer) and estimator.answer_timing_noise^2 (a transport's delays)
+  double answer_timing_variance = 0.0;
 };
 MeasurementNoise measurementNoise(const Config& config);
 
@@ -120,6 +125,8 @@ class MechanismEstimator {
   double max_speed_;     // [rad/s, m/s] beyond this |u1|, |u2| the prediction diverged (1 per step)
   double torque_limit_;  // [N m] command.torque_limit: a larger effort is refused
   InnovationAlarm alarm_;
+  ArrivalDelay arrival_;  // how late each stamp is beyond the jitter (a stalled driver's burst)
+  double arrival_variance_ = 0.0;  // [s^2] this reading's sample instant: its delay's uncertainty^2
   bool started_ = false;
   bool ever_started_ = false;  // a restart keeps the biases once there are some
   double last_stamp_ = 0.0;
