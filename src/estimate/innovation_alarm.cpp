@@ -1,8 +1,10 @@
 #include "kane_sim/estimate/innovation_alarm.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <utility>
 
 #include <boost/math/distributions/chi_squared.hpp>
 
@@ -37,29 +39,41 @@ double chiSquareUpperTail(double dof, double x) {
 
 std::string AlarmReport::text() const {
   char line[320];
-  if (windows == 0) {
-    std::snprintf(line, sizeof line,
-                  "no verdict yet: no window of innovations has closed since the filter "
-                  "(re)started");
-  } else if (level == AlarmLevel::kOk) {
+  if (windows == 0)
+    return "no verdict yet: no window of innovations has closed since the filter (re)started";
+  if (level == AlarmLevel::kOk) {
     std::snprintf(line, sizeof line,
                   "OK: the last window's innovations are as the model expects (NIS %.4g over "
                   "%g degrees of freedom; least likely test %.2g)",
                   nis, dof, p_value);
-  } else {
-    std::snprintf(line, sizeof line,
-                  "%s since t = %.3f s: the rig is not behaving like its model; the last "
-                  "window's innovations have probability %.2g under it (NIS %.4g over %g "
-                  "degrees of freedom), most unlike it in %s",
-                  alarmLevelName(level), since, p_value, nis, dof,
-                  measuredCoordinateName(coordinate));
+    return line;
   }
-  return line;
+  std::snprintf(line, sizeof line,
+                "%s since t = %.3f s: the rig is not behaving like its model; the last window's "
+                "innovations have probability %.2g under it (NIS %.4g over %g degrees of "
+                "freedom), ",
+                alarmLevelName(level), since, p_value, nis, dof);
+  std::string text = line;
+  if (suspects.empty()) return text + "most unlike it in " + measuredCoordinateName(coordinate);
+  for (std::size_t i = 0; i < suspects.size(); ++i) {
+    const Suspect& s = suspects[i];
+    std::snprintf(line, sizeof line, "%s%s by %+.3g +- %.2g %s%s",
+                  i == 0   ? "most like a change of "
+                  : i == 1 ? " (or of "
+                           : ", or of ",
+                  s.name.c_str(), s.change, s.sigma, s.unit.c_str(),
+                  i > 0 && i + 1 == suspects.size() ? ")" : "");
+    text += line;
+  }
+  return text;
 }
 
-InnovationAlarm::InnovationAlarm(double window, double false_alarms_per_hour) : window_(window) {
+InnovationAlarm::InnovationAlarm(double window, double false_alarms_per_hour,
+                                 std::vector<std::string> suspects, std::vector<std::string> units)
+    : window_(window), suspects_(std::move(suspects)), units_(std::move(units)) {
   if (!(window > 0.0) || !(false_alarms_per_hour > 0.0))
     throw std::invalid_argument("InnovationAlarm: window and false_alarms_per_hour must be > 0");
+  units_.resize(suspects_.size());
   // One window's chance of exceeding the bound on a clean rig, so that a clean hour raises
   // ERROR false_alarms_per_hour times on average (windows do not overlap).
   error_probability_ = std::min(0.5, false_alarms_per_hour * window / 3600.0);
@@ -75,7 +89,9 @@ void InnovationAlarm::restart() {
 
 bool InnovationAlarm::add(double time, double nis,
                           const std::array<bool, kMeasuredCoordinates>& measured,
-                          const std::array<double, kMeasuredCoordinates>& normalised) {
+                          const std::array<double, kMeasuredCoordinates>& normalised,
+                          const std::vector<double>& evidence,
+                          const std::vector<double>& information) {
   if (!open_) {
     open_ = true;
     window_start_ = time;
@@ -83,8 +99,15 @@ bool InnovationAlarm::add(double time, double nis,
     sums_.fill(0.0);
     signed_sums_.fill(0.0);
     counts_.fill(0.0);
+    evidence_.assign(suspects_.size(), 0.0);
+    information_.assign(suspects_.size(), 0.0);
   }
   nis_ += nis;
+  if (evidence.size() == suspects_.size() && information.size() == suspects_.size())
+    for (std::size_t j = 0; j < suspects_.size(); ++j) {
+      evidence_[j] += evidence[j];
+      information_[j] += information[j];
+    }
   for (std::size_t i = 0; i < kMeasuredCoordinates; ++i) {
     if (!measured[i]) continue;
     dof_ += 1.0;
@@ -104,9 +127,9 @@ void InnovationAlarm::closeWindow(double time) {
   r.window_end = time;
   r.nis = nis_;
   r.dof = dof_;
-  // The tests share the window's false-alarm probability (Bonferroni): the NIS, and each
-  // coordinate's squares and mean.
-  const double tests = 1.0 + 2.0 * kMeasuredCoordinates;
+  // The tests share the window's false-alarm probability (Bonferroni): the NIS, each
+  // coordinate's squares and mean, and each suspect parameter's evidence.
+  const double tests = 1.0 + 2.0 * kMeasuredCoordinates + static_cast<double>(suspects_.size());
   const double p_warn = warn_probability_ / tests, p_error = error_probability_ / tests;
   r.warn_bound = chiSquareUpperQuantile(dof_, p_warn);
   r.error_bound = chiSquareUpperQuantile(dof_, p_error);
@@ -123,10 +146,35 @@ void InnovationAlarm::closeWindow(double time) {
     }
   }
   least_likely = std::min(least_likely, least_likely_coordinate);
+  // Each suspect's statistic a^2 / b (chi-square, 1 degree of freedom); a parameter whose
+  // signature barely acts in this window (b ~ 0) is no test.
+  std::vector<std::pair<double, std::size_t>> ranked;
+  for (std::size_t j = 0; j < suspects_.size(); ++j)
+    if (information_[j] > 0.0 && std::isfinite(information_[j]))
+      ranked.emplace_back(evidence_[j] * evidence_[j] / information_[j], j);
+  std::sort(ranked.rbegin(), ranked.rend());
+  // Ties at the tails' underflow (p = 0) go to the parameters: they say more.
+  if (!ranked.empty() && chiSquareUpperTail(1.0, ranked.front().first) <= least_likely) {
+    least_likely = chiSquareUpperTail(1.0, ranked.front().first);
+    // Told apart: a likelihood e^2 below the likeliest's, and for a gross change (far beyond the
+    // signatures' first order) a tenth of its statistic below: a spring 30 % weaker and a
+    // slider 40 % heavier ring alike while the crank is held.
+    constexpr double kTellApart = 4.0;  // 2 log(likelihood ratio)
+    constexpr double kTellApartShare = 0.1;
+    constexpr std::size_t kMostNamed = 3;
+    const double told_apart =
+        ranked.front().first - std::max(kTellApart, kTellApartShare * ranked.front().first);
+    for (const auto& [statistic, j] : ranked) {
+      if (statistic < told_apart || r.suspects.size() == kMostNamed) break;
+      r.suspects.push_back({suspects_[j], units_[j], evidence_[j] / information_[j],
+                            1.0 / std::sqrt(information_[j])});
+    }
+  }
   r.p_value = least_likely;
   r.level = least_likely <= p_error  ? AlarmLevel::kError
             : least_likely <= p_warn ? AlarmLevel::kWarn
                                      : AlarmLevel::kOk;
+  if (r.level == AlarmLevel::kOk) r.suspects.clear();  // nothing to explain
   if (r.level != AlarmLevel::kOk)
     // Since: the start of the first window of this streak of non-OK windows.
     r.since = report_.level != AlarmLevel::kOk ? report_.since : window_start_;

@@ -5,6 +5,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "kane_sim/config/parameter_schema.h"
 #include "kane_sim/format_number.h"
 #include "kane_sim/model/joint_names.h"
 #include "kane_sim/model/rk4_step.h"
@@ -69,6 +70,7 @@ std::array<double, 4> FilterEstimate::sigma() const {
 MechanismEstimator::MechanismEstimator(const Config& config)
     : mechanism_(mechanismModel(config)),
       noise_(measurementNoise(config)),
+      suspects_(suspectsOf(config, &suspect_names_, &suspect_units_)),
       acceleration_density_{
           config.estimator.crank_acceleration_noise * config.estimator.crank_acceleration_noise,
           config.estimator.slider4_acceleration_noise *
@@ -77,9 +79,28 @@ MechanismEstimator::MechanismEstimator(const Config& config)
       restart_gap_(config.estimator.restart_gap),
       max_speed_(1.0 / step_),
       torque_limit_(config.command.torque_limit),
-      alarm_(config.estimator.alarm_window, config.estimator.false_alarms_per_hour),
+      alarm_(config.estimator.alarm_window, config.estimator.false_alarms_per_hour, suspect_names_,
+             suspect_units_),
       // The intervals stray by the jitter's span and a physics step without being late.
       arrival_(std::sqrt(12.0 * noise_.timing_variance) + step_) {}
+
+std::vector<MechanismEstimator::Suspect> MechanismEstimator::suspectsOf(
+    const Config& config, std::vector<std::string>* names, std::vector<std::string>* units) {
+  std::vector<Suspect> suspects;
+  for (const ParameterSpec& spec : parameterSchema()) {
+    if (!identifiable(spec.role) || spec.field.number == nullptr) continue;
+    Config changed = config;
+    double& value = spec.field.number(changed);
+    // A step u' is linear in to rounding (friction and dampers are linear in theirs; masses
+    // and k smooth): a millionth of the value, or of 1 for a resistance that is off.
+    const double delta = 1e-6 * std::max(std::abs(value), 1.0);
+    value += delta;
+    suspects.push_back({GeneratedMechanism(mechanismModel(changed)), delta});
+    names->push_back(spec.path());
+    units->push_back(spec.unit);
+  }
+  return suspects;
+}
 
 void MechanismEstimator::restart() {
   if (started_) ++restarts_;
@@ -128,9 +149,11 @@ EstimatorStep MechanismEstimator::update(const RigReading& reading) {
                      " s)";
   } else {
     FilterEstimate predicted = sample_;
-    if (predict(&predicted, sample_time - sample_.time, reading.torque))
+    SignatureMatrix signature = signature_;
+    if (predict(&predicted, sample_time - sample_.time, reading.torque, &signature)) {
       sample_ = predicted;
-    else
+      signature_ = signature;
+    } else
       restart_reason = "the prediction to the reading at " + formatNumber(reading.stamp) +
                        " s (q1 = " + formatNumber(reading.q1) +
                        ", q2 = " + formatNumber(reading.q2) + ", effort " +
@@ -179,9 +202,11 @@ void MechanismEstimator::start(const RigReading& r, double sample_time) {
   s_ii_.fill(0.0);
   measured_.fill(false);
   nis_ = 0.0;
+  signature_ = SignatureMatrix::Zero(6, static_cast<Eigen::Index>(suspects_.size()));
 }
 
-bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torque) const {
+bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torque,
+                                 SignatureMatrix* signature) const {
   if (!(span > 0.0)) return true;
   const auto steps = static_cast<long>(std::ceil(span / step_ - 1e-9));
   const double h = span / static_cast<double>(steps);
@@ -226,6 +251,7 @@ bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torq
     P.topRightCorner<4, 2>() = Phi * P.topRightCorner<4, 2>();
     P.bottomLeftCorner<2, 4>() = P.topRightCorner<4, 2>().transpose();
     P += Q;
+    if (signature != nullptr) carrySignature(signature, Phi, x, torque, h);
     rk4Step(rates, x, h);
   }
   // The switch's instant is known to the readings' jitter, a physics step and the transport's
@@ -243,6 +269,28 @@ bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torq
   e->torque = end_torque;
   return e->state.isFinite() && std::abs(x[2]) <= max_speed_ && std::abs(x[3]) <= max_speed_ &&
          P.allFinite();
+}
+
+void MechanismEstimator::carrySignature(SignatureMatrix* signature, const Matrix4& Phi,
+                                        const std::array<double, 4>& x, double torque,
+                                        double h) const {
+  // E <- Phi E + the step's own response to each suspect: d(u')/dp h on u, h^2 / 2 on q.
+  SignatureMatrix& E = *signature;
+  E.topRows<4>() = Phi * E.topRows<4>();
+  const generated::Rates base = generated::ratesFor(mechanism_.variant(), mechanism_.constants(),
+                                                    x[0], x[1], x[2], x[3], torque);
+  for (std::size_t j = 0; j < suspects_.size(); ++j) {
+    const GeneratedMechanism& changed = suspects_[j].changed;
+    const generated::Rates r =
+        generated::ratesFor(changed.variant(), changed.constants(), x[0], x[1], x[2], x[3], torque);
+    const double g1 = (r.u1_dot - base.u1_dot) / suspects_[j].delta;
+    const double g2 = (r.u2_dot - base.u2_dot) / suspects_[j].delta;
+    const auto col = static_cast<Eigen::Index>(j);
+    E(0, col) += 0.5 * h * h * g1;
+    E(1, col) += 0.5 * h * h * g2;
+    E(2, col) += h * g1;
+    E(3, col) += h * g2;
+  }
 }
 
 double MechanismEstimator::switchOffset(double span) const {
@@ -313,7 +361,18 @@ void MechanismEstimator::correct(const RigReading& r) {
     s_ii_[i] = S(i, i);
     normalised[i] = nu(i) / std::sqrt(S(i, i));
   }
-  alarm_.add(sample_.time, nis_, measured_, normalised);
+  // Each suspect's evidence: its signature in the innovations, Sigma = H E, weighed by S^-1;
+  // then the filter's correction takes its share of that error too, E <- (I - K H) E.
+  const Eigen::MatrixXd Sigma = H * signature_;
+  const Eigen::VectorXd evidence = Sigma.transpose() * llt.solve(nu);
+  const Eigen::VectorXd information = (Sigma.array() * llt.solve(Sigma).array()).colwise().sum();
+  signature_ = (IKH * signature_).eval();
+  const bool closed =
+      alarm_.add(sample_.time, nis_, measured_, normalised,
+                 std::vector<double>(evidence.data(), evidence.data() + evidence.size()),
+                 std::vector<double>(information.data(), information.data() + information.size()));
+  // A new window looks for a change from its start.
+  if (closed) signature_.setZero();
 }
 
 }  // namespace kane_sim

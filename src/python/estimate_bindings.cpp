@@ -44,6 +44,17 @@ py::dict alarmDict(const AlarmReport& a) {
   d["dof"] = a.dof;
   d["p_value"] = a.p_value;
   d["windows"] = a.windows;
+  // The parameters whose change explains the window, most likely first.
+  py::list suspects;
+  for (const AlarmReport::Suspect& s : a.suspects) {
+    py::dict one;
+    one["name"] = s.name;
+    one["unit"] = s.unit;
+    one["change"] = s.change;
+    one["sigma"] = s.sigma;
+    suspects.append(one);
+  }
+  d["suspects"] = suspects;
   return d;
 }
 

@@ -103,6 +103,10 @@ diagnostic_msgs::DiagnosticStatus estimatorStatus(const MechanismEstimator& esti
     coordinate.value = measuredCoordinateName(alarm.coordinate);
     status.values.push_back(coordinate);
   }
+  // The parameters whose change explains the window, most likely first: "change of <name>".
+  for (const AlarmReport::Suspect& suspect : alarm.suspects)
+    status.values.push_back(
+        keyValue("change of " + suspect.name + " [" + suspect.unit + "]", suspect.change));
   return status;
 }
 

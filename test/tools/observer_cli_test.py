@@ -84,6 +84,8 @@ def main(build_dir):
     py_rows, summary = kane_sim.Estimator(config).run_bag(bag)
     same = all(np.array_equal(py_rows[c], rows[c]) for c in names)
     check(same and summary["rows"] == len(rows), "kane_sim.Estimator.run_bag = observer --bag")
+    check(summary["alarm"]["level"] == "OK" and summary["alarm"]["suspects"] == [],
+          "a rig that is its model: OK, no parameter suspected")
 
     # Hostile inputs: each refused with its exit code, naming what is wrong.
     def refused(args, code, words, what):

@@ -7,6 +7,16 @@
 // ERROR's bound is the quantile a window exceeds with probability p = false_alarms_per_hour x
 // window / 3600 (so a clean rig raises it that often; split evenly between the tests), WARN's the
 // one exceeded 100 times as often. The coordinate named is the least likely one.
+//
+// A parameter that changed (a mass, the spring, a friction) pushes the innovations along its own
+// signature sigma_k (the filter's response to that change, MechanismEstimator propagates it).
+// For each suspect parameter j the window's evidence a_j = sum sigma_kj' S_k^-1 nu_k has variance
+// b_j = sum sigma_kj' S_k^-1 sigma_kj on a rig that is its model, so a_j^2 / b_j is chi-square
+// with one degree of freedom (a generalised likelihood ratio test, as Willsky and Jones's for
+// jumps in a Kalman filter); a_j / b_j estimates the change. These tests join the Bonferroni
+// split; when one is the least likely, the report names the parameter and the change, and the
+// others that explain the window nearly as well (a rod's mass and a crank spring both change the
+// torque a held crank needs: one window may not tell them apart).
 // ROS-free; the observer publishes the report on /diagnostics.
 #ifndef KANE_SIM_ESTIMATE_INNOVATION_ALARM_H
 #define KANE_SIM_ESTIMATE_INNOVATION_ALARM_H
@@ -14,6 +24,7 @@
 #include <array>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace kane_sim {
 
@@ -36,7 +47,16 @@ struct AlarmReport {
   double dof = 0.0;            // its degrees of freedom (readings x coordinates)
   double warn_bound = 0.0;     // the NIS test's chi-square quantiles for dof
   double error_bound = 0.0;
-  double p_value = 1.0;      // the least likely of the window's tests, under the model
+  double p_value = 1.0;  // the least likely of the window's tests, under the model
+  // When that test is a suspect parameter's: it, and any other whose evidence is nearly as
+  // strong (a likelihood within e^2 of it, or within a tenth of its statistic for a gross
+  // change: parameters this window cannot tell apart), most likely first, at most three, each
+  // with the change that would explain the window; empty otherwise.
+  struct Suspect {
+    std::string name, unit;  // "mechanism.rod_mass", "kg"
+    double change = 0.0, sigma = 0.0;
+  };
+  std::vector<Suspect> suspects;
   double window_end = 0.0;   // [s] when the window closed
   std::size_t windows = 0;   // windows closed since the start
   std::string text() const;  // one line: "ERROR since t = 12.5 s: slider4_joint position ..."
@@ -44,14 +64,19 @@ struct AlarmReport {
 
 class InnovationAlarm {
  public:
-  // window [s] > 0, false_alarms_per_hour > 0 (the config's rules).
-  InnovationAlarm(double window, double false_alarms_per_hour);
+  // window [s] > 0, false_alarms_per_hour > 0 (the config's rules); the suspect parameters'
+  // names and units (add()'s evidence comes in this order).
+  InnovationAlarm(double window, double false_alarms_per_hour,
+                  std::vector<std::string> suspects = {}, std::vector<std::string> units = {});
 
   // One reading's innovation: its NIS over `measured` coordinates, and each measured
   // coordinate's own normalised square (nu_i^2 / S_ii). Returns true when a window closed.
   // `normalised` holds each coordinate's nu_i / sqrt(S_ii).
+  // `evidence` / `information` (one per suspect, or empty): this reading's sigma_j' S^-1 nu and
+  // sigma_j' S^-1 sigma_j.
   bool add(double time, double nis, const std::array<bool, kMeasuredCoordinates>& measured,
-           const std::array<double, kMeasuredCoordinates>& normalised);
+           const std::array<double, kMeasuredCoordinates>& normalised,
+           const std::vector<double>& evidence = {}, const std::vector<double>& information = {});
   void restart();  // a new start of the filter: the open window is dropped, the verdict OK
 
   const AlarmReport& report() const { return report_; }
@@ -68,6 +93,8 @@ class InnovationAlarm {
   double window_start_ = 0.0;
   double nis_ = 0.0, dof_ = 0.0;
   std::array<double, kMeasuredCoordinates> sums_{}, signed_sums_{}, counts_{};
+  std::vector<std::string> suspects_, units_;
+  std::vector<double> evidence_, information_;  // the window's a_j, b_j
   AlarmReport report_;
 };
 

@@ -21,6 +21,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -62,6 +63,9 @@ MeasurementNoise measurementNoise(const Config& config);
 
 using EstimateVector = Eigen::Matrix<double, 6, 1>;
 using EstimateCovariance = Eigen::Matrix<double, 6, 6>;
+// Each suspect parameter's signature: how the estimate's error would have grown since the alarm
+// window opened, per unit change of that parameter (a column each).
+using SignatureMatrix = Eigen::Matrix<double, 6, Eigen::Dynamic>;
 
 // The filter's estimate at one instant.
 struct FilterEstimate {
@@ -106,19 +110,36 @@ class MechanismEstimator {
   const InnovationAlarm& alarm() const { return alarm_; }
   const MeasurementNoise& noise() const { return noise_; }
   std::size_t restarts() const { return restarts_; }  // gaps, diverged predictions, restart()
+  // The parameters the alarm tests for a change: the config's identifiable ones (masses, the rod's
+  // inertia, springs, dampers, friction), as "mechanism.rod_mass".
+  const std::vector<std::string>& suspects() const { return suspect_names_; }
 
  private:
   void start(const RigReading& reading, double sample_time);
   // Carries `e` forward by `span` seconds (steps of at most the physics step), the torque going
   // from e.torque to end_torque; false when the state left the finite or the model's scale.
-  bool predict(FilterEstimate* e, double span, double end_torque) const;
+  // `signature` (when given) is carried along: E <- Phi E + the step's response to each suspect.
+  bool predict(FilterEstimate* e, double span, double end_torque,
+               SignatureMatrix* signature = nullptr) const;
+  void carrySignature(SignatureMatrix* signature, const Eigen::Matrix4d& Phi,
+                      const std::array<double, 4>& x, double torque, double h) const;
   // [s] where in a reading interval of `span` the torque takes the next reading's effort.
   double switchOffset(double span) const;
   void correct(const RigReading& reading);
   std::string unusable(const RigReading& reading) const;
 
+  // A suspect parameter: the model with it changed by `delta`, for u' 's derivative along it.
+  struct Suspect {
+    GeneratedMechanism changed;
+    double delta;
+  };
+  static std::vector<Suspect> suspectsOf(const Config& config, std::vector<std::string>* names,
+                                         std::vector<std::string>* units);
+
   GeneratedMechanism mechanism_;
   MeasurementNoise noise_;
+  std::vector<std::string> suspect_names_, suspect_units_;
+  std::vector<Suspect> suspects_;
   std::array<double, 2> acceleration_density_;  // [rad^2/s^3, m^2/s^3] of the process noise
   double step_;                                 // [s] the physics step
   double restart_gap_;
@@ -131,6 +152,7 @@ class MechanismEstimator {
   bool ever_started_ = false;  // a restart keeps the biases once there are some
   double last_stamp_ = 0.0;
   FilterEstimate sample_;
+  SignatureMatrix signature_;  // since the alarm's window opened
   std::array<double, kMeasuredCoordinates> innovation_{}, s_ii_{};
   std::array<bool, kMeasuredCoordinates> measured_{};
   double nis_ = 0.0;
