@@ -215,6 +215,8 @@ bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torq
   const double start_torque = e->torque;
   double torque = start_torque;
   const double switch_at = switchOffset(span);
+  SignatureRates signature_rates;
+  double signature_torque = std::nan("");
   const auto rates = [&](const std::array<double, 4>& x, std::array<double, 4>& dxdt) {
     const generated::Rates r =
         generated::ratesFor(variant, constants, x[0], x[1], x[2], x[3], torque);
@@ -251,7 +253,15 @@ bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torq
     P.topRightCorner<4, 2>() = Phi * P.topRightCorner<4, 2>();
     P.bottomLeftCorner<2, 4>() = P.topRightCorner<4, 2>().transpose();
     P += Q;
-    if (signature != nullptr) carrySignature(signature, Phi, x, torque, h);
+    if (signature != nullptr) {
+      // The signature is first order: its rates are taken once per torque held (the interval's
+      // start and its switch), not at every step.
+      if (!(torque == signature_torque)) {
+        signature_rates = signatureRates(x, torque);
+        signature_torque = torque;
+      }
+      carrySignature(signature, Phi, signature_rates, h);
+    }
     rk4Step(rates, x, h);
   }
   // The switch's instant is known to the readings' jitter, a physics step and the transport's
@@ -271,26 +281,30 @@ bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torq
          P.allFinite();
 }
 
-void MechanismEstimator::carrySignature(SignatureMatrix* signature, const Matrix4& Phi,
-                                        const std::array<double, 4>& x, double torque,
-                                        double h) const {
-  // E <- Phi E + the step's own response to each suspect: d(u')/dp h on u, h^2 / 2 on q.
-  SignatureMatrix& E = *signature;
-  E.topRows<4>() = Phi * E.topRows<4>();
+MechanismEstimator::SignatureRates MechanismEstimator::signatureRates(
+    const std::array<double, 4>& x, double torque) const {
+  // d(u')/dp for each suspect, by a step of its value (u' is smooth or linear in each).
+  SignatureRates g(2, static_cast<Eigen::Index>(suspects_.size()));
   const generated::Rates base = generated::ratesFor(mechanism_.variant(), mechanism_.constants(),
                                                     x[0], x[1], x[2], x[3], torque);
   for (std::size_t j = 0; j < suspects_.size(); ++j) {
     const GeneratedMechanism& changed = suspects_[j].changed;
     const generated::Rates r =
         generated::ratesFor(changed.variant(), changed.constants(), x[0], x[1], x[2], x[3], torque);
-    const double g1 = (r.u1_dot - base.u1_dot) / suspects_[j].delta;
-    const double g2 = (r.u2_dot - base.u2_dot) / suspects_[j].delta;
     const auto col = static_cast<Eigen::Index>(j);
-    E(0, col) += 0.5 * h * h * g1;
-    E(1, col) += 0.5 * h * h * g2;
-    E(2, col) += h * g1;
-    E(3, col) += h * g2;
+    g(0, col) = (r.u1_dot - base.u1_dot) / suspects_[j].delta;
+    g(1, col) = (r.u2_dot - base.u2_dot) / suspects_[j].delta;
   }
+  return g;
+}
+
+void MechanismEstimator::carrySignature(SignatureMatrix* signature, const Matrix4& Phi,
+                                        const SignatureRates& g, double h) {
+  // E <- Phi E + the step's own response to each suspect: d(u')/dp h on u, h^2 / 2 on q.
+  SignatureMatrix& E = *signature;
+  E.topRows<4>() = Phi * E.topRows<4>();
+  E.topRows<2>() += (0.5 * h * h) * g;
+  E.middleRows<2>(2) += h * g;
 }
 
 double MechanismEstimator::switchOffset(double span) const {

@@ -121,8 +121,10 @@ class MechanismEstimator {
   // `signature` (when given) is carried along: E <- Phi E + the step's response to each suspect.
   bool predict(FilterEstimate* e, double span, double end_torque,
                SignatureMatrix* signature = nullptr) const;
-  void carrySignature(SignatureMatrix* signature, const Eigen::Matrix4d& Phi,
-                      const std::array<double, 4>& x, double torque, double h) const;
+  using SignatureRates = Eigen::Matrix<double, 2, Eigen::Dynamic>;  // d(u1', u2')/dp, a column each
+  SignatureRates signatureRates(const std::array<double, 4>& x, double torque) const;
+  static void carrySignature(SignatureMatrix* signature, const Eigen::Matrix4d& Phi,
+                             const SignatureRates& g, double h);
   // [s] where in a reading interval of `span` the torque takes the next reading's effort.
   double switchOffset(double span) const;
   void correct(const RigReading& reading);
