@@ -118,6 +118,16 @@ TEST_F(Robustness, ServicesWhileCommandsStream) {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
   });
+  // An ASSERT below returns early: the streamer is stopped and joined on every way out, so the
+  // failure is reported instead of std::terminate on a joinable thread.
+  struct StopAndJoin {
+    std::atomic<bool>& stop;
+    std::thread& thread;
+    ~StopAndJoin() {
+      stop = true;
+      if (thread.joinable()) thread.join();
+    }
+  } stop_and_join{stop, streamer};
   std_srvs::Empty empty;
   std_srvs::Trigger step;
   state_.clear();
