@@ -20,7 +20,10 @@ ArrivalDelay::Lateness ArrivalDelay::add(double stamp) {
   if (period_ > 0.0) {
     delay_ = std::max(0.0, delay_ + interval - period_);
     regular_run_ = std::abs(interval - period_) <= tolerance_ ? regular_run_ + 1 : 0;
-    if (regular_run_ >= kForgetAfter) delay_ = 0.0;
+    if (regular_run_ >= kForgetAfter) {  // on time again
+      delay_ = 0.0;
+      recent_delays_.fill(0.0);
+    }
   }
   // The period from the intervals that look like one: a burst's long and near-zero intervals
   // stay out. Unusual intervals for longer than kRelearnPeriods periods mean the period is wrong
@@ -58,7 +61,12 @@ ArrivalDelay::Lateness ArrivalDelay::add(double stamp) {
   // the reading may be on time after a lost one: the delay is its own uncertainty. Outside a
   // burst a delay within the jitter's span is the jitter itself, which the sensors' model has.
   const bool in_burst = period_ > 0.0 && interval < period_ - tolerance_;
-  if (in_burst) return {delay_, 0.0};
+  // Its delay after the reading before the burst is known; but that reading may have been late
+  // too (a simulator running behind the wall clock catches up in bursts, seldom on time): as
+  // late as any reading before the burst recently was.
+  if (!in_burst) burst_baseline_ = *std::max_element(recent_delays_.begin(), recent_delays_.end());
+  recent_delays_[delays_seen_++ % kIntervals] = delay_;
+  if (in_burst) return {delay_, burst_baseline_};
   const double delay = delay_ > tolerance_ ? delay_ : 0.0;
   return {delay, delay};
 }

@@ -9,6 +9,13 @@
 #include <boost/math/distributions/chi_squared.hpp>
 
 namespace kane_sim {
+namespace {
+
+// The spans, in windows, over which each suspect is tested: a change that acts now and then (a
+// friction while the crank moves) gathers its evidence over several.
+constexpr std::array<std::size_t, 4> kSpans = {1, 2, 4, 8};
+
+}  // namespace
 
 const char* measuredCoordinateName(std::size_t coordinate) {
   static const char* const kNames[kMeasuredCoordinates] = {
@@ -65,7 +72,8 @@ std::string AlarmReport::text() const {
                   i > 0 && i + 1 == suspects.size() ? ")" : "");
     text += line;
   }
-  return text;
+  std::snprintf(line, sizeof line, ", over the last %.3g s", suspects.front().over);
+  return text + line;
 }
 
 InnovationAlarm::InnovationAlarm(double window, double false_alarms_per_hour,
@@ -82,6 +90,8 @@ InnovationAlarm::InnovationAlarm(double window, double false_alarms_per_hour,
 
 void InnovationAlarm::restart() {
   open_ = false;
+  past_.clear();
+  past_seconds_.clear();
   const std::size_t windows = report_.windows;
   report_ = AlarmReport{};
   report_.windows = windows;
@@ -120,17 +130,23 @@ bool InnovationAlarm::add(double time, double nis,
   return true;
 }
 
+double InnovationAlarm::tests() const {
+  return 1.0 + 2.0 * kMeasuredCoordinates + static_cast<double>(kSpans.size() * suspects_.size());
+}
+
+double InnovationAlarm::suspectErrorStatistic() const {
+  return chiSquareUpperQuantile(1.0, error_probability_ / tests());
+}
+
 void InnovationAlarm::closeWindow(double time) {
   open_ = false;
   AlarmReport r;
   r.windows = report_.windows + 1;
   r.window_end = time;
+  r.information = information_;
   r.nis = nis_;
   r.dof = dof_;
-  // The tests share the window's false-alarm probability (Bonferroni): the NIS, each
-  // coordinate's squares and mean, and each suspect parameter's evidence.
-  const double tests = 1.0 + 2.0 * kMeasuredCoordinates + static_cast<double>(suspects_.size());
-  const double p_warn = warn_probability_ / tests, p_error = error_probability_ / tests;
+  const double p_warn = warn_probability_ / tests(), p_error = error_probability_ / tests();
   r.warn_bound = chiSquareUpperQuantile(dof_, p_warn);
   r.error_bound = chiSquareUpperQuantile(dof_, p_error);
   double least_likely = chiSquareUpperTail(dof_, nis_);
@@ -146,16 +162,17 @@ void InnovationAlarm::closeWindow(double time) {
     }
   }
   least_likely = std::min(least_likely, least_likely_coordinate);
-  // Each suspect's statistic a^2 / b (chi-square, 1 degree of freedom); a parameter whose
-  // signature barely acts in this window (b ~ 0) is no test.
-  std::vector<std::pair<double, std::size_t>> ranked;
-  for (std::size_t j = 0; j < suspects_.size(); ++j)
-    if (information_[j] > 0.0 && std::isfinite(information_[j]))
-      ranked.emplace_back(evidence_[j] * evidence_[j] / information_[j], j);
-  std::sort(ranked.rbegin(), ranked.rend());
+  past_.emplace_back(evidence_, information_);
+  past_seconds_.push_back(time - window_start_);
+  if (past_.size() > kSpans.back()) {
+    past_.pop_front();
+    past_seconds_.pop_front();
+  }
+  double over = 0.0;
+  const std::vector<SuspectTest> ranked = rankSuspects(p_error, p_warn, &over);
   // Ties at the tails' underflow (p = 0) go to the parameters: they say more.
-  if (!ranked.empty() && chiSquareUpperTail(1.0, ranked.front().first) <= least_likely) {
-    least_likely = chiSquareUpperTail(1.0, ranked.front().first);
+  if (!ranked.empty() && chiSquareUpperTail(1.0, ranked.front().statistic) <= least_likely) {
+    least_likely = chiSquareUpperTail(1.0, ranked.front().statistic);
     // Told apart: a likelihood e^2 below the likeliest's, and for a gross change (far beyond the
     // signatures' first order) a tenth of its statistic below: a spring 30 % weaker and a
     // slider 40 % heavier ring alike while the crank is held.
@@ -163,11 +180,10 @@ void InnovationAlarm::closeWindow(double time) {
     constexpr double kTellApartShare = 0.1;
     constexpr std::size_t kMostNamed = 3;
     const double told_apart =
-        ranked.front().first - std::max(kTellApart, kTellApartShare * ranked.front().first);
-    for (const auto& [statistic, j] : ranked) {
-      if (statistic < told_apart || r.suspects.size() == kMostNamed) break;
-      r.suspects.push_back({suspects_[j], units_[j], evidence_[j] / information_[j],
-                            1.0 / std::sqrt(information_[j])});
+        ranked.front().statistic - std::max(kTellApart, kTellApartShare * ranked.front().statistic);
+    for (const SuspectTest& x : ranked) {
+      if (x.statistic < told_apart || r.suspects.size() == kMostNamed) break;
+      r.suspects.push_back({suspects_[x.suspect], units_[x.suspect], x.change, x.sigma, over});
     }
   }
   r.p_value = least_likely;
@@ -179,6 +195,55 @@ void InnovationAlarm::closeWindow(double time) {
     // Since: the start of the first window of this streak of non-OK windows.
     r.since = report_.level != AlarmLevel::kOk ? report_.since : window_start_;
   report_ = r;
+}
+
+std::vector<InnovationAlarm::SuspectTest> InnovationAlarm::rankSuspects(double p_error,
+                                                                        double p_warn,
+                                                                        double* over) const {
+  // Each suspect's statistic a^2 / b (chi-square, 1 degree of freedom) over each span of the last
+  // windows, a and b summed over them; a parameter whose signature barely acts there (b ~ 0) is
+  // no test. A span longer than one window counts only when its newest window adds to the
+  // evidence (the statistic without it is smaller): a change long over is not reported again.
+  const std::size_t n = suspects_.size();
+  std::vector<double> a(n, 0.0), b(n, 0.0);
+  const std::vector<double>& newest_a = past_.back().first;
+  const std::vector<double>& newest_b = past_.back().second;
+  std::vector<std::vector<SuspectTest>> spans;  // each span's tests, strongest first
+  std::vector<double> span_seconds;
+  double seconds = 0.0, strongest = 0.0;
+  for (std::size_t windows = 1; windows <= past_.size(); ++windows) {
+    const auto& [ev, info] = past_[past_.size() - windows];
+    seconds += past_seconds_[past_.size() - windows];
+    for (std::size_t j = 0; j < n; ++j) {
+      a[j] += ev[j];
+      b[j] += info[j];
+    }
+    if (std::find(kSpans.begin(), kSpans.end(), windows) == kSpans.end()) continue;
+    std::vector<SuspectTest> tests;
+    for (std::size_t j = 0; j < n; ++j) {
+      if (!(b[j] > 0.0) || !std::isfinite(b[j])) continue;
+      const double statistic = a[j] * a[j] / b[j];
+      const double a_before = a[j] - newest_a[j], b_before = b[j] - newest_b[j];
+      if (windows > 1 && b_before > 0.0 && !(statistic > a_before * a_before / b_before)) continue;
+      tests.push_back({statistic, j, a[j] / b[j], 1.0 / std::sqrt(b[j])});
+    }
+    std::sort(tests.begin(), tests.end(),
+              [](const SuspectTest& x, const SuspectTest& y) { return x.statistic > y.statistic; });
+    if (!tests.empty()) strongest = std::max(strongest, tests.front().statistic);
+    spans.push_back(std::move(tests));
+    span_seconds.push_back(seconds);
+  }
+  // The level the strongest test reaches; the shortest span that reaches it names the change (a
+  // gross change is best told by the window after it alone, its signature fresh).
+  const double p = chiSquareUpperTail(1.0, strongest);
+  const double bound = p <= p_error ? p_error : p <= p_warn ? p_warn : p;
+  for (std::size_t s = 0; s < spans.size(); ++s)
+    if (!spans[s].empty() && chiSquareUpperTail(1.0, spans[s].front().statistic) <= bound) {
+      *over = span_seconds[s];
+      return spans[s];
+    }
+  *over = 0.0;
+  return {};
 }
 
 }  // namespace kane_sim

@@ -150,7 +150,8 @@ EstimatorStep MechanismEstimator::update(const RigReading& reading) {
   } else {
     FilterEstimate predicted = sample_;
     SignatureMatrix signature = signature_;
-    if (predict(&predicted, sample_time - sample_.time, reading.torque, &signature)) {
+    if (predict(&predicted, sample_time - sample_.time, reading.torque, &signature, last_delay_,
+                last_delay_variance_)) {
       sample_ = predicted;
       signature_ = signature;
     } else
@@ -167,6 +168,12 @@ EstimatorStep MechanismEstimator::update(const RigReading& reading) {
     return {EstimatorEvent::kRestarted, restart_reason};
   }
   last_stamp_ = reading.stamp;
+  // Its answer lands between sample + answer_delay (a simulator catching up runs its physics
+  // ahead of the wall clock: the answer lands within the catch-up) and that plus the delay (a
+  // stalled driver answered when it arrives): uniform between them.
+  const double delay = reading.stamp - noise_.latency - sample_time;
+  last_delay_ = delay / 2.0;
+  last_delay_variance_ = delay * delay / 12.0 + arrival_variance_;
   correct(reading);
   return {EstimatorEvent::kUpdated, ""};
 }
@@ -181,6 +188,7 @@ void MechanismEstimator::start(const RigReading& r, double sample_time) {
   const double silence = std::max(0.0, sample_time - sample_.time);
   started_ = ever_started_ = true;
   last_stamp_ = r.stamp;
+  last_delay_ = last_delay_variance_ = 0.0;
   arrival_.restart();
   arrival_.add(r.stamp);
   sample_ = FilterEstimate{};
@@ -206,7 +214,8 @@ void MechanismEstimator::start(const RigReading& r, double sample_time) {
 }
 
 bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torque,
-                                 SignatureMatrix* signature) const {
+                                 SignatureMatrix* signature, double answer_lateness,
+                                 double answer_lateness_variance) const {
   if (!(span > 0.0)) return true;
   const auto steps = static_cast<long>(std::ceil(span / step_ - 1e-9));
   const double h = span / static_cast<double>(steps);
@@ -214,7 +223,7 @@ bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torq
   const generated::RatesVariant variant = mechanism_.variant();
   const double start_torque = e->torque;
   double torque = start_torque;
-  const double switch_at = switchOffset(span);
+  const double switch_at = switchOffset(span, answer_lateness);
   SignatureRates signature_rates;
   double signature_torque = std::nan("");
   const auto rates = [&](const std::array<double, 4>& x, std::array<double, 4>& dxdt) {
@@ -272,7 +281,8 @@ bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torq
         generated::rateJacobian(constants, x[0], x[1], x[2], x[3], torque);
     const Eigen::Vector2d impulse(d.d[0][4] * (end_torque - start_torque),
                                   d.d[1][4] * (end_torque - start_torque));
-    P.block<2, 2>(2, 2) += impulse * impulse.transpose() * noise_.answer_timing_variance;
+    P.block<2, 2>(2, 2) +=
+        impulse * impulse.transpose() * (noise_.answer_timing_variance + answer_lateness_variance);
   }
   e->state = {x[0], x[1], x[2], x[3]};
   e->time += span;
@@ -307,15 +317,17 @@ void MechanismEstimator::carrySignature(SignatureMatrix* signature, const Matrix
   E.middleRows<2>(2) += h * g;
 }
 
-double MechanismEstimator::switchOffset(double span) const {
+double MechanismEstimator::switchOffset(double span, double lateness) const {
   // In physics steps: a sample at tick s sees the torque of the step after it, so an answer in
   // force a whole number of periods after a sample (command latency > 0) is the next reading's
   // effort from its start; with no command latency the drive takes it the step the reading
   // arrived, after that tick's sample: from the interval's start.
   const double period = span / step_;
   const double offset = std::fmod(noise_.answer_delay / step_, period);
-  if (offset < 1e-6 || period - offset < 1e-6) return noise_.command_latency > 0.0 ? span : 0.0;
-  return offset * step_;
+  double at = offset * step_;
+  if (offset < 1e-6 || period - offset < 1e-6) at = noise_.command_latency > 0.0 ? span : 0.0;
+  // A late reading's answer came as late: a stalled driver's burst is answered when it arrives.
+  return std::min(at + lateness, span);
 }
 
 FilterEstimate MechanismEstimator::atStamp() const {

@@ -46,7 +46,8 @@ class Estimator:
     def alarm(self):
         """The last window's verdict: level ("OK", "WARN", "ERROR"), text, since, coordinate,
         nis, dof, p_value, windows, and suspects: the parameters whose change explains the
-        window, most likely first, each a dict of name, unit, change and sigma."""
+        window, most likely first, each a dict of name, unit, change, sigma and
+        over (the seconds of windows that told it)."""
         return self._core.alarm
 
     def run(self, t, q1, q2, effort, u1=None, u2=None):

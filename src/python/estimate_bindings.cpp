@@ -52,6 +52,7 @@ py::dict alarmDict(const AlarmReport& a) {
     one["unit"] = s.unit;
     one["change"] = s.change;
     one["sigma"] = s.sigma;
+    one["over"] = s.over;
     suspects.append(one);
   }
   d["suspects"] = suspects;

@@ -107,6 +107,8 @@ diagnostic_msgs::DiagnosticStatus estimatorStatus(const MechanismEstimator& esti
   for (const AlarmReport::Suspect& suspect : alarm.suspects)
     status.values.push_back(
         keyValue("change of " + suspect.name + " [" + suspect.unit + "]", suspect.change));
+  if (!alarm.suspects.empty())
+    status.values.push_back(keyValue("change seen over [s]", alarm.suspects.front().over));
   return status;
 }
 

@@ -10,7 +10,10 @@
 // period confirms one: a long interval followed by regular ones may as well be a lost reading
 // (or a driver that re-anchored its clock), so there the delay is as uncertain as it is large,
 // and it is forgotten after a few regular intervals. A period contradicted for 20 periods (one
-// learnt from a burst at the start) is learnt again. ROS-free.
+// learnt from a burst at the start) is learnt again. The delays are counted from the latest
+// reading before the burst, as if it were on time; a driver (or a simulator behind the wall
+// clock) late in burst after burst may not have been, so a burst's readings are uncertain by
+// the largest delay seen before it. ROS-free.
 #ifndef KANE_SIM_ESTIMATE_ARRIVAL_DELAY_H
 #define KANE_SIM_ESTIMATE_ARRIVAL_DELAY_H
 
@@ -47,6 +50,9 @@ class ArrivalDelay {
   double delay_ = 0.0;
   int regular_run_ = 0;
   double unusual_time_ = 0.0;  // [s] intervals in a row outside [period / 2, 2 period]
+  std::array<double, kIntervals> recent_delays_{};  // the last readings' delays
+  std::size_t delays_seen_ = 0;
+  double burst_baseline_ = 0.0;  // [s] the latest delay before the current burst
 };
 
 }  // namespace kane_sim

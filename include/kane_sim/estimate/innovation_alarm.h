@@ -16,14 +16,19 @@
 // jumps in a Kalman filter); a_j / b_j estimates the change. These tests join the Bonferroni
 // split; when one is the least likely, the report names the parameter and the change, and the
 // others that explain the window nearly as well (a rod's mass and a crank spring both change the
-// torque a held crank needs: one window may not tell them apart).
+// torque a held crank needs: one window may not tell them apart). A change that shows only now
+// and then (a friction, while the crank moves) is also tested over the last 2, 4 and 8 windows
+// together: their a_j and b_j add (the innovations are white), so one test sees the evidence
+// of every window in which the parameter acted.
 // ROS-free; the observer publishes the report on /diagnostics.
 #ifndef KANE_SIM_ESTIMATE_INNOVATION_ALARM_H
 #define KANE_SIM_ESTIMATE_INNOVATION_ALARM_H
 
 #include <array>
 #include <cstddef>
+#include <deque>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace kane_sim {
@@ -55,10 +60,14 @@ struct AlarmReport {
   struct Suspect {
     std::string name, unit;  // "mechanism.rod_mass", "kg"
     double change = 0.0, sigma = 0.0;
+    double over = 0.0;  // [s] the span of windows that tells it (the last window's, or more)
   };
   std::vector<Suspect> suspects;
-  double window_end = 0.0;   // [s] when the window closed
-  std::size_t windows = 0;   // windows closed since the start
+  double window_end = 0.0;  // [s] when the window closed
+  std::size_t windows = 0;  // windows closed since the start
+  // Each suspect's information in the window, b_j (in the suspects' order): how well the motion
+  // told that parameter; a change of c shows as a statistic of about c^2 b_j.
+  std::vector<double> information;
   std::string text() const;  // one line: "ERROR since t = 12.5 s: slider4_joint position ..."
 };
 
@@ -83,9 +92,23 @@ class InnovationAlarm {
   // P(a window of `dof` NIS >= bound) under the model: the bounds' probabilities.
   double errorProbability() const { return error_probability_; }
   double warnProbability() const { return warn_probability_; }
+  // The statistic a suspect's test a^2 / b must reach to raise ERROR on its own.
+  double suspectErrorStatistic() const;
 
  private:
   void closeWindow(double time);
+  // How many tests share a window's false-alarm probability (Bonferroni): the NIS, each
+  // coordinate's squares and mean, and each suspect over each span.
+  double tests() const;
+  // One suspect's test over a span of windows: a^2 / b, the change a / b and its 1 / sqrt(b).
+  struct SuspectTest {
+    double statistic;
+    std::size_t suspect;
+    double change, sigma;
+  };
+  // The suspects' tests over the span that tells a change (see its comment), strongest first;
+  // `over` [s]: that span. The bounds: ERROR's and WARN's probabilities per test.
+  std::vector<SuspectTest> rankSuspects(double p_error, double p_warn, double* over) const;
 
   double window_;
   double error_probability_, warn_probability_;
@@ -95,6 +118,9 @@ class InnovationAlarm {
   std::array<double, kMeasuredCoordinates> sums_{}, signed_sums_{}, counts_{};
   std::vector<std::string> suspects_, units_;
   std::vector<double> evidence_, information_;  // the window's a_j, b_j
+  // The last closed windows' a_j, b_j (newest last; at most the longest span's count) and spans.
+  std::deque<std::pair<std::vector<double>, std::vector<double>>> past_;
+  std::deque<double> past_seconds_;
   AlarmReport report_;
 };
 

@@ -119,14 +119,18 @@ class MechanismEstimator {
   // Carries `e` forward by `span` seconds (steps of at most the physics step), the torque going
   // from e.torque to end_torque; false when the state left the finite or the model's scale.
   // `signature` (when given) is carried along: E <- Phi E + the step's response to each suspect.
+  // `answer_lateness`: how much later than its sample + answer_delay the last reading's answer
+  // can be in force (that reading's stamp came late by it: a burst), and its variance.
   bool predict(FilterEstimate* e, double span, double end_torque,
-               SignatureMatrix* signature = nullptr) const;
+               SignatureMatrix* signature = nullptr, double answer_lateness = 0.0,
+               double answer_lateness_variance = 0.0) const;
   using SignatureRates = Eigen::Matrix<double, 2, Eigen::Dynamic>;  // d(u1', u2')/dp, a column each
   SignatureRates signatureRates(const std::array<double, 4>& x, double torque) const;
   static void carrySignature(SignatureMatrix* signature, const Eigen::Matrix4d& Phi,
                              const SignatureRates& g, double h);
-  // [s] where in a reading interval of `span` the torque takes the next reading's effort.
-  double switchOffset(double span) const;
+  // [s] where in a reading interval of `span` the torque takes the next reading's effort, the
+  // last reading's answer `lateness` later than in a regular stream (at most the interval).
+  double switchOffset(double span, double lateness) const;
   void correct(const RigReading& reading);
   std::string unusable(const RigReading& reading) const;
 
@@ -150,6 +154,9 @@ class MechanismEstimator {
   InnovationAlarm alarm_;
   ArrivalDelay arrival_;  // how late each stamp is beyond the jitter (a stalled driver's burst)
   double arrival_variance_ = 0.0;  // [s^2] this reading's sample instant: its delay's uncertainty^2
+  // The last used reading's delay (ArrivalDelay) and its uncertainty^2: its answer, computed when
+  // it arrived, lands that much later after its sample.
+  double last_delay_ = 0.0, last_delay_variance_ = 0.0;
   bool started_ = false;
   bool ever_started_ = false;  // a restart keeps the biases once there are some
   double last_stamp_ = 0.0;
