@@ -50,6 +50,7 @@ ObserverNode::ObserverNode(const ros::NodeHandle& nh, const ros::NodeHandle& pri
   }
   estimator_ = std::make_unique<MechanismEstimator>(config_);
   sensors_ = std::make_unique<VirtualSensors>(config_);
+  frames_ = std::make_unique<const FrameNames>(config_.frames);
   ros::NodeHandle pnh(private_nh);
   estimate_pub_ = pnh.advertise<StateEstimate>("estimate", 10);
   joint_state_pub_ = pnh.advertise<sensor_msgs::JointState>("joint_states", 10);
@@ -80,6 +81,7 @@ void ObserverNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
     ROS_WARN_THROTTLE(1.0, "observer: reading refused, estimate kept: %s", step.reason.c_str());
     return;
   }
+  last_reading_ = ros::SteadyTime::now();
   if (step.event == EstimatorEvent::kStarted || step.event == EstimatorEvent::kRestarted)
     first_stamp_ = reading.stamp;
   if (step.event == EstimatorEvent::kRestarted)
@@ -99,7 +101,7 @@ void ObserverNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
   if (virtual_sensors) {
     joint_state_pub_.publish(jointStateMessage(row.snapshot, stamp));
     mechanism_state_pub_.publish(
-        mechanismStateMessage(row.snapshot, 0.0, stamp, FrameNames(config_.frames).mechanism));
+        mechanismStateMessage(row.snapshot, 0.0, stamp, frames_->mechanism));
   }
   if (estimator_->alarm().report().level != published_level_) publishDiagnostics();
 }
@@ -112,7 +114,9 @@ void ObserverNode::onResetEvent(const ResetEvent::ConstPtr& msg) {
 void ObserverNode::publishDiagnostics() {
   diagnostic_msgs::DiagnosticArray array;
   array.header.stamp = ros::Time::now();
-  array.status.push_back(estimatorStatus(*estimator_, ros::this_node::getName()));
+  const double silence =
+      last_reading_.isZero() ? 0.0 : (ros::SteadyTime::now() - last_reading_).toSec();
+  array.status.push_back(estimatorStatus(*estimator_, ros::this_node::getName(), silence));
   published_level_ = estimator_->alarm().report().level;
   diagnostics_pub_.publish(array);
 }

@@ -15,6 +15,7 @@
 #include <sensor_msgs/JointState.h>
 
 #include "kane_sim/ResetEvent.h"
+#include "kane_sim/config/frame_names.h"
 #include "kane_sim/estimate/estimate_table.h"
 #include "kane_sim/estimate/mechanism_estimator.h"
 
@@ -34,7 +35,9 @@ class ObserverNode {
   Config config_;
   std::unique_ptr<MechanismEstimator> estimator_;
   std::unique_ptr<VirtualSensors> sensors_;
+  std::unique_ptr<const FrameNames> frames_;  // the config's, built once
   double first_stamp_ = 0.0;
+  ros::SteadyTime last_reading_;  // when the last usable reading arrived
   AlarmLevel published_level_ = AlarmLevel::kOk;
   ros::Subscriber joint_state_sub_, reset_event_sub_;
   ros::Publisher estimate_pub_, joint_state_pub_, mechanism_state_pub_, diagnostics_pub_;

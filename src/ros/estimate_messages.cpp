@@ -1,5 +1,7 @@
 #include "kane_sim/ros/estimate_messages.h"
 
+#include "kane_sim/format_number.h"
+
 #include <algorithm>
 #include <cstdio>
 
@@ -84,7 +86,7 @@ kane_sim::StateEstimate stateEstimateMessage(const EstimateRow& row,
 }
 
 diagnostic_msgs::DiagnosticStatus estimatorStatus(const MechanismEstimator& estimator,
-                                                  const std::string& name) {
+                                                  const std::string& name, double silence) {
   const AlarmReport& alarm = estimator.alarm().report();
   diagnostic_msgs::DiagnosticStatus status;
   status.name = name + ": model mismatch";
@@ -102,6 +104,14 @@ diagnostic_msgs::DiagnosticStatus estimatorStatus(const MechanismEstimator& esti
     coordinate.key = "coordinate";
     coordinate.value = measuredCoordinateName(alarm.coordinate);
     status.values.push_back(coordinate);
+  }
+  status.values.push_back(keyValue("since the last reading [s]", silence));
+  if (estimator.started() && silence > estimator.restartGap()) {
+    status.level = diagnostic_msgs::DiagnosticStatus::WARN;
+    status.message = "no usable joint_states reading for " + formatNumber(silence) +
+                     " s: the estimate is that old (is the rig's driver publishing?); the "
+                     "filter starts again from the next reading. Before: " +
+                     status.message;
   }
   // The parameters whose change explains the window, most likely first: "change of <name>".
   for (const AlarmReport::Suspect& suspect : alarm.suspects)

@@ -9,6 +9,8 @@
 #include <Eigen/Geometry>
 
 #include "kane_sim/config/load_config.h"
+#include "kane_sim/estimate/mechanism_estimator.h"
+#include "kane_sim/ros/estimate_messages.h"
 #include "kane_sim/ros/markers.h"
 #include "kane_sim/ros/messages.h"
 #include "kane_sim/ros/param_yaml.h"
@@ -317,17 +319,26 @@ TEST(SimStamp, FixedEpochPlusSimTime) {
   EXPECT_EQ(simStamp(std::nan("")), simStamp(0.0));
 }
 
-}  // namespace
-TEST(ResetEventMessage, CarriesTheMovedStateAndItsStamp) {
-  const kane_sim::ResetEvent e =
-      resetEventMessage("set_state", 12.5, State{0.1, 1.2, -3.0, 0.5}, ros::Time(7, 9));
-  EXPECT_EQ(e.cause, "set_state");
-  EXPECT_EQ(e.sim_time, 12.5);
-  EXPECT_EQ(e.header.stamp, ros::Time(7, 9));
-  EXPECT_EQ(e.q[0], 0.1);
-  EXPECT_EQ(e.q[1], 1.2);
-  EXPECT_EQ(e.u[0], -3.0);
-  EXPECT_EQ(e.u[1], 0.5);
+// The observer's /diagnostics: a silence longer than estimator.restart_gap is a WARN naming how
+// old the estimate is, whatever the last window said; before the first reading, waiting.
+TEST(ObserverStatus, SilenceIsAWarning) {
+  const Config config = loadConfigFile(defaultConfigFile()).config;
+  MechanismEstimator estimator(config);
+  const auto waiting = estimatorStatus(estimator, "/observer", 5.0);
+  EXPECT_EQ(waiting.level, diagnostic_msgs::DiagnosticStatus::OK);
+  EXPECT_NE(waiting.message.find("waiting for joint_states"), std::string::npos);
+  RigReading r;
+  r.stamp = 1.0;
+  r.q1 = config.initial_state.q1;
+  r.q2 = config.initial_state.q2;
+  ASSERT_EQ(estimator.update(r).event, EstimatorEvent::kStarted);
+  EXPECT_EQ(estimatorStatus(estimator, "/observer", 0.5 * config.estimator.restart_gap).level,
+            diagnostic_msgs::DiagnosticStatus::OK);
+  const auto silent = estimatorStatus(estimator, "/observer", 2.5 * config.estimator.restart_gap);
+  EXPECT_EQ(silent.level, diagnostic_msgs::DiagnosticStatus::WARN);
+  EXPECT_NE(silent.message.find("no usable joint_states reading for 2.5 s"), std::string::npos)
+      << silent.message;
 }
 
+}  // namespace
 }  // namespace kane_sim

@@ -110,6 +110,7 @@ class MechanismEstimator {
   const InnovationAlarm& alarm() const { return alarm_; }
   const MeasurementNoise& noise() const { return noise_; }
   std::size_t restarts() const { return restarts_; }  // gaps, diverged predictions, restart()
+  double restartGap() const { return restart_gap_; }  // [s] estimator.restart_gap
   // The parameters the alarm tests for a change: the config's identifiable ones (masses, the rod's
   // inertia, springs, dampers, friction), as "mechanism.rod_mass".
   const std::vector<std::string>& suspects() const { return suspect_names_; }

@@ -28,8 +28,11 @@ kane_sim::StateEstimate stateEstimateMessage(const EstimateRow& row,
                                              const ros::Time& stamp);
 
 // The alarm as /diagnostics shows it: level, message, and the window's numbers as values.
+// `silence` [s]: how long since the last usable reading arrived; longer than the estimator's
+// restart_gap once it has started is a WARN of its own (the rig or its driver stopped: the
+// estimate is that old), whatever the last window said.
 diagnostic_msgs::DiagnosticStatus estimatorStatus(const MechanismEstimator& estimator,
-                                                  const std::string& name);
+                                                  const std::string& name, double silence = 0.0);
 
 }  // namespace kane_sim
 
