@@ -16,6 +16,8 @@ std::string ReadingColumns::problem() const {
     return "t, q1, q2 and effort must have one value per reading (" + std::to_string(n) + ")";
   if (u1.size() != u2.size() || (!u1.empty() && u1.size() != n))
     return "u1 and u2 must both be given, one value per reading, or neither";
+  if (!velocity_rows.empty() && (velocity_rows.size() != n || u1.empty()))
+    return "velocity_rows must have one value per reading, and u1 and u2 be given";
   return "";
 }
 
@@ -41,7 +43,7 @@ EstimateRunSummary runEstimator(const Config& config, const ReadingColumns& colu
     r.q1 = columns.q1[i];
     r.q2 = columns.q2[i];
     r.torque = columns.effort[i];
-    r.has_velocity = columns.hasVelocity();
+    r.has_velocity = columns.hasVelocity(i);
     if (r.has_velocity) {
       r.u1 = columns.u1[i];
       r.u2 = columns.u2[i];

@@ -50,22 +50,32 @@ class Estimator:
         over (the seconds of windows that told it)."""
         return self._core.alarm
 
-    def run(self, t, q1, q2, effort, u1=None, u2=None):
+    def run(self, t, q1, q2, effort, u1=None, u2=None, velocity_rows=None):
         """A recording through a fresh filter of this config, as `observer --bag` runs it:
         ({column: array}, summary). Rows only for the readings it used; summary counts the
-        refused ones and the restarts, and holds the alarm's last verdict."""
+        refused ones and the restarts, and holds the alarm's last verdict. velocity_rows (bools,
+        one per reading): which readings carry u1, u2, when not all do."""
         arrays = [np.asarray(a, dtype=float) for a in (t, q1, q2, effort)]
         speeds = [None if u is None else np.asarray(u, dtype=float) for u in (u1, u2)]
-        return _core.estimate_run(self.config._core, *arrays, *speeds)
+        rows = None if velocity_rows is None else np.asarray(velocity_rows, dtype=bool)
+        return _core.estimate_run(self.config._core, *arrays, *speeds, rows)
 
     def run_bag(self, path, topic="/joint_states"):
-        """The JointState topic of a bag (crank_joint, slider4_joint) through run()."""
+        """The JointState topic of a bag (crank_joint, slider4_joint) through run(). Messages
+        without those joints or the crank's effort are left out (another publisher's on the same
+        topic), as `observer --bag` does: summary["skipped"] counts them, summary["skip_notes"]
+        names the first."""
         from kane_sim import _bag
         if not topic.startswith("/"):
             topic = "/" + topic
         try:
-            c = _bag.read_joint_states(path, topic, "crank_joint", "slider4_joint")
+            c = _bag.read_joint_states(path, topic, "crank_joint", "slider4_joint",
+                                       skip_unusable=True)
         except ValueError as e:
             raise ValueError("Estimator.run_bag: %s" % e) from None
-        return self.run(c["t"], c["position_a"], c["position_b"], c["effort_a"],
-                        c.get("velocity_a"), c.get("velocity_b"))
+        rows, summary = self.run(c["t"], c["position_a"], c["position_b"], c["effort_a"],
+                                 c.get("velocity_a"), c.get("velocity_b"),
+                                 c.get("velocity_rows"))
+        summary["skipped"] = c["skipped"]
+        summary["skip_notes"] = c["skip_notes"]
+        return rows, summary

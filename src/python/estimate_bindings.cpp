@@ -126,8 +126,10 @@ std::vector<double> column(const char* name, const Array& a, std::size_t n) {
 }
 
 // A recording through runEstimator: ({column: array}, summary).
-py::tuple estimateRun(const PythonConfig& config, const Array& t, const Array& q1, const Array& q2,
-                      const Array& effort, std::optional<Array> u1, std::optional<Array> u2) {
+py::tuple estimateRun(
+    const PythonConfig& config, const Array& t, const Array& q1, const Array& q2,
+    const Array& effort, std::optional<Array> u1, std::optional<Array> u2,
+    std::optional<py::array_t<bool, py::array::c_style | py::array::forcecast>> velocity_rows) {
   checkSimulatable(config.config());
   if (t.ndim() != 1) throw py::value_error("estimate: t must be 1-D, got shape " + shapeText(t));
   const auto n = static_cast<std::size_t>(t.shape(0));
@@ -141,6 +143,12 @@ py::tuple estimateRun(const PythonConfig& config, const Array& t, const Array& q
   if (u1) {
     columns.u1 = column("u1", *u1, n);
     columns.u2 = column("u2", *u2, n);
+  }
+  if (velocity_rows) {
+    if (velocity_rows->ndim() != 1 || static_cast<std::size_t>(velocity_rows->shape(0)) != n)
+      throw py::value_error("estimate: velocity_rows must be 1-D with one value per t (" +
+                            std::to_string(n) + ")");
+    columns.velocity_rows.assign(velocity_rows->data(), velocity_rows->data() + n);
   }
   const std::string problem = columns.problem();
   if (!problem.empty()) throw py::value_error("estimate: " + problem);
@@ -185,7 +193,8 @@ void bindEstimate(py::module_& m) {
       .def_property_readonly("estimate", &PythonEstimator::estimate)
       .def_property_readonly("alarm", &PythonEstimator::alarm);
   m.def("estimate_run", &estimateRun, py::arg("config"), py::arg("t"), py::arg("q1"), py::arg("q2"),
-        py::arg("effort"), py::arg("u1") = py::none(), py::arg("u2") = py::none());
+        py::arg("effort"), py::arg("u1") = py::none(), py::arg("u2") = py::none(),
+        py::arg("velocity_rows") = py::none());
 }
 
 }  // namespace python

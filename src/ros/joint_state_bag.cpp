@@ -39,7 +39,8 @@ std::map<std::string, std::string> bagTopicTypes(const std::string& path) {
 
 JointStateColumns readJointStates(const std::string& path, const std::string& topic,
                                   const std::string& a, const std::string& b,
-                                  const std::function<bool()>& interrupted) {
+                                  const std::function<bool()>& interrupted,
+                                  UnusableMessages unusable) {
   rosbag::Bag bag = openForReading(path);
   rosbag::View view(bag, rosbag::TopicQuery(topic));
   JointStateColumns out;
@@ -47,6 +48,9 @@ JointStateColumns readJointStates(const std::string& path, const std::string& to
   for (std::vector<double>* column :
        {&out.t, &out.position_a, &out.position_b, &out.velocity_a, &out.velocity_b, &out.effort_a})
     column->reserve(count);
+  out.velocity_rows.reserve(count);
+  constexpr std::size_t kMaxSkipNotes = 10;
+  std::string first_skip;
   const std::string where = path + " on " + topic;
   std::vector<double> received;  // the bag's times, for when a header has no stamp
   received.reserve(count);
@@ -62,24 +66,32 @@ JointStateColumns readJointStates(const std::string& path, const std::string& to
         if (msg->name[k] == a) i = k;
         if (msg->name[k] == b) j = k;
       }
+      std::string lacks;
       for (const auto& [index, joint] : {std::pair{i, &a}, std::pair{j, &b}})
-        if (index == msg->name.size())
-          throw BagReadError(which + " has no joint '" + *joint + "' (names: " + joined(msg->name) +
-                             ")");
-      if (msg->effort.size() <= i)
-        throw BagReadError(which + " carries no effort for " + a +
-                           ": identification needs the delivered torque");
-      if (msg->position.size() <= std::max(i, j))
-        throw BagReadError(which + " carries no positions");
-      out.has_velocity = out.has_velocity && msg->velocity.size() > std::max(i, j);
+        if (lacks.empty() && index == msg->name.size())
+          lacks = which + " has no joint '" + *joint + "' (names: " + joined(msg->name) + ")";
+      if (lacks.empty() && msg->effort.size() <= i)
+        lacks = which + " carries no effort for " + a + ": the delivered torque is needed";
+      if (lacks.empty() && msg->position.size() <= std::max(i, j))
+        lacks = which + " carries no positions";
+      if (!lacks.empty()) {
+        if (unusable == UnusableMessages::kStop) throw BagReadError(lacks);
+        if (first_skip.empty()) first_skip = lacks;
+        if (out.skip_notes.size() < kMaxSkipNotes) out.skip_notes.push_back(lacks);
+        ++out.skipped;
+        continue;
+      }
+      const bool velocities = msg->velocity.size() > std::max(i, j);
+      out.has_velocity = out.has_velocity && velocities;
+      out.velocity_rows.push_back(velocities ? 1 : 0);
       const double stamp = msg->header.stamp.toSec();
       if (stamp == 0.0) ++out.unstamped;
       out.t.push_back(stamp);
       received.push_back(m.getTime().toSec());
       out.position_a.push_back(msg->position[i]);
       out.position_b.push_back(msg->position[j]);
-      out.velocity_a.push_back(out.has_velocity ? msg->velocity[i] : 0.0);
-      out.velocity_b.push_back(out.has_velocity ? msg->velocity[j] : 0.0);
+      out.velocity_a.push_back(velocities ? msg->velocity[i] : 0.0);
+      out.velocity_b.push_back(velocities ? msg->velocity[j] : 0.0);
       out.effort_a.push_back(msg->effort[i]);
     }
   } catch (const BagReadError&) {
@@ -89,7 +101,11 @@ JointStateColumns readJointStates(const std::string& path, const std::string& to
                        std::to_string(read) + " messages of " + topic + "; a corrupt chunk)");
   }
   if (out.unstamped > 0) out.t = std::move(received);
+  if (out.t.empty() && out.skipped > 0)
+    throw BagReadError(path + " has no usable message on " + topic + " (" +
+                       std::to_string(out.skipped) + " unusable; the first: " + first_skip + ")");
   if (out.t.empty()) throw BagReadError(path + " has no messages on " + topic);
+  if (out.has_velocity) out.velocity_rows.clear();  // every row: no mask needed
   return out;
 }
 

@@ -143,12 +143,25 @@ def main(build_dir):
             q1 = 0.52 if k != 100 else float("nan")
             effort = 0.0 if k != 150 else 1e300
             stamp = 1 + 0.01 * k if k != 200 else 0.5
+            # Ten messages without velocities: read without them, the rest with.
+            velocity = [] if 250 <= k < 260 else [0, 0, 0, 0]
             m = JointState(name=names4, position=[q1, -1.04, 0.866, 1.166],
-                           velocity=[0, 0, 0, 0], effort=[effort, 0, 0, 0])
+                           velocity=velocity, effort=[effort, 0, 0, 0])
             m.header.stamp = rospy.Time(stamp)
             b.write("/joint_states", m, rospy.Time(1 + 0.01 * k))
+            if k % 50 == 25:  # another publisher on the same topic: left out, counted, named
+                g = JointState(name=["gripper"], position=[0.01], effort=[0.0])
+                g.header.stamp = rospy.Time(1 + 0.01 * k + 0.005)
+                b.write("/joint_states", g, g.header.stamp)
     r = run("--bag", hostile, "--config", config, "--csv", csv)
     rows = np.genfromtxt(csv, delimiter=",", names=True)
+    check(r.returncode == 0 and "(6 messages skipped, 3 refused, 0 restarts, 10 without "
+          "velocities)" in r.stderr and "has no joint 'crank_joint' (names: gripper)" in r.stderr,
+          "another publisher's messages skipped and named, velocities per message (%s)"
+          % r.stderr.strip()[-400:])
+    _, hostile_summary = kane_sim.Estimator(config).run_bag(hostile)
+    check(hostile_summary["skipped"] == 6 and hostile_summary["rows"] == len(rows),
+          "kane_sim.Estimator.run_bag skips the same messages (%s)" % hostile_summary["skipped"])
     check(r.returncode == 0 and "297 rows from 300 readings" in r.stderr and
           "crank_joint's position = nan" in r.stderr and "goes back" in r.stderr and
           "effort = 1e+300 N m is beyond command.torque_limit" in r.stderr and

@@ -5,6 +5,7 @@
 #define KANE_SIM_ESTIMATE_ESTIMATE_RUN_H
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -14,10 +15,15 @@
 namespace kane_sim {
 
 // A recording's columns (joint_states' crank_joint and slider4_joint): t the stamps [s]; the
-// velocities empty when the recording has none.
+// velocities empty when the recording has none; velocity_rows (when not empty) 1 for the
+// readings that carry them (a recording whose messages differ), the others' u1, u2 unused.
 struct ReadingColumns {
   std::vector<double> t, q1, q2, effort, u1, u2;
-  bool hasVelocity() const { return !u1.empty(); }
+  std::vector<std::uint8_t> velocity_rows;
+  bool hasVelocity() const { return !u1.empty(); }  // any reading carries velocities
+  bool hasVelocity(std::size_t i) const {
+    return !u1.empty() && (velocity_rows.empty() || velocity_rows[i] != 0);
+  }
   std::string problem() const;  // "" or what is wrong with the columns' lengths
 };
 

@@ -6,6 +6,7 @@
 #define KANE_SIM_ROS_JOINT_STATE_BAG_H
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <stdexcept>
@@ -24,21 +25,32 @@ std::map<std::string, std::string> bagTopicTypes(const std::string& path);
 
 // Two joints of a JointState topic, one row per message: t (the headers' stamps, or the bag's
 // receive times for every message when any header has none: one clock, never two mixed), the
-// joints' positions, velocities (when every message has them) and the first joint's effort.
+// joints' positions, velocities and the first joint's effort.
 struct JointStateColumns {
   std::vector<double> t, position_a, position_b, velocity_a, velocity_b, effort_a;
-  bool has_velocity = true;
+  bool has_velocity = true;                 // every row has both joints' velocities
+  std::vector<std::uint8_t> velocity_rows;  // 1 where that row's message has them (else 0)
   std::size_t unstamped = 0;  // messages whose header stamp is 0 (then t is the bag's times)
+  std::size_t skipped = 0;    // unusable messages left out (UnusableMessages::kSkip)
+  std::vector<std::string> skip_notes;  // the first of them, each named
 };
+
+// What to do with a message that lacks a joint, the effort or the positions: stop the read
+// (identify: a recording with holes is not fitted), or leave it out, count it and name the first
+// ones (the observer: another publisher's messages interleaved on the topic, as the node skips
+// them).
+enum class UnusableMessages { kStop, kSkip };
 
 // Reads `topic` of `path` for joints `a` (with its effort) and `b`. Throws BagReadError for a
 // message without either joint, without a's effort or without positions (naming the message's
-// index), for a message rosbag cannot read (a corrupt chunk), and for a topic with no messages.
+// index; with kSkip only when no message is usable), for a message rosbag cannot read (a corrupt
+// chunk), and for a topic with no messages.
 // `interrupted` (when set) is asked every 65536 messages: true stops the read (BagReadError
 // "interrupted").
 JointStateColumns readJointStates(const std::string& path, const std::string& topic,
                                   const std::string& a, const std::string& b,
-                                  const std::function<bool()>& interrupted = {});
+                                  const std::function<bool()>& interrupted = {},
+                                  UnusableMessages unusable = UnusableMessages::kStop);
 
 }  // namespace kane_sim
 

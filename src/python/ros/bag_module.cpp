@@ -4,6 +4,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+
 #include "kane_sim/ros/joint_state_bag.h"
 
 namespace py = pybind11;
@@ -18,7 +20,7 @@ py::array_t<double> array(std::vector<double>&& values) {
 }
 
 py::dict readJointStates(const std::string& path, const std::string& topic, const std::string& a,
-                         const std::string& b) {
+                         const std::string& b, bool skip_unusable) {
   // Ctrl-C: Python's signal handler, asked between blocks of messages.
   std::unique_ptr<py::error_already_set> raised;
   const auto interrupted = [&raised]() {
@@ -28,18 +30,27 @@ py::dict readJointStates(const std::string& path, const std::string& topic, cons
   };
   kane_sim::JointStateColumns c;
   try {
-    c = kane_sim::readJointStates(path, topic, a, b, interrupted);
+    c = kane_sim::readJointStates(
+        path, topic, a, b, interrupted,
+        skip_unusable ? kane_sim::UnusableMessages::kSkip : kane_sim::UnusableMessages::kStop);
   } catch (const kane_sim::BagReadError& e) {
     if (raised) throw *raised;
     throw py::value_error(e.what());
   }
   py::dict out;
   out["unstamped"] = c.unstamped;
+  out["skipped"] = c.skipped;
+  out["skip_notes"] = c.skip_notes;
   out["t"] = array(std::move(c.t));
   out["position_a"] = array(std::move(c.position_a));
   out["position_b"] = array(std::move(c.position_b));
   out["effort_a"] = array(std::move(c.effort_a));
-  if (c.has_velocity) {
+  const bool some =
+      std::find(c.velocity_rows.begin(), c.velocity_rows.end(), 1) != c.velocity_rows.end();
+  if (c.has_velocity || (skip_unusable && some)) {
+    if (!c.has_velocity)
+      out["velocity_rows"] = py::array_t<std::uint8_t>(
+          static_cast<py::ssize_t>(c.velocity_rows.size()), c.velocity_rows.data());
     out["velocity_a"] = array(std::move(c.velocity_a));
     out["velocity_b"] = array(std::move(c.velocity_b));
   }
@@ -61,7 +72,9 @@ PYBIND11_MODULE(_bag, m) {
   m.def("topic_types", &topicTypes, py::arg("path"),
         "{topic: message type} of the bag at path; ValueError when it is not a readable bag");
   m.def("read_joint_states", &readJointStates, py::arg("path"), py::arg("topic"), py::arg("a"),
-        py::arg("b"),
+        py::arg("b"), py::arg("skip_unusable") = false,
         "t, position_a, position_b, effort_a (and velocity_a, velocity_b when every message has "
-        "them) of joints a and b; ValueError naming what a message lacks");
+        "them) of joints a and b; ValueError naming what a message lacks. skip_unusable: leave "
+        "such messages out (counted in skipped, the first named in skip_notes), and give the "
+        "velocities when some messages have them, with velocity_rows (1 where they do)");
 }

@@ -1,5 +1,6 @@
 #include "observer/observer_bag.h"
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstring>
@@ -45,9 +46,13 @@ ReadingColumns readingColumns(const JointStateColumns& bag) {
   c.q1 = bag.position_a;
   c.q2 = bag.position_b;
   c.effort = bag.effort_a;
-  if (bag.has_velocity) {
+  const bool any_velocity =
+      bag.has_velocity ||
+      std::find(bag.velocity_rows.begin(), bag.velocity_rows.end(), 1) != bag.velocity_rows.end();
+  if (any_velocity) {
     c.u1 = bag.velocity_a;
     c.u2 = bag.velocity_b;
+    c.velocity_rows = bag.velocity_rows;
   }
   return c;
 }
@@ -115,9 +120,15 @@ int runBagReplay(int argc, char** argv) {
   std::string topic = vm["topic"].as<std::string>();
   if (topic.empty() || topic[0] != '/') topic = "/" + topic;  // a bag's topics are absolute
   ReadingColumns columns;
+  std::size_t skipped = 0;
   try {
-    columns = readingColumns(readJointStates(bag, topic, kJointNames[kCrankJoint],
-                                             kJointNames[kSlider4Joint], interrupted));
+    const JointStateColumns read =
+        readJointStates(bag, topic, kJointNames[kCrankJoint], kJointNames[kSlider4Joint],
+                        interrupted, UnusableMessages::kSkip);
+    for (const std::string& note : read.skip_notes)
+      std::cerr << "observer: skipped: " << note << "\n";
+    skipped = read.skipped;
+    columns = readingColumns(read);
   } catch (const BagReadError& e) {
     if (g_signal.load()) return 128 + g_signal.load();
     std::cerr << "observer: " << e.what() << "\n";
@@ -132,9 +143,18 @@ int runBagReplay(int argc, char** argv) {
     out.finish();
     for (const std::string& note : summary.notes) std::cerr << "observer: " << note << "\n";
     if (summary.interrupted) std::cerr << "observer: interrupted: the rows so far are written\n";
+    const std::size_t without_velocities =
+        !columns.hasVelocity()
+            ? columns.t.size()
+            : static_cast<std::size_t>(
+                  std::count(columns.velocity_rows.begin(), columns.velocity_rows.end(), 0));
     std::cerr << "observer: " << summary.rows << " rows from " << columns.t.size()
-              << " readings of " << topic << " (" << summary.refused << " refused, "
-              << summary.restarts << " restarts" << (columns.hasVelocity() ? "" : ", no velocities")
+              << " readings of " << topic << " ("
+              << (skipped == 0 ? "" : std::to_string(skipped) + " messages skipped, ")
+              << summary.refused << " refused, " << summary.restarts << " restarts"
+              << (without_velocities == 0
+                      ? ""
+                      : ", " + std::to_string(without_velocities) + " without velocities")
               << "); alarm " << summary.alarm.text() << "\n";
     if (summary.interrupted) return 128 + g_signal.load();
   } catch (const cli::OutputError& e) {
