@@ -315,6 +315,10 @@ bool identifiable(ParameterRole role) {
          role == ParameterRole::kDissipative;
 }
 
+bool identifiable(const ParameterSpec& spec) {
+  return identifiable(spec.role) && spec.field.number != nullptr;
+}
+
 const char* roleName(ParameterRole role) {
   switch (role) {
     case ParameterRole::kUnset:

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <Eigen/Cholesky>
 
@@ -88,7 +89,7 @@ std::vector<MechanismEstimator::Suspect> MechanismEstimator::suspectsOf(
     const Config& config, std::vector<std::string>* names, std::vector<std::string>* units) {
   std::vector<Suspect> suspects;
   for (const ParameterSpec& spec : parameterSchema()) {
-    if (!identifiable(spec.role) || spec.field.number == nullptr) continue;
+    if (!identifiable(spec)) continue;
     Config changed = config;
     double& value = spec.field.number(changed);
     // A step u' is linear in to rounding (friction and dampers are linear in theirs; masses
@@ -99,6 +100,8 @@ std::vector<MechanismEstimator::Suspect> MechanismEstimator::suspectsOf(
     names->push_back(spec.path());
     units->push_back(spec.unit);
   }
+  if (suspects.size() > static_cast<std::size_t>(kMaxSuspects))
+    throw std::logic_error("MechanismEstimator: more identifiable parameters than kMaxSuspects");
   return suspects;
 }
 
@@ -352,9 +355,14 @@ void MechanismEstimator::correct(const RigReading& r) {
                               noise_.velocity_variance[0] + rates.u1_dot * rates.u1_dot * timing,
                               noise_.velocity_variance[1] + rates.u2_dot * rates.u2_dot * timing};
   const int m = r.has_velocity ? 4 : 2;
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(m, 6);
-  Eigen::VectorXd nu(m);
-  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(m, m);
+  // At most 4 measured coordinates: sizes fixed at their largest, nothing allocated.
+  using Rows = Eigen::Matrix<double, Eigen::Dynamic, 6, 0, 4, 6>;
+  using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
+  using Gain = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 4>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1>;
+  Rows H = Rows::Zero(m, 6);
+  Vector nu(m);
+  Square R = Square::Zero(m, m);
   for (int i = 0; i < m; ++i) {
     H(i, i) = 1.0;                 // q1, q2, u1, u2
     if (i < 2) H(i, 4 + i) = 1.0;  // + the encoder's bias
@@ -363,10 +371,10 @@ void MechanismEstimator::correct(const RigReading& r) {
   }
   nu(0) = std::remainder(nu(0), 2.0 * M_PI);  // a crank reading wrapped to a turn is the same angle
   EstimateCovariance& P = sample_.covariance;
-  const Eigen::MatrixXd PHt = P * H.transpose();
-  const Eigen::MatrixXd S = H * PHt + R;
-  const Eigen::LLT<Eigen::MatrixXd> llt(S);
-  const Eigen::MatrixXd K = llt.solve(PHt.transpose()).transpose();
+  const Gain PHt = P * H.transpose();
+  const Square S = H * PHt + R;
+  const Eigen::LLT<Square> llt(S);
+  const Gain K = llt.solve(PHt.transpose()).transpose();
   const EstimateVector dx = K * nu;
   sample_.state.q1 += dx(0);
   sample_.state.q2 += dx(1);
@@ -389,14 +397,21 @@ void MechanismEstimator::correct(const RigReading& r) {
   }
   // Each suspect's evidence: its signature in the innovations, Sigma = H E, weighed by S^-1;
   // then the filter's correction takes its share of that error too, E <- (I - K H) E.
-  const Eigen::MatrixXd Sigma = H * signature_;
-  const Eigen::VectorXd evidence = Sigma.transpose() * llt.solve(nu);
-  const Eigen::VectorXd information = (Sigma.array() * llt.solve(Sigma).array()).colwise().sum();
+  using SuspectRows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, kMaxSuspects>;
+  const SuspectRows Sigma = H * signature_;
+  const SuspectRows S_inv_Sigma = llt.solve(Sigma);
+  const Vector S_inv_nu = llt.solve(nu);
+  const auto n = static_cast<std::size_t>(signature_.cols());
+  evidence_.resize(n);
+  information_.resize(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const auto c = static_cast<Eigen::Index>(j);
+    evidence_[j] = Sigma.col(c).dot(S_inv_nu);
+    information_[j] = Sigma.col(c).dot(S_inv_Sigma.col(c));
+  }
   signature_ = (IKH * signature_).eval();
   const bool closed =
-      alarm_.add(sample_.time, nis_, measured_, normalised,
-                 std::vector<double>(evidence.data(), evidence.data() + evidence.size()),
-                 std::vector<double>(information.data(), information.data() + information.size()));
+      alarm_.add(sample_.time, nis_, measured_, normalised, evidence_, information_);
   // A new window looks for a change from its start.
   if (closed) signature_.setZero();
 }

@@ -9,9 +9,6 @@
 namespace kane_sim {
 namespace {
 
-// What the motion can tell: the schema's inertial, stiffness and dissipative rows (L and g are
-// measured, a ruler and a level; friction's v_s shapes its law).
-bool estimable(const ParameterSpec& spec) { return identifiable(spec.role) && spec.field.number; }
 // Fitted unless the caller names the parameters: all of them. (The rod inertia once followed m
 // through the base's radius of gyration, and friction was fitted only when named: a rig whose
 // rod or friction differed from the base then pushed its difference into the masses and the
@@ -56,7 +53,8 @@ const std::vector<IdentifiableParameter>& identifiableParameters() {
   static const std::vector<IdentifiableParameter> all = [] {
     std::vector<IdentifiableParameter> list;
     for (const ParameterSpec& spec : parameterSchema())
-      if (estimable(spec)) list.push_back({spec.path(), spec.unit, spec.symbol, byDefault(spec)});
+      if (identifiable(spec))
+        list.push_back({spec.path(), spec.unit, spec.symbol, byDefault(spec)});
     list.push_back({kSpringRestLength, "m", "s0", false});
     list.push_back({kTorqueOffset, "N m", "", true});
     return list;
@@ -105,7 +103,7 @@ Regressor::Regressor(const Config& base, const std::vector<std::string>& identif
   known.mechanism.motor.no_load_speed = 0.0;  // the data's torque is the delivered one
   zero.mechanism.motor.no_load_speed = 0.0;
   for (const ParameterSpec& spec : parameterSchema()) {
-    if (!estimable(spec)) continue;
+    if (!identifiable(spec)) continue;
     spec.field.number(zero) = 0.0;
     if (contains(names_, spec.path())) spec.field.number(known) = 0.0;
   }

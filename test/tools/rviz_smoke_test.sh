@@ -29,15 +29,20 @@ rosrun kane_sim simulate --config "$here/../../config/mechanism.yaml" --duration
   --torque-sine 12,0.5 --bag "$work/run.bag" 2>/dev/null
 
 export KANE_SIM_CHECK_SCREENSHOT="$here/check_screenshot.py"
-# wait_until_drawn PROBE [CHECK_FLAGS...]: inside xvfb-run, screenshots the display once a second
-# until check_screenshot.py sees the mechanism (rviz and the launch take 5-15 s to come up on a
-# busy 2-core machine; on one core beside a CPU hog and the browser test it took more than 75 s),
-# for at most 600 s: a bound, not an expectation; PROBE holds the last shot.
+# wait_until_drawn PROBE PID [CHECK_FLAGS...]: inside xvfb-run, screenshots the display once a
+# second until check_screenshot.py sees the mechanism (rviz and the launch take 5-15 s to come up
+# on a busy 2-core machine; on one core beside a CPU hog and the browser test it took more than
+# 75 s), for at most 600 s: a bound, not an expectation; PROBE holds the last shot. Returns 2 at
+# once when the launch PID has exited (rviz is a required node: it died).
 wait_until_drawn() {
-  local probe=$1; shift
+  local probe=$1 pid=$2; shift 2
   local start=$SECONDS
   while [ $((SECONDS - start)) -lt 600 ]; do
     sleep 1
+    if ! kill -0 "$pid" 2>/dev/null; then
+      echo "     the launch exited after $((SECONDS - start)) s, nothing drawn"
+      return 2
+    fi
     import -window root "$probe" 2>/dev/null || continue
     if /usr/bin/python3 "$KANE_SIM_CHECK_SCREENSHOT" "$probe" "$@" >/dev/null 2>&1; then
       echo "     drawn after $((SECONDS - start)) s"
@@ -48,6 +53,26 @@ wait_until_drawn() {
   return 1
 }
 
+# launch_until_drawn LOG PROBE "ROSLAUNCH ARGS" [CHECK_FLAGS...]: inside xvfb-run, starts the
+# launch (its output appended to LOG) and waits until it draws; sets $launch. rviz under software
+# GL now and then dies of a segfault as it starts (exit -11, before its first frame: seen once in
+# some hundred starts on a loaded machine): such a start is tried again, twice at most, and said
+# in LOG. Not drawn in time is not retried.
+launch_until_drawn() {
+  local log=$1 probe=$2 args=$3; shift 3
+  local attempt status
+  for attempt in 1 2 3; do
+    roslaunch $args >> "$log" 2>&1 &
+    launch=$!
+    status=0
+    wait_until_drawn "$probe" "$launch" "$@" || status=$?
+    [ "$status" -eq 2 ] || return "$status"
+    wait "$launch" || true
+    echo "rviz_smoke_test: the launch died before drawing (start $attempt); starting it again" | tee -a "$log"
+  done
+  return 2
+}
+
 # replay_shots BAG NAME LOG GAP COUNT: replays BAG through view_bag.launch into rviz under Xvfb and
 # takes COUNT screenshots GAP s apart from the second pass on, as $work/NAME_{1..COUNT}.png.
 # loop_bag restamps each pass after the one before (/clock never goes back), so rviz keeps its
@@ -55,10 +80,10 @@ wait_until_drawn() {
 # /clock left the RobotModel white for 1-2 s).
 replay_shots() {
   rm -f "$work/$2"_*.png
+  : > "$3"
   xvfb-run -a -s "-screen 0 1280x800x24" bash -c "
-    roslaunch -p $port kane_sim view_bag.launch bag:=$1 > '$3' 2>&1 &
-    launch=\$!
-    $(declare -f wait_until_drawn); wait_until_drawn '$work/$2_probe.png'
+    $(declare -f wait_until_drawn launch_until_drawn)
+    launch_until_drawn '$3' '$work/$2_probe.png' '-p $port kane_sim view_bag.launch bag:=$1'
     for i in \$(seq $5); do import -window root '$work/$2'_\$i.png; sleep $4; done
     kill -INT \$launch
     wait \$launch || true
@@ -134,10 +159,10 @@ echo "fast replay: $attached screenshots with the arrow on rod 1 ($fast_shot)"
 ns_shot="$artifacts/rviz_namespace.png"
 ns_log="$artifacts/rviz_namespace.log"
 rm -f "$ns_shot"
+: > "$ns_log"
 xvfb-run -a -s "-screen 0 1280x800x24" bash -c "
-  roslaunch -p $port kane_sim sim.launch ns:=robot_a frame_prefix:=robot_a rviz:=true interactive_marker:=true > '$ns_log' 2>&1 &
-  launch=\$!
-  $(declare -f wait_until_drawn); wait_until_drawn '$ns_shot' --setpoint
+  $(declare -f wait_until_drawn launch_until_drawn)
+  launch_until_drawn '$ns_log' '$ns_shot' '-p $port kane_sim sim.launch ns:=robot_a frame_prefix:=robot_a rviz:=true interactive_marker:=true' --setpoint
   sleep 1  # rviz's warnings about the marker, if any, come with its first frames
   import -window root '$ns_shot'
   kill -INT \$launch

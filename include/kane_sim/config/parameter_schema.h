@@ -83,6 +83,11 @@ enum class ParameterRole {
 bool inEquations(ParameterRole role);
 // Rows of these roles can be estimated from a recorded motion.
 bool identifiable(ParameterRole role);
+struct ParameterSpec;
+// The rows a recorded motion can tell (identify fits them, the observer's alarm suspects them):
+// an identifiable role and a number (L and g are measured, a ruler and a level; friction's v_s
+// shapes its law).
+bool identifiable(const ParameterSpec& spec);
 // A role's name as the parameter table prints it ("inertial", "dissipative", ...).
 const char* roleName(ParameterRole role);
 

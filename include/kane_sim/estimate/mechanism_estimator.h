@@ -63,9 +63,12 @@ MeasurementNoise measurementNoise(const Config& config);
 
 using EstimateVector = Eigen::Matrix<double, 6, 1>;
 using EstimateCovariance = Eigen::Matrix<double, 6, 6>;
+// At most this many suspect parameters (the schema's identifiable rows: 15), so that the
+// signatures live on the stack: no allocation per reading at 1 kHz.
+constexpr int kMaxSuspects = 24;
 // Each suspect parameter's signature: how the estimate's error would have grown since the alarm
 // window opened, per unit change of that parameter (a column each).
-using SignatureMatrix = Eigen::Matrix<double, 6, Eigen::Dynamic>;
+using SignatureMatrix = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxSuspects>;
 
 // The filter's estimate at one instant.
 struct FilterEstimate {
@@ -125,7 +128,8 @@ class MechanismEstimator {
   bool predict(FilterEstimate* e, double span, double end_torque,
                SignatureMatrix* signature = nullptr, double answer_lateness = 0.0,
                double answer_lateness_variance = 0.0) const;
-  using SignatureRates = Eigen::Matrix<double, 2, Eigen::Dynamic>;  // d(u1', u2')/dp, a column each
+  // d(u1', u2')/dp, a column each
+  using SignatureRates = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kMaxSuspects>;
   SignatureRates signatureRates(const std::array<double, 4>& x, double torque) const;
   static void carrySignature(SignatureMatrix* signature, const Eigen::Matrix4d& Phi,
                              const SignatureRates& g, double h);
@@ -167,6 +171,8 @@ class MechanismEstimator {
   std::array<bool, kMeasuredCoordinates> measured_{};
   double nis_ = 0.0;
   std::size_t restarts_ = 0;
+  std::vector<double> evidence_,
+      information_;  // this reading's, for the alarm (kept: no allocation)
 };
 
 }  // namespace kane_sim
