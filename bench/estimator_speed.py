@@ -69,6 +69,11 @@ def node_cpu(seconds):
     observer = subprocess.Popen(["rosrun", "kane_sim", "observer", "_config:=" + f.name], env=env,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     procs.append(observer)
+    # The transport's floor: topic_tools' relay takes the same messages without reading them
+    # (and republishes to no one). Without topic_tools, no floor.
+    relay = subprocess.Popen(["rosrun", "topic_tools", "relay", "/joint_states", "/relayed"],
+                             env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    procs.append(relay)
     time.sleep(4)
     hz = subprocess.run(["timeout", "4", "rostopic", "hz", "/joint_states"], env=env,
                         capture_output=True, text=True).stdout
@@ -76,14 +81,19 @@ def node_cpu(seconds):
     if not rates or rates[-1] < 900:
         raise RuntimeError("joint_states at %s Hz, not 1 kHz: %s" % (rates, hz[-300:]))
     pid = int(subprocess.check_output(["pgrep", "-n", "-f", "lib/kane_sim/observer"]).split()[0])
+    relay_pid = subprocess.run(["pgrep", "-n", "-f", "topic_tools/relay"], capture_output=True,
+                               text=True).stdout.split()
+    relay_pid = int(relay_pid[0]) if relay_pid else None
     before = cpu_seconds(pid)
+    relay_before = cpu_seconds(relay_pid) if relay_pid else 0.0
     time.sleep(seconds)
     used = cpu_seconds(pid) - before
+    relay_used = cpu_seconds(relay_pid) - relay_before if relay_pid else float("nan")
     for p in reversed(procs):
         p.terminate()
     for p in procs:
         p.wait(timeout=20)
-    return used / seconds
+    return used / seconds, relay_used / seconds
 
 
 def main():
@@ -92,9 +102,11 @@ def main():
     print("|---|---|")
     print("| an hour of 200 Hz readings (%d) through the estimator | %.1f s (%.2f µs per "
           "reading; alarm %s) |" % (n, seconds, 1e6 * seconds / n, level))
-    share = node_cpu(float(sys.argv[1]) if len(sys.argv) > 1 else 20.0)
+    share, floor = node_cpu(float(sys.argv[1]) if len(sys.argv) > 1 else 20.0)
     print("| observer node beside kane_sim_node, 1 kHz readings | %.1f %% of a core |" %
           (100 * share))
+    print("| the transport's floor: topic_tools relay on the same topic, same run | %.1f %% of a "
+          "core |" % (100 * floor))
 
 
 if __name__ == "__main__":
