@@ -46,7 +46,7 @@ double chiSquareUpperTail(double dof, double x) {
 
 std::string AlarmReport::text() const {
   char line[320];
-  if (windows == 0)
+  if (!verdict)
     return "no verdict yet: no window of innovations has closed since the filter (re)started";
   if (level == AlarmLevel::kOk) {
     std::snprintf(line, sizeof line,
@@ -142,6 +142,7 @@ void InnovationAlarm::closeWindow(double time) {
   open_ = false;
   AlarmReport r;
   r.windows = report_.windows + 1;
+  r.verdict = true;
   r.window_end = time;
   r.information = information_;
   r.nis = nis_;

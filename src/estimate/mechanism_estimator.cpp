@@ -19,6 +19,12 @@ namespace {
 // micro-radian (micrometre), and a micro-radian per second, far below any encoder.
 constexpr double kPositionFloor = 1e-6;
 constexpr double kVelocityFloor = 1e-6;
+// [m] slider 4 further than this from the origin is no reading of this mechanism (a metre scale).
+constexpr double kMaxSliderPosition = 1e3;
+// A reading whose innovation is this many of its standard deviations from the estimate is
+// refused; so many in a row restart the filter.
+constexpr double kOutlierSigma = 1e3;
+constexpr int kOutliersBeforeRestart = 3;
 // The speeds' spread before the first reading that carries none [rad/s, m/s].
 constexpr double kUnknownCrankSpeed = 10.0;
 constexpr double kUnknownSliderSpeed = 1.0;
@@ -121,12 +127,23 @@ std::string MechanismEstimator::unusable(const RigReading& r) const {
   if (!std::isfinite(r.torque)) return field("crank_joint's effort", r.torque);
   if (r.has_velocity && !std::isfinite(r.u1)) return field("crank_joint's velocity", r.u1);
   if (r.has_velocity && !std::isfinite(r.u2)) return field("slider4_joint's velocity", r.u2);
+  // Finite but beyond any motion of this mechanism: a corrupt message, not a reading (taken, it
+  // would drag the encoders' biases with it).
+  if (std::abs(r.q2) > kMaxSliderPosition)
+    return "slider4_joint's position = " + formatNumber(r.q2) + " m is beyond " +
+           formatNumber(kMaxSliderPosition) + " m (not this mechanism's)";
+  if (r.has_velocity && (std::abs(r.u1) > max_speed_ || std::abs(r.u2) > max_speed_))
+    return "a velocity (crank_joint " + formatNumber(r.u1) + " rad/s, slider4_joint " +
+           formatNumber(r.u2) + " m/s) is beyond the model's range, " + formatNumber(max_speed_) +
+           " per second";
   // The drive cannot deliver more than its limit: such an effort is not this rig's.
   if (std::abs(r.torque) > torque_limit_ * (1.0 + 1e-9))
     return "crank_joint's effort = " + formatNumber(r.torque) +
            " N m is beyond command.torque_limit " + formatNumber(torque_limit_) +
            " N m (is the config the rig's?)";
-  if (started_ && r.stamp < last_stamp_)
+  // Further back than restart_gap is a clock set back (or the last stamp was wrong): update()
+  // starts again from it rather than refusing every reading after.
+  if (started_ && r.stamp < last_stamp_ && last_stamp_ - r.stamp <= restart_gap_)
     return "the stamp " + formatNumber(r.stamp) + " s goes back " +
            formatNumber(last_stamp_ - r.stamp) + " s before the last reading's";
   return "";
@@ -138,6 +155,14 @@ EstimatorStep MechanismEstimator::update(const RigReading& reading) {
   if (!started_) {
     start(reading, reading.stamp - noise_.latency);
     return {EstimatorEvent::kStarted, ""};
+  }
+  if (reading.stamp < last_stamp_) {  // back by more than restart_gap (unusable() took the rest)
+    const std::string reason = "the stamp went back " + formatNumber(last_stamp_ - reading.stamp) +
+                               " s (> estimator.restart_gap " + formatNumber(restart_gap_) +
+                               " s): the rig's clock was set back, or the last stamp was wrong";
+    restart();
+    start(reading, reading.stamp - noise_.latency);
+    return {EstimatorEvent::kRestarted, reason};
   }
   // Sampled latency before its stamp, and earlier when the stamp came late (a burst).
   const ArrivalDelay::Lateness late = arrival_.add(reading.stamp);
@@ -151,6 +176,8 @@ EstimatorStep MechanismEstimator::update(const RigReading& reading) {
                      " s between readings (> estimator.restart_gap " + formatNumber(restart_gap_) +
                      " s)";
   } else {
+    before_outlier_ = sample_;
+    signature_before_outlier_ = signature_;
     FilterEstimate predicted = sample_;
     SignatureMatrix signature = signature_;
     if (predict(&predicted, sample_time - sample_.time, reading.torque, &signature, last_delay_,
@@ -170,6 +197,7 @@ EstimatorStep MechanismEstimator::update(const RigReading& reading) {
     start(reading, sample_time);
     return {EstimatorEvent::kRestarted, restart_reason};
   }
+  const double last_stamp = last_stamp_;
   last_stamp_ = reading.stamp;
   // Its answer lands between sample + answer_delay (a simulator catching up runs its physics
   // ahead of the wall clock: the answer lands within the catch-up) and that plus the delay (a
@@ -177,8 +205,27 @@ EstimatorStep MechanismEstimator::update(const RigReading& reading) {
   const double delay = reading.stamp - noise_.latency - sample_time;
   last_delay_ = delay / 2.0;
   last_delay_variance_ = delay * delay / 12.0 + arrival_variance_;
-  correct(reading);
-  return {EstimatorEvent::kUpdated, ""};
+  if (correct(reading)) {
+    outliers_ = 0;
+    return {EstimatorEvent::kUpdated, ""};
+  }
+  const std::string far =
+      "the reading at " + formatNumber(reading.stamp) + " s (q1 = " + formatNumber(reading.q1) +
+      ", q2 = " + formatNumber(reading.q2) + ") is " + formatNumber(kOutlierSigma) +
+      " standard deviations or more from the estimate";
+  // One such reading is a corrupt message: refused, the estimate as it was. Several in a row:
+  // the rig was moved, or the estimate lost it: start again from this one.
+  if (++outliers_ < kOutliersBeforeRestart) {
+    sample_ = before_outlier_;
+    signature_ = signature_before_outlier_;
+    last_stamp_ = last_stamp;
+    return {EstimatorEvent::kRefused, far + " (estimate kept)"};
+  }
+  outliers_ = 0;
+  restart();
+  start(reading, sample_time);
+  return {EstimatorEvent::kRestarted, far + ", " + std::to_string(kOutliersBeforeRestart) +
+                                          " in a row: the rig was moved, or the estimate lost it"};
 }
 
 void MechanismEstimator::start(const RigReading& r, double sample_time) {
@@ -339,7 +386,7 @@ FilterEstimate MechanismEstimator::atStamp() const {
   return now;
 }
 
-void MechanismEstimator::correct(const RigReading& r) {
+bool MechanismEstimator::correct(const RigReading& r) {
   // The measured coordinates this reading holds, in MeasuredCoordinate order.
   measured_ = {true, true, r.has_velocity, r.has_velocity};
   const State& x = sample_.state;
@@ -373,6 +420,10 @@ void MechanismEstimator::correct(const RigReading& r) {
   EstimateCovariance& P = sample_.covariance;
   const Gain PHt = P * H.transpose();
   const Square S = H * PHt + R;
+  // A reading this far from the estimate is no correction of it: taken, its innovation would
+  // drag every coordinate and the biases with it.
+  for (int i = 0; i < m; ++i)
+    if (!(std::abs(nu(i)) <= kOutlierSigma * std::sqrt(S(i, i)))) return false;
   const Eigen::LLT<Square> llt(S);
   const Gain K = llt.solve(PHt.transpose()).transpose();
   const EstimateVector dx = K * nu;
@@ -414,6 +465,7 @@ void MechanismEstimator::correct(const RigReading& r) {
       alarm_.add(sample_.time, nis_, measured_, normalised, evidence_, information_);
   // A new window looks for a change from its start.
   if (closed) signature_.setZero();
+  return true;
 }
 
 }  // namespace kane_sim

@@ -64,7 +64,7 @@ class Estimator:
         """The JointState topic of a bag (crank_joint, slider4_joint) through run(). Messages
         without those joints or the crank's effort are left out (another publisher's on the same
         topic), as `observer --bag` does: summary["skipped"] counts them, summary["skip_notes"]
-        names the first."""
+        names the first; summary["without_velocities"] counts the readings read without speeds."""
         from kane_sim import _bag
         if not topic.startswith("/"):
             topic = "/" + topic
@@ -78,4 +78,8 @@ class Estimator:
                                  c.get("velocity_rows"))
         summary["skipped"] = c["skipped"]
         summary["skip_notes"] = c["skip_notes"]
+        carried = c.get("velocity_rows")
+        summary["without_velocities"] = int(
+            len(c["t"]) if "velocity_a" not in c else
+            (0 if carried is None else len(carried) - int(np.count_nonzero(carried))))
         return rows, summary

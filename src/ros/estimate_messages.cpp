@@ -12,8 +12,11 @@ namespace {
 
 // The index of `joint` in msg.name, or -1.
 long jointIndex(const sensor_msgs::JointState& msg, const char* joint) {
+  // -1: absent; -2: named twice (which value is the joint's?)
   const auto it = std::find(msg.name.begin(), msg.name.end(), joint);
-  return it == msg.name.end() ? -1 : static_cast<long>(it - msg.name.begin());
+  if (it == msg.name.end()) return -1;
+  if (std::find(it + 1, msg.name.end(), joint) != msg.name.end()) return -2;
+  return static_cast<long>(it - msg.name.begin());
 }
 
 diagnostic_msgs::KeyValue keyValue(const std::string& key, double value) {
@@ -32,6 +35,11 @@ bool rigReading(const sensor_msgs::JointState& msg, const ros::Time& receipt, Ri
   const char* crank = kJointNames[kCrankJoint];
   const char* slider = kJointNames[kSlider4Joint];
   const long c = jointIndex(msg, crank), s = jointIndex(msg, slider);
+  if (c == -2 || s == -2) {
+    *why = std::string("the message names ") + (c == -2 ? crank : slider) +
+           " twice: which value is the joint's?";
+    return false;
+  }
   if (c < 0 || s < 0) {
     *why = std::string("the message has no ") + (c < 0 ? crank : slider) +
            " (is it this mechanism's joint_states?)";

@@ -42,7 +42,10 @@ JointStateColumns readJointStates(const std::string& path, const std::string& to
                                   const std::function<bool()>& interrupted,
                                   UnusableMessages unusable) {
   rosbag::Bag bag = openForReading(path);
-  rosbag::View view(bag, rosbag::TopicQuery(topic));
+  // A bag written by rosbag's Python API may hold "joint_states" for "/joint_states": either
+  // spelling is the topic.
+  const std::string other = !topic.empty() && topic[0] == '/' ? topic.substr(1) : "/" + topic;
+  rosbag::View view(bag, rosbag::TopicQuery(std::vector<std::string>{topic, other}));
   JointStateColumns out;
   const std::size_t count = view.size();
   for (std::vector<double>* column :
@@ -62,11 +65,15 @@ JointStateColumns readJointStates(const std::string& path, const std::string& to
       if (!msg) throw BagReadError(where + " is not sensor_msgs/JointState");
       const std::string which = where + ", message " + std::to_string(read - 1) + ",";
       std::size_t i = msg->name.size(), j = msg->name.size();
-      for (std::size_t k = 0; k < msg->name.size(); ++k) {
-        if (msg->name[k] == a) i = k;
-        if (msg->name[k] == b) j = k;
-      }
       std::string lacks;
+      for (std::size_t k = 0; k < msg->name.size(); ++k) {
+        for (const auto& [index, joint] : {std::pair{&i, &a}, std::pair{&j, &b}}) {
+          if (msg->name[k] != *joint) continue;
+          if (*index != msg->name.size() && lacks.empty())
+            lacks = which + " names '" + *joint + "' twice: which value is the joint's?";
+          *index = k;
+        }
+      }
       for (const auto& [index, joint] : {std::pair{i, &a}, std::pair{j, &b}})
         if (lacks.empty() && index == msg->name.size())
           lacks = which + " has no joint '" + *joint + "' (names: " + joined(msg->name) + ")";

@@ -65,6 +65,7 @@ struct AlarmReport {
   std::vector<Suspect> suspects;
   double window_end = 0.0;  // [s] when the window closed
   std::size_t windows = 0;  // windows closed since the start
+  bool verdict = false;     // a window closed since the filter (re)started
   // Each suspect's information in the window, b_j (in the suspects' order): how well the motion
   // told that parameter; a change of c shows as a statistic of about c^2 b_j.
   std::vector<double> information;

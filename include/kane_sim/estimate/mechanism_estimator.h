@@ -136,7 +136,8 @@ class MechanismEstimator {
   // [s] where in a reading interval of `span` the torque takes the next reading's effort, the
   // last reading's answer `lateness` later than in a regular stream (at most the interval).
   double switchOffset(double span, double lateness) const;
-  void correct(const RigReading& reading);
+  // False (nothing changed) for a reading too far from the estimate to correct it.
+  bool correct(const RigReading& reading);
   std::string unusable(const RigReading& reading) const;
 
   // A suspect parameter: the model with it changed by `delta`, for u' 's derivative along it.
@@ -171,6 +172,9 @@ class MechanismEstimator {
   std::array<bool, kMeasuredCoordinates> measured_{};
   double nis_ = 0.0;
   std::size_t restarts_ = 0;
+  int outliers_ = 0;               // readings in a row too far from the estimate to correct it
+  FilterEstimate before_outlier_;  // the estimate before the last prediction, kept for a refusal
+  SignatureMatrix signature_before_outlier_;
   std::vector<double> evidence_,
       information_;  // this reading's, for the alarm (kept: no allocation)
 };
