@@ -142,7 +142,7 @@ def main(build_dir):
         for k in range(300):
             q1 = 0.52 if k != 100 else float("nan")
             effort = 0.0 if k != 150 else 1e300
-            stamp = 1 + 0.01 * k if k != 200 else 0.5
+            stamp = 1 + 0.01 * k if k != 200 else 2.5  # 0.5 s back: refused (within restart_gap)
             # Ten messages without velocities: read without them, the rest with.
             velocity = [] if 250 <= k < 260 else [0, 0, 0, 0]
             m = JointState(name=names4, position=[q1, -1.04, 0.866, 1.166],
