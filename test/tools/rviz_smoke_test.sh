@@ -54,10 +54,11 @@ wait_until_drawn() {
 }
 
 # launch_until_drawn LOG PROBE "ROSLAUNCH ARGS" [CHECK_FLAGS...]: inside xvfb-run, starts the
-# launch (its output appended to LOG) and waits until it draws; sets $launch. rviz under software
-# GL now and then dies of a segfault as it starts (exit -11, before its first frame: seen once in
-# some hundred starts on a loaded machine): such a start is tried again, twice at most, and said
-# in LOG. Not drawn in time is not retried.
+# launch (its output appended to LOG) and waits until it draws; sets $launch. Debian's rviz now
+# and then dies as it starts, before its first frame, right after rospack's "no such package
+# media_export" (exit -11, or -6 with "free(): invalid next size"; in 2 of 2 clean-clone CI runs
+# on the 2-core VM, 2026-11-28, on the first of the test's three starts): such a start is tried
+# again, twice at most, and said in LOG. Not drawn in time is not retried.
 launch_until_drawn() {
   local log=$1 probe=$2 args=$3; shift 3
   local attempt status
