@@ -157,6 +157,30 @@ def load_motion(data, topic=None):
     return _uniform(cols, source)
 
 
+def _regular_despite_jitter(t, dt):
+    """(period, largest stray, the regular stamps) when stamps that repeat or go back are a
+    regular sampling's, jittered by less than a period: the line fitted to them by index, when
+    no reading was lost (a lost reading moves every stamp after it a period off the line: the
+    stamps' running mean about it would step by a period); else None."""
+    if not np.any(dt > 0):
+        return None
+    k = np.arange(len(t))
+    slope, offset = np.polyfit(k, t - t[0], 1)
+    residual = t - t[0] - (offset + slope * k)
+    stray = float(np.max(np.abs(residual)))
+    # The jitter's own spread (a robust sigma): one stamp a period off in an otherwise exact
+    # recording is a wrong stamp, not a jitter.
+    spread = 1.4826 * float(np.median(np.abs(residual - np.median(residual))))
+    # The running mean over 101 readings: the jitter averages out (its sd / 10), a lost reading
+    # steps it by a period.
+    width = min(101, len(t))
+    running = np.convolve(residual, np.ones(width) / width, mode="valid")
+    if not (slope > 0 and stray < slope and stray <= 5.0 * spread
+            and np.ptp(running) < 0.5 * slope):
+        return None
+    return float(slope), stray, t[0] + offset + slope * k
+
+
 def _uniform(cols, source):
     n = len(cols["t"])
     if n < MIN_SAMPLES:
@@ -179,13 +203,24 @@ def _uniform(cols, source):
     if not (np.isfinite(t[-1]) and np.all(np.isfinite(dt))):
         raise ValueError("data (%s): time runs from %r to %r: a span a double cannot hold"
                          % (source, start, float(cols["t"][-1]) + start))
+    notes = []
     bad = np.flatnonzero(dt <= 0)
     if bad.size:
-        i = bad[0]
-        what = "repeats" if dt[i] == 0 else "goes backward from %r" % (t[i] + start)
-        raise ValueError("data (%s): time t[%d] = %r %s (%d such steps): stamps must increase"
-                         % (source, i + 1, t[i + 1] + start, what, bad.size))
-    notes = []
+        regular = _regular_despite_jitter(t, dt)
+        if regular is None:
+            i = bad[0]
+            what = "repeats" if dt[i] == 0 else "goes backward from %r" % (t[i] + start)
+            raise ValueError("data (%s): time t[%d] = %r %s (%d such steps): stamps must "
+                             "increase" % (source, i + 1, t[i + 1] + start, what, bad.size))
+        # Readings stamped when they arrived, with a jitter as long as their period (a sensor at
+        # 500 Hz with 2 ms of it): two in one physics step share a stamp, or swap. None lost, so
+        # the k-th reading is the k-th sample of the regular sampling the stamps scatter about.
+        notes.append("%d stamps repeat or go back within the jitter (up to %.3g ms about a "
+                     "regular %.4g s sampling, no reading lost): taken as that sampling"
+                     % (bad.size, 1e3 * regular[1], regular[0]))
+        cols = dict(cols, t=regular[2])
+        t = cols["t"]
+        dt = np.diff(t)
     step = float(np.median(dt))
     if step < MIN_SAMPLE_STEP:
         raise ValueError("data (%s): samples %.3g s apart (the median step): faster than any "

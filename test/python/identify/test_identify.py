@@ -455,3 +455,23 @@ def test_a_corrupt_bag_and_broken_time_axes_are_named_not_tracebacks(tmp_path, r
             ki.load_motion(dict(base, q2=bad))
     with pytest.raises(ValueError, match="params: 'mechanism.rod_mass' named twice"):
         ki.identify(base, None, params="mechanism.rod_mass, mechanism.rod_mass")
+
+
+def test_stamps_that_repeat_within_the_jitter_are_a_regular_sampling(truth_run):
+    # Readings at 500 Hz stamped when they arrived, up to 2 ms late (config/sensors.yaml's jitter
+    # at 500 Hz) on a 1 ms clock: two share a stamp, or swap. Read as the regular sampling they
+    # scatter about, not refused; the fit as the regular recording's.
+    rng = np.random.default_rng(5)
+    data = {k: v[::2].copy() for k, v in truth_run.items()}
+    data["t"] = np.round(data["t"] + rng.integers(0, 3, len(data["t"])) * 1e-3, 6)
+    assert np.any(np.diff(data["t"]) <= 0)
+    fit = ki.identify(data, config_path(), params=NAMES[:4], validate=False)
+    assert any("repeat or go back within the jitter" in n for n in fit.notes), fit.notes
+    regular = ki.identify({k: v[::2] for k, v in truth_run.items()}, config_path(),
+                          params=NAMES[:4], validate=False)
+    for name in NAMES[:3]:
+        assert fit.estimates[name] == pytest.approx(regular.estimates[name], rel=2e-3), name
+    # A lost reading among them is not a jitter: refused as before.
+    lost = {k: np.delete(v, 300) for k, v in data.items()}
+    with pytest.raises(ValueError, match="stamps must increase"):
+        ki.identify(lost, config_path(), validate=False)
