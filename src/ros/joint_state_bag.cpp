@@ -53,7 +53,6 @@ JointStateColumns readJointStates(const std::string& path, const std::string& to
     column->reserve(count);
   out.velocity_rows.reserve(count);
   constexpr std::size_t kMaxSkipNotes = 10;
-  std::string first_skip;
   const std::string where = path + " on " + topic;
   std::vector<double> received;  // the bag's times, for when a header has no stamp
   received.reserve(count);
@@ -83,7 +82,6 @@ JointStateColumns readJointStates(const std::string& path, const std::string& to
         lacks = which + " carries no positions";
       if (!lacks.empty()) {
         if (unusable == UnusableMessages::kStop) throw BagReadError(lacks);
-        if (first_skip.empty()) first_skip = lacks;
         if (out.skip_notes.size() < kMaxSkipNotes) out.skip_notes.push_back(lacks);
         ++out.skipped;
         continue;
@@ -110,7 +108,8 @@ JointStateColumns readJointStates(const std::string& path, const std::string& to
   if (out.unstamped > 0) out.t = std::move(received);
   if (out.t.empty() && out.skipped > 0)
     throw BagReadError(path + " has no usable message on " + topic + " (" +
-                       std::to_string(out.skipped) + " unusable; the first: " + first_skip + ")");
+                       std::to_string(out.skipped) +
+                       " unusable; the first: " + out.skip_notes.front() + ")");
   if (out.t.empty()) throw BagReadError(path + " has no messages on " + topic);
   if (out.has_velocity) out.velocity_rows.clear();  // every row: no mask needed
   return out;

@@ -5,6 +5,7 @@
 #ifndef KANE_SIM_ROS_JOINT_STATE_BAG_H
 #define KANE_SIM_ROS_JOINT_STATE_BAG_H
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -28,8 +29,13 @@ std::map<std::string, std::string> bagTopicTypes(const std::string& path);
 // joints' positions, velocities and the first joint's effort.
 struct JointStateColumns {
   std::vector<double> t, position_a, position_b, velocity_a, velocity_b, effort_a;
-  bool has_velocity = true;                 // every row has both joints' velocities
-  std::vector<std::uint8_t> velocity_rows;  // 1 where that row's message has them (else 0)
+  bool has_velocity = true;  // every row has both joints' velocities
+  // 1 where that row's message has them (else 0); empty when every row has them
+  std::vector<std::uint8_t> velocity_rows;
+  bool anyVelocity() const {  // some row has both joints' velocities
+    return has_velocity ||
+           std::find(velocity_rows.begin(), velocity_rows.end(), 1) != velocity_rows.end();
+  }
   std::size_t unstamped = 0;  // messages whose header stamp is 0 (then t is the bag's times)
   std::size_t skipped = 0;    // unusable messages left out (UnusableMessages::kSkip)
   std::vector<std::string> skip_notes;  // the first of them, each named

@@ -45,9 +45,7 @@ py::dict readJointStates(const std::string& path, const std::string& topic, cons
   out["position_a"] = array(std::move(c.position_a));
   out["position_b"] = array(std::move(c.position_b));
   out["effort_a"] = array(std::move(c.effort_a));
-  const bool some =
-      std::find(c.velocity_rows.begin(), c.velocity_rows.end(), 1) != c.velocity_rows.end();
-  if (c.has_velocity || (skip_unusable && some)) {
+  if (c.has_velocity || (skip_unusable && c.anyVelocity())) {
     if (!c.has_velocity)
       out["velocity_rows"] = py::array_t<std::uint8_t>(
           static_cast<py::ssize_t>(c.velocity_rows.size()), c.velocity_rows.data());

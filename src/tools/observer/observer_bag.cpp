@@ -46,10 +46,7 @@ ReadingColumns readingColumns(const JointStateColumns& bag) {
   c.q1 = bag.position_a;
   c.q2 = bag.position_b;
   c.effort = bag.effort_a;
-  const bool any_velocity =
-      bag.has_velocity ||
-      std::find(bag.velocity_rows.begin(), bag.velocity_rows.end(), 1) != bag.velocity_rows.end();
-  if (any_velocity) {
+  if (bag.anyVelocity()) {
     c.u1 = bag.velocity_a;
     c.u2 = bag.velocity_b;
     c.velocity_rows = bag.velocity_rows;
