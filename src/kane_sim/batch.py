@@ -27,8 +27,10 @@ def _numbers_table(n, base, params):
     """(names, values (n, k)) when every param is a real number (or n of them) of the physics or
     the initial state and the sensors are off: the batch is built in C++ from the table (the
     loader's rules per number, no Config per row: 10^6 mechanisms in seconds). None otherwise."""
-    if not params or base["sensors.enabled"]:
+    if base["sensors.enabled"]:
         return None
+    if not params:  # n copies of the base: set_params can still take the numbers path
+        return [], np.zeros((n, 0))
     names, columns = [], []
     for name, values in params.items():
         if not isinstance(name, str):
@@ -59,19 +61,7 @@ def _lane_configs(n, config, params):
             raise ValueError("sensors.seed %d + %d mechanisms passes %d: give a smaller seed"
                              % (first, n, MAX_SEED))
         params["sensors.seed"] = np.arange(first, first + n)
-    columns = {}
-    for name, values in params.items():
-        if not isinstance(name, str):
-            raise TypeError("params: names must be config names ('section.key'), got %r" % (name,))
-        array = np.asarray(values)
-        if array.dtype.kind == "c" or array.dtype.kind not in "biufUSO":
-            raise TypeError("params[%r]: numbers, strings or bools, got %s" % (name, array.dtype))
-        if array.ndim == 0:
-            array = np.full(n, array.item(), dtype=object)
-        if array.shape != (n,):
-            raise ValueError("params[%r]: one value or %d (one per mechanism), got shape %s"
-                             % (name, n, array.shape))
-        columns[name] = [v.item() if isinstance(v, np.generic) else v for v in array]
+    columns = _param_columns("params", params, n)
     names = list(columns)
     built = {}
     configs = []
@@ -79,16 +69,40 @@ def _lane_configs(n, config, params):
         row = tuple(columns[k][i] for k in names)
         key = tuple((type(v).__name__, v) for v in row)
         if key not in built:
-            for name, value in zip(names, row):
-                if isinstance(value, complex) or not isinstance(value, (bool, int, float, str)):
-                    raise TypeError("params[%r][%d]: a number, a string or a bool, got %r"
-                                    % (name, i, value))
+            _check_row("params", names, row, i)
             try:
                 built[key] = base.with_values(dict(zip(names, row)))
             except _core.ConfigError as e:
                 raise _core.ConfigError("mechanism %d: %s" % (i, e)) from None
         configs.append(built[key])
     return configs
+
+
+def _param_columns(call, params, n):
+    """{name: n values} from {config name: one value or n values} (NumPy scalars as Python's)."""
+    columns = {}
+    for name, values in params.items():
+        if not isinstance(name, str):
+            raise TypeError("%s: names must be config names ('section.key'), got %r"
+                            % (call, name))
+        array = np.asarray(values)
+        if array.dtype.kind == "c" or array.dtype.kind not in "biufUSO":
+            raise TypeError("%s[%r]: numbers, strings or bools, got %s"
+                            % (call, name, array.dtype))
+        if array.ndim == 0:
+            array = np.full(n, array.item(), dtype=object)
+        if array.shape != (n,):
+            raise ValueError("%s[%r]: one value or %d (one per mechanism), got shape %s"
+                             % (call, name, n, array.shape))
+        columns[name] = [v.item() if isinstance(v, np.generic) else v for v in array]
+    return columns
+
+
+def _check_row(call, names, row, i):
+    for name, value in zip(names, row):
+        if isinstance(value, complex) or not isinstance(value, (bool, int, float, str)):
+            raise TypeError("%s[%r][%d]: a number, a string or a bool, got %r"
+                            % (call, name, i, value))
 
 
 def _real_array(what, values, n):
@@ -149,9 +163,13 @@ class BatchSimulator:
             self._batch = _core.BatchSimulator.from_numbers(
                 base._core, table[0], table[1], simd, bool(vector_trig), int(threads))
         else:
+            self._table = None
             self._configs = _lane_configs(int(n), base, params)
             self._batch = _core.BatchSimulator([c._core for c in self._configs], simd,
                                                bool(vector_trig), int(threads))
+        self._base = base
+        self._inertia_follows = _core.BatchSimulator.inertia_follows_mass(base._core)
+        self._changed = {}  # the numbers path: mechanism -> the values set_params gave it
         self._lock = threading.Lock()   # held by a step and by a read of the mechanisms
         self._claim = threading.Lock()  # guards _busy: a step under way
         self._busy = False
@@ -183,12 +201,74 @@ class BatchSimulator:
             raise IndexError("config: mechanism must be a whole number in [0, %d), got %r"
                              % (len(self), i))
         if self._configs is None:
-            names, values = self._table
-            c = self._base.with_values({k: float(v) for k, v in zip(names, values[i])})
+            c = self._base.with_values(self._values_of(i))
         else:
             c = self._configs[i]
         seed = int(self._seeds[i])
         return c if seed == c["sensors.seed"] else c.with_values({"sensors.seed": seed})
+
+    def _values_of(self, i):
+        """The numbers path: mechanism i's values beyond the base (its row, then set_params')."""
+        names, values = self._table if self._table is not None else ((), None)
+        out = {k: float(v) for k, v in zip(names, values[i])} if names else {}
+        out.update(self._changed.get(int(i), {}))
+        return out
+
+    def set_params(self, params, mask=None):
+        """Mechanisms where `mask` is true (default: all) take new values of config names
+        (params: {name: one value or n values}; only the chosen mechanisms' are read), each
+        written into that mechanism's config and checked as the loader checks it (a refused
+        value changes nothing: ConfigError naming the mechanism), and start afresh from the new
+        config, as reset(seed=) does: its initial state, time 0, running again. Physics and
+        initial-state numbers cost ~1 us a mechanism (the loader's rules in C++); other names
+        go through the loader (~0.5 ms a mechanism). A change that would take a mechanism off
+        the batch's SIMD lanes (command.mode, sensors, ...) is refused: build the batch with it.
+        Returns the states (n, 4)."""
+        m = self._mask("set_params", mask)
+        if not isinstance(params, dict) or not params:
+            raise TypeError("set_params: params must be a non-empty dict {config name: one value "
+                            "or n values}, got %r" % (params,))
+        columns = _param_columns("set_params: params", params, len(self))
+        names = list(columns)
+        chosen = [int(i) for i in np.flatnonzero(m)]
+        rows = []
+        for i in chosen:
+            row = tuple(columns[k][i] for k in names)
+            _check_row("set_params: params", names, row, i)
+            rows.append(dict(zip(names, row)))
+        if not chosen:
+            return self.states
+        try:
+            direct = all([_core.BatchSimulator.takes_directly(k) for k in names])
+        except _core.ConfigError as e:
+            raise _core.ConfigError("set_params: %s" % e) from None
+        numbers = self._configs is None and direct and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool)
+            for row in rows for v in row.values())
+        with self._exclusive("set_params"):
+            if numbers:
+                follows = [self._inertia_follows and
+                           "mechanism.rod_inertia" not in self._values_of(i) for i in chosen]
+                values = np.array([[float(row[k]) for k in names] for row in rows])
+                self._batch.reconfigure_numbers(chosen, names, values, follows)
+            else:
+                configs = []
+                for i, row in zip(chosen, rows):
+                    try:
+                        if self._configs is None:
+                            configs.append(self._base.with_values({**self._values_of(i), **row}))
+                        else:
+                            configs.append(self.config(i).with_values(row))
+                    except _core.ConfigError as e:
+                        raise _core.ConfigError("set_params: mechanism %d: %s" % (i, e)) from None
+                self._batch.reconfigure(chosen, [c._core for c in configs])
+            for k, (i, row) in enumerate(zip(chosen, rows)):
+                if self._configs is None:
+                    self._changed[i] = {**self._changed.get(i, {}), **row}
+                else:
+                    self._configs[i] = configs[k]
+                    self._seeds[i] = configs[k]["sensors.seed"]
+            return self._batch.states
 
     def values(self, name):
         """Every mechanism's value of config name `name`: an array (n,) of numbers, or a list of

@@ -136,7 +136,13 @@ class VectorEnv(_VECTOR_ENV_BASE):
     reset: seed an int s (the same as the list s, s + 1, ..., s + n - 1; also seeds np_random)
     or a list of n ints (each mechanism's sensor noise and stream of random starts its own);
     options {"reset_mask": bools} resets
-    only those, {"states": (n, 4)} starts them from the given states instead of the config's.
+    only those, {"states": (n, 4)} starts them from the given states instead of the config's,
+    {"params": {config name: one value or n values}} writes those into the reset mechanisms'
+    configs first (BatchSimulator.set_params: checked as the loader checks them, a refusal
+    changes nothing; they start afresh, their time at 0; action_space follows their limits).
+    reset_params(np_random, mask) -> {config name: n values}, when given, does the same at every
+    reset and autoreset for the mechanisms starting (mask): domain randomisation per episode,
+    at the cost of the mechanisms that change.
     start_noise {"q1": a, "q2": b, "u1": c, "u2": d} draws every start (reset and autoreset)
     uniformly within +- those of the config's initial state, from reset's seed (a draw the
     simulator refuses, such as sliders crossed, is drawn again, up to 100 times).
@@ -150,7 +156,7 @@ class VectorEnv(_VECTOR_ENV_BASE):
 
     def __init__(self, n, config=None, params=None, reward=None, substeps=10,
                  max_episode_steps=1000, autoreset_mode="next_step", dtype=np.float64,
-                 start_noise=None, **batch):
+                 start_noise=None, reset_params=None, **batch):
         if isinstance(substeps, bool) or not isinstance(substeps, (int, np.integer)) or \
                 substeps < 1:
             raise ValueError("VectorEnv: substeps must be a whole number >= 1, got %r"
@@ -159,6 +165,9 @@ class VectorEnv(_VECTOR_ENV_BASE):
                 not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
             raise ValueError("VectorEnv: max_episode_steps must be a whole number >= 1, got %r"
                              % (max_episode_steps,))
+        if reset_params is not None and not callable(reset_params):
+            raise TypeError("VectorEnv: reset_params must be callable reset_params(np_random, "
+                            "mask) -> {config name: n values}, got %r" % (reset_params,))
         if reward is not None and not callable(reward):
             raise TypeError("VectorEnv: reward must be callable reward(obs, actions), got %r"
                             % (reward,))
@@ -174,7 +183,8 @@ class VectorEnv(_VECTOR_ENV_BASE):
         if unknown:
             raise TypeError("VectorEnv: unknown argument %s (VectorEnv takes n, config, params, "
                             "reward, substeps, max_episode_steps, autoreset_mode, dtype, "
-                            "start_noise, and BatchSimulator's simd, vector_trig, threads; the "
+                            "start_noise, reset_params, and BatchSimulator's simd, vector_trig, "
+                            "threads; the "
                             "seed goes to reset(seed=...))" % ", ".join(sorted(unknown)))
         self.start_noise = self._start_noise(start_noise)
         self.metadata = {"autoreset_mode": _autoreset_mode(autoreset_mode)}
@@ -186,6 +196,7 @@ class VectorEnv(_VECTOR_ENV_BASE):
         self.substeps = int(substeps)
         self.max_episode_steps = int(max_episode_steps)
         self.reward = reward or self._default_reward
+        self.reset_params = reset_params
         self._sensors = self.sim._batch.sensors
         # What each observation column is: the state's columns of the output table, or each
         # joint's reading (position_<joint> then velocity_<joint>, the joint_states order).
@@ -195,6 +206,21 @@ class VectorEnv(_VECTOR_ENV_BASE):
             if self._sensors else columns.STATE)
         self.single_observation_shape = (len(self.observation_names),)
         self.single_action_shape = ()
+        obs_dim = len(self.observation_names)
+        self.single_observation_space = _box(-np.inf, np.inf, (obs_dim,), self.dtype)
+        self.observation_space = _box(-np.inf, np.inf, (self.num_envs, obs_dim), self.dtype)
+        self._read_configs()
+        self._rng = np.random.default_rng()
+        self.last_obs = None  # the last step's observation (kept when its reward is refused)
+        self._seeds = None  # per mechanism, after reset(seed=[...])
+        self._draws = np.zeros(self.num_envs, dtype=np.int64)
+        self._steps = np.zeros(self.num_envs, dtype=np.int64)
+        self._ended = np.zeros(self.num_envs, dtype=bool)
+        self._started = False
+
+    def _read_configs(self):
+        """What the env takes from the mechanisms' configs: their command modes, action ranges
+        (and the action spaces of them) and initial states; again after their params change."""
         self._mode = np.array(self.sim.values("command.mode"))
         self._effort = self._mode == "effort"
         # The command's range: effort the torque limit; velocity the servo's refusal (0.5 rad a
@@ -206,20 +232,27 @@ class VectorEnv(_VECTOR_ENV_BASE):
         self.action_low = -self.action_high
         self._initial = np.column_stack([self.sim.values("initial_state." + k)
                                          for k in START_NOISE_KEYS])
-        obs_dim = len(self.observation_names)
-        self.single_observation_space = _box(-np.inf, np.inf, (obs_dim,), self.dtype)
         self.single_action_space = _box(self.action_low.max(), self.action_high.min(), (1,),
                                         self.dtype)
-        self.observation_space = _box(-np.inf, np.inf, (self.num_envs, obs_dim), self.dtype)
         self.action_space = _box(self.action_low[:, None], self.action_high[:, None],
                                  (self.num_envs, 1), self.dtype)
-        self._rng = np.random.default_rng()
-        self.last_obs = None  # the last step's observation (kept when its reward is refused)
-        self._seeds = None  # per mechanism, after reset(seed=[...])
-        self._draws = np.zeros(self.num_envs, dtype=np.int64)
-        self._steps = np.zeros(self.num_envs, dtype=np.int64)
-        self._ended = np.zeros(self.num_envs, dtype=bool)
-        self._started = False
+
+    def _set_params(self, call, params, mask):
+        """The chosen mechanisms' configs with `params` ({name: one value or n values}), checked
+        as the loader checks them (a refusal changes nothing)."""
+        if not isinstance(params, dict):
+            raise TypeError("%s must be a dict {config name: one value or %d values}, got %r"
+                            % (call, self.num_envs, params))
+        fixed = [k for k in params if k == "sensors.enabled"]
+        if fixed:
+            raise ValueError("%s: sensors.enabled sets what the observation is: build the "
+                             "VectorEnv with it" % call)
+        if params and mask.any():
+            try:
+                self.sim.set_params(params, mask)
+            except (ValueError, TypeError, _core.ConfigError) as e:
+                raise type(e)("%s: %s" % (call, e)) from None
+            self._read_configs()
 
     @staticmethod
     def _start_noise(noise):
@@ -273,9 +306,13 @@ class VectorEnv(_VECTOR_ENV_BASE):
         obs = np.hstack(self.sim.readings()) if self._sensors else self.sim.states
         return obs.astype(self.dtype, copy=False)
 
-    def _start(self, mask, states=None):
-        """The chosen mechanisms back to their start: the config's initial state, the given
-        states, or a draw within start_noise of the initial state."""
+    def _start(self, mask, states=None, params=None):
+        """The chosen mechanisms back to their start: with `params` (or what reset_params gives)
+        written into their configs, from the config's initial state, the given states, or a draw
+        within start_noise of the initial state."""
+        if params is None and self.reset_params is not None and mask.any():
+            params = self.reset_params(self.np_random, mask.copy())
+            self._set_params("reset_params(np_random, mask)", params, mask)
         self.sim.reset(mask)
         if states is None and self.start_noise is not None and mask.any():
             chosen = np.flatnonzero(mask)
@@ -321,15 +358,18 @@ class VectorEnv(_VECTOR_ENV_BASE):
             raise TypeError("reset: options must be a dict ({'reset_mask': bools, 'states': "
                             "(n, 4)}), got %r" % (options,))
         options = dict(options or {})
-        unknown = set(options) - {"reset_mask", "mask", "states"}
+        unknown = set(options) - {"reset_mask", "mask", "states", "params"}
         if unknown:
-            raise ValueError("reset: options takes reset_mask and states, got %s"
+            raise ValueError("reset: options takes reset_mask, states and params, got %s"
                              % ", ".join(sorted(unknown)))
         mask = options.get("reset_mask", options.get("mask"))
         m = np.ones(self.num_envs, dtype=bool) if mask is None else np.asarray(mask)
         if m.dtype != bool or m.shape != (self.num_envs,):
             raise TypeError("reset: reset_mask must be %d booleans, got %s of %s"
                             % (self.num_envs, m.shape, m.dtype))
+        params = options.get("params")
+        if params is not None:  # first: the states and starts are those of the new params
+            self._set_params("reset: options['params']", params, m)
         states = options.get("states")
         if states is not None:  # every chosen state checked before anything moves
             states = _real_array("reset: options['states']", states, self.num_envs)
@@ -343,8 +383,9 @@ class VectorEnv(_VECTOR_ENV_BASE):
                 self._seeds = int(seed) + np.arange(self.num_envs)
             else:
                 self._seeds = np.array([int(v) for v in seed])
+                self._rng = np.random.default_rng(self._seeds)
             self._draws = np.zeros(self.num_envs, dtype=np.int64)
-        self._start(m, states)
+        self._start(m, states, params)
         self._started = True
         return self._observe(), {}
 

@@ -160,6 +160,10 @@ void bindBatch(py::module_& m) {
           "n mechanisms from a base and a table of numbers (n, len(names)): physics and "
           "initial-state values stored by the loader's rules, no YAML per row")
       .def_static(
+          "inertia_follows_mass",
+          [](const PythonConfig& base) { return inertiaFollowsMass(base.tree()); }, py::arg("base"),
+          "Whether the base's file leaves the rod's inertia to its m and L.")
+      .def_static(
           "takes_directly", [](const std::string& name) { return takenDirectly(specOf(name)); },
           py::arg("name"), "Whether from_numbers takes this parameter.")
       .def(
@@ -258,6 +262,81 @@ void bindBatch(py::module_& m) {
             return states(b);
           },
           py::arg("mask"), py::arg("seeds"))
+      .def(
+          "reconfigure",
+          [](BatchSimulator& b, const std::vector<std::size_t>& lanes,
+             const std::vector<const PythonConfig*>& configs) {
+            std::vector<Config> changed;
+            for (const PythonConfig* c : configs) changed.push_back(c->config());
+            try {
+              b.reconfigure(lanes, changed);
+            } catch (const std::invalid_argument& e) {
+              throw py::value_error(std::string("set_params: ") + e.what());
+            }
+            return states(b);
+          },
+          py::arg("lanes"), py::arg("configs"),
+          "Mechanisms lanes[k] take configs[k] and start afresh from it (time 0).")
+      .def(
+          "reconfigure_numbers",
+          [](BatchSimulator& b, const std::vector<std::size_t>& lanes,
+             const std::vector<std::string>& names, const Array& values,
+             const std::vector<bool>& inertia_from_mass) {
+            std::vector<const ParameterSpec*> specs;
+            for (const std::string& name : names) {
+              const ParameterSpec& spec = specOf(name);
+              if (!takenDirectly(spec))
+                throw py::value_error("set_params: " + name +
+                                      " is not a number of the physics or the initial state");
+              specs.push_back(&spec);
+            }
+            if (values.ndim() != 2 || static_cast<std::size_t>(values.shape(0)) != lanes.size() ||
+                static_cast<std::size_t>(values.shape(1)) != names.size() ||
+                inertia_from_mass.size() != lanes.size())
+              throw py::value_error("set_params: values must have shape (" +
+                                    std::to_string(lanes.size()) + ", " +
+                                    std::to_string(names.size()) + "), got " + shapeText(values));
+            // Each mechanism's config now with the numbers written in, by the loader's rules;
+            // every row checked before any mechanism changes.
+            for (std::size_t lane : lanes)
+              if (lane >= b.size())
+                throw py::index_error("set_params: mechanism " + std::to_string(lane) + " of " +
+                                      std::to_string(b.size()));
+            std::vector<Config> changed(lanes.size());
+            std::vector<std::string> refused(lanes.size());
+            {
+              py::gil_scoped_release release;  // ~15 us a row: the batch's threads share them
+              const std::vector<bool> inertia = inertia_from_mass;  // read without the GIL
+              parallelBlocks(static_cast<long>(lanes.size()), b.threads(), [&](long k0, long k1) {
+                for (long k = k0; k < k1; ++k) {
+                  const std::size_t r = static_cast<std::size_t>(k);
+                  try {
+                    changed[r] = configWithNumbers(b.config(lanes[r]), inertia[r], specs,
+                                                   values.data() + r * names.size());
+                  } catch (const ConfigError& e) {
+                    refused[r] = e.what();
+                  }
+                }
+              });
+            }
+            for (std::size_t k = 0; k < lanes.size(); ++k) {  // the first refused row is named
+              if (refused[k].empty()) continue;
+              const std::string text =
+                  "set_params: mechanism " + std::to_string(lanes[k]) + ": " + refused[k];
+              PyErr_SetString(py::module_::import("kane_sim._core").attr("ConfigError").ptr(),
+                              text.c_str());
+              throw py::error_already_set();
+            }
+            try {
+              b.reconfigure(lanes, changed);
+            } catch (const std::invalid_argument& e) {
+              throw py::value_error(std::string("set_params: ") + e.what());
+            }
+            return states(b);
+          },
+          py::arg("lanes"), py::arg("names"), py::arg("values"), py::arg("inertia_from_mass"),
+          "Mechanisms lanes[k] with values[k] written into their configs by the loader's rules "
+          "(the rod's inertia following m and L where inertia_from_mass[k]), started afresh.")
       .def(
           "set_states",
           [](BatchSimulator& b, const Array& x, const Mask& mask) {

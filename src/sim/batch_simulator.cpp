@@ -66,18 +66,28 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
   arch_ = arch;
   path_ = std::string(laneArchName(arch_)) + " lanes" +
           (settings_.vector_trig ? " (vector sin/cos)" : "");
+  // Each mechanism's constants once: its variant and its lane's numbers.
+  std::vector<generated::Constants> constants(size());
+  for (std::size_t i = 0; i < size(); ++i)
+    constants[i] = GeneratedMechanism(mechanismModel(configs_[i])).constants();
+  layoutLanes(constants, std::vector<LaneState>(size()), std::vector<std::uint64_t>(size(), 0));
+  std::vector<bool> all(size(), true);
+  reset(all);
+}
+
+BatchSimulator::~BatchSimulator() = default;
+
+void BatchSimulator::layoutLanes(const std::vector<generated::Constants>& constants,
+                                 const std::vector<LaneState>& states,
+                                 const std::vector<std::uint64_t>& ticks) {
   // Lanes of one equations variant run together (the single Simulator picks it per config);
   // each variant's lanes are cut into chunks of whole blocks of the width: one with one thread,
   // else four per thread, taken by whichever thread is free (a thread that wakes late leaves its
   // share to the others instead of holding the call up).
+  chunks_.clear();
   const std::size_t width = laneWidth(arch_);
-  // Each mechanism's constants once: its variant and its lane's numbers.
-  std::vector<generated::Constants> constants(size());
   std::vector<generated::RatesVariant> variants(size());
-  for (std::size_t i = 0; i < size(); ++i) {
-    constants[i] = GeneratedMechanism(mechanismModel(configs_[i])).constants();
-    variants[i] = generated::variantFor(constants[i]);
-  }
+  for (std::size_t i = 0; i < size(); ++i) variants[i] = generated::variantFor(constants[i]);
   for (generated::RatesVariant variant : generated::kRatesVariants) {
     std::vector<std::size_t> members;
     for (std::size_t i = 0; i < size(); ++i)
@@ -99,14 +109,13 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
       run.stop_at_crossing = true;
       run.steps_per_sample = 1L << 40;  // no samples: the state is read after the call
       for (std::size_t i : chunk.members) {
-        const Config& c = configs_[i];
         run.constants.push_back(constants[i]);
-        run.torque_limit.push_back(c.command.torque_limit);
+        run.torque_limit.push_back(configs_[i].command.torque_limit);
+        run.start.push_back(states[i]);
+        chunk.ticks.push_back(ticks[i]);
       }
-      packLanes(run, arch_);  // the constants never change: laid out once for every call
-      run.start.resize(chunk.members.size());
+      packLanes(run, arch_);  // laid out once for every call (again when a lane's change)
       run.lane_command.resize(chunk.members.size());
-      chunk.ticks.assign(chunk.members.size(), 0);
       chunk.outcomes.resize(chunk.members.size());
       for (std::size_t k = 0; k < chunk.members.size(); ++k) {
         lanes_[chunk.members[k]].chunk = chunks_.size();
@@ -115,11 +124,7 @@ BatchSimulator::BatchSimulator(std::vector<Config> configs, const BatchSettings&
       chunks_.push_back(std::move(chunk));
     }
   }
-  std::vector<bool> all(size(), true);
-  reset(all);
 }
-
-BatchSimulator::~BatchSimulator() = default;
 
 void BatchSimulator::buildDriver(std::size_t lane, const Config& config) {
   Lane& l = lanes_[lane];
@@ -304,6 +309,74 @@ void BatchSimulator::reseed(const std::vector<bool>& mask,
     } else {
       buildDriver(i, configs_[i]);
     }
+  }
+}
+
+void BatchSimulator::reconfigure(const std::vector<std::size_t>& lanes,
+                                 const std::vector<Config>& configs) {
+  if (lanes.size() != configs.size())
+    throw std::invalid_argument("reconfigure: one config per mechanism named");
+  // Everything is checked before any mechanism changes.
+  for (std::size_t k = 0; k < lanes.size(); ++k) {
+    const std::size_t i = lanes[k];
+    if (i >= size())
+      throw std::invalid_argument("mechanism " + std::to_string(i) + " is not one of the " +
+                                  std::to_string(size()));
+    if (!on_lanes_) continue;
+    std::string why = whyNotOnLanes(configs[k]);
+    if (why.empty() && configs[k].sensors.enabled) why = "sensors.enabled";
+    if (why.empty() && configs[k].simulation.physics_rate != configs_[0].simulation.physics_rate)
+      why = "simulation.physics_rate " + num(configs[k].simulation.physics_rate) + " is not the " +
+            "batch's " + num(configs_[0].simulation.physics_rate);
+    if (!why.empty())
+      throw std::invalid_argument("mechanism " + std::to_string(i) + ": " + why +
+                                  " would take it off the batch's " + path_ +
+                                  ": build the batch with it (or with simd=\"off\") to change it");
+  }
+  if (!on_lanes_) {
+    for (std::size_t k = 0; k < lanes.size(); ++k) {
+      configs_[lanes[k]] = configs[k];
+      sensors_ = sensors_ || configs[k].sensors.enabled;
+      buildDriver(lanes[k], configs_[lanes[k]]);
+    }
+    return;
+  }
+  // A mechanism whose variant stays is rewritten in its slot (its chunk laid out again); one
+  // whose variant changes moves to the chunks of its new variant: every lane is laid out again.
+  bool moved = false;
+  std::vector<std::size_t> touched;
+  std::vector<std::pair<std::size_t, generated::Constants>> changed;
+  for (std::size_t k = 0; k < lanes.size(); ++k) {
+    const std::size_t i = lanes[k];
+    configs_[i] = configs[k];
+    const generated::Constants c = GeneratedMechanism(mechanismModel(configs_[i])).constants();
+    Chunk& chunk = chunks_[lanes_[i].chunk];
+    if (generated::variantFor(c) != chunk.run.variant) moved = true;
+    changed.emplace_back(i, c);
+    if (moved) continue;
+    chunk.run.constants[lanes_[i].slot] = c;
+    chunk.run.torque_limit[lanes_[i].slot] = configs_[i].command.torque_limit;
+    touched.push_back(lanes_[i].chunk);
+  }
+  if (moved) {
+    std::vector<generated::Constants> constants(size());
+    std::vector<LaneState> states(size());
+    std::vector<std::uint64_t> ticks(size());
+    for (std::size_t i = 0; i < size(); ++i) {
+      constants[i] = chunks_[lanes_[i].chunk].run.constants[lanes_[i].slot];
+      states[i] = laneState(i);
+      ticks[i] = laneTicks(i);
+    }
+    for (const auto& [i, c] : changed) constants[i] = c;
+    layoutLanes(constants, states, ticks);
+  } else {
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    for (std::size_t chunk : touched) packLanes(chunks_[chunk].run, arch_);
+  }
+  for (std::size_t i : lanes) {
+    laneTicks(i) = 0;
+    resetLane(i);
   }
 }
 

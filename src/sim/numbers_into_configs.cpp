@@ -26,9 +26,12 @@ bool takenDirectly(const ParameterSpec& spec) {
 Config configWithNumbers(const Config& base, bool inertia_from_mass,
                          const std::vector<const ParameterSpec*>& specs, const double* values) {
   Config c = base;
-  for (std::size_t j = 0; j < specs.size(); ++j)
+  bool inertia_given = false;  // as the loader: an inertia written in is kept, not derived
+  for (std::size_t j = 0; j < specs.size(); ++j) {
     storeNumber(specs[j]->path(), *specs[j], values[j], &c);
-  if (inertia_from_mass)
+    inertia_given = inertia_given || specs[j]->path() == "mechanism.rod_inertia";
+  }
+  if (inertia_from_mass && !inertia_given)
     c.mechanism.rod_inertia = slenderRodInertia(c.mechanism.rod_mass, c.mechanism.rod_half_length);
   checkSimulatable(c);
   return c;

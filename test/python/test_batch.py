@@ -386,7 +386,7 @@ def test_vector_env_shapes_truncation_and_next_step_autoreset():
         bad.reset()
         with pytest.raises(ValueError, match="reward"):
             bad.step(np.zeros(2))
-    with pytest.raises(ValueError, match="options takes reset_mask and states, got maks"):
+    with pytest.raises(ValueError, match="options takes reset_mask, states and params, got maks"):
         env.reset(options={"maks": [True] * 5})
     with pytest.raises(ValueError, match=r"actions\[1\] = nan"):
         env.step(np.array([0.0, np.nan, 0.0, 0.0, 0.0]))
@@ -437,3 +437,67 @@ def test_a_refused_step_is_named_in_the_single_runs_words_on_every_path():
         for _ in range(10):
             single.set_torque(1e5)
             single.step(1)
+
+
+@pytest.mark.parametrize("simd", ["off"] + [a for a in ("scalar", "sse2", "avx2", "avx512")
+                                            if a == "scalar" or _core.lane_arch_available(a)])
+def test_set_params_makes_each_mechanism_its_new_configs_single_run(reference, simd):
+    """Parameters changed after the batch is built (between episodes): each mechanism changed is
+    the single run of its new config from time 0, bit for bit, whichever variant of the
+    equations it moves to (friction and dampers switched on); the others keep their motion."""
+    batch = kane_sim.BatchSimulator(N, config_path(), simd=simd, threads=2)
+    rng = np.random.default_rng(5)
+    for _ in range(5):
+        batch.step(rng.uniform(-10.0, 10.0, N), SUBSTEPS)
+    kept = np.arange(N) >= N - 4  # left alone: their motion goes on
+    states, times = batch.states.copy(), batch.times.copy()
+    params = lane_params()
+    physics = {k: v for k, v in params.items() if k != "command.torque_limit"}
+    batch.set_params(physics, ~kept)  # numbers: the loader's rules in C++
+    batch.set_params({"command.torque_limit": params["command.torque_limit"]}, ~kept)  # loader
+    assert np.array_equal(batch.states[kept], states[kept])
+    assert np.array_equal(batch.times[kept], times[kept])
+    assert (batch.times[~kept] == 0).all()
+    np.testing.assert_array_equal(batch.values("mechanism.rod_mass")[~kept],
+                                  params["mechanism.rod_mass"][~kept])
+    assert batch.config(3)["friction.crank_joint"] == 0.3
+    assert batch.config(1)["command.torque_limit"] == 1e6
+    for a in action_sequence():
+        batch.step(np.where(kept, 0.0, a), SUBSTEPS)
+    for i, (t, state, ended) in enumerate(reference):
+        if kept[i]:
+            continue
+        assert batch.terminated[i] == ended, (i, batch.reasons[i])
+        assert batch.times[i] == t, i
+        assert np.array_equal(batch.states[i], state), (i, batch.states[i], state)
+
+
+def test_set_params_refuses_by_name_and_changes_nothing():
+    batch = kane_sim.BatchSimulator(4, config_path())
+    batch.step(np.ones(4), 20)
+    before, times = batch.states.copy(), batch.times.copy()
+    masses = batch.values("mechanism.rod_mass").copy()
+    one = np.arange(4) == 2
+    for params, mask, error, words in (
+            ({"mechanism.rod_mass": np.nan}, one, _core.ConfigError,
+             r"mechanism 2: config key 'mechanism.rod_mass' must be finite"),
+            ({"mechanism.rod_mass": [1.0, 1.0, -np.inf, 1.0]}, None, _core.ConfigError,
+             r"mechanism 2: .*rod_mass"),
+            ({"mechanism.rod_mass": -1.0}, one, _core.ConfigError, r"mechanism 2: .*> 0"),
+            ({"mechanism.rod_mass": 1e308}, one, _core.ConfigError, r"mechanism 2: "),
+            ({"mechanism.rod_mas": 1.0}, one, _core.ConfigError, r"set_params: .*rod_mas"),
+            ({"mechanism.rod_mass": "heavy"}, one, _core.ConfigError, r"mechanism 2: .*rod_mass"),
+            ({"mechanism.rod_mass": True}, one, _core.ConfigError, r"mechanism 2: .*rod_mass"),
+            ({"mechanism.rod_mass": [1.0, 2.0]}, one, ValueError, r"one value or 4"),
+            ({"mechanism.rod_mass": 1j}, one, TypeError, r"numbers, strings or bools"),
+            ({}, one, TypeError, r"non-empty dict"),
+            ({"mechanism.rod_mass": 1.0}, [True, False], ValueError, r"one bool per mechanism"),
+            ({"command.mode": "velocity"}, one, ValueError,
+             r"mechanism 2: command.mode velocity would take it off the batch's \w+ lanes")):
+        with pytest.raises(error, match=words):
+            batch.set_params(params, mask)
+        assert np.array_equal(batch.states, before) and np.array_equal(batch.times, times)
+        np.testing.assert_array_equal(batch.values("mechanism.rod_mass"), masses)
+    # Nothing chosen: nothing changes.
+    batch.set_params({"mechanism.rod_mass": 2.0}, np.zeros(4, dtype=bool))
+    assert np.array_equal(batch.states, before)

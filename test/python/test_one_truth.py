@@ -1,7 +1,8 @@
 """One case, one answer, through every offline door: `simulate` (a single run's last CSV row),
 `simulate --sweep` (the case's row), `rosrun kane_sim sweep`'s row, Python's Simulator.run (and
 its states_only form, identification's replays),
-Python's sweep row and each mechanism of a BatchSimulator (lanes and drivers) driven step by
+Python's sweep row and each mechanism of a BatchSimulator (lanes and drivers; built, then
+given the case's parameters by set_params) driven step by
 step, built from a table of numbers (from_numbers) and given the whole plan (rollout), over every
 command mode (effort, velocity, position), with and without a profile, sensors on and off,
 the physics options off and on (contact, the five dampers: the joints' and the spring's, and
@@ -63,6 +64,14 @@ def batch_run(cfg, torque, n=3):
                 batch.step(np.array([torque.at(t) for t in batch.times]))
             assert not batch.terminated.any(), batch.reasons
             out[batch.path + label] = (batch.times, batch.states)
+        # Built as another mechanism, moved, then given the case's parameter (set_params: a
+        # fresh start of the new config, as between episodes).
+        batch = kane_sim.BatchSimulator(n, cfg, {"mechanism.gravity": np.full(n, 5.0)}, simd=simd)
+        batch.step(np.full(n, 0.3), 7)
+        batch.set_params({"mechanism.gravity": 9.81})
+        for _ in range(steps):
+            batch.step(np.array([torque.at(t) for t in batch.times]))
+        out[batch.path + " set_params"] = (batch.times, batch.states)
         batch = kane_sim.BatchSimulator(n, cfg, simd=simd)
         plan = np.array([torque.at(k * (1.0 / 1000.0)) for k in range(steps)])
         rolled = batch.rollout(np.tile(plan, (n, 1)))

@@ -137,7 +137,7 @@ def test_hostile_arguments_name_vector_env_and_the_value():
     env.reset()
     with pytest.raises(ValueError, match=r"shape \(2,\) or \(2, 1\)"):
         env.step(np.zeros((2, 2)))
-    with pytest.raises(ValueError, match="options takes reset_mask and states, got maks"):
+    with pytest.raises(ValueError, match="options takes reset_mask, states and params, got maks"):
         env.reset(options={"maks": [True, True]})
     with pytest.raises(ValueError, match="seed as a list holds 2"):
         env.reset(seed=[1, 2, 3])
@@ -362,3 +362,80 @@ def test_a_reward_that_is_not_finite_is_named_and_the_step_kept():
         env.step(np.ones(3))
     assert np.all(env.sim.times > before) and env.last_obs.shape == (3, 4)
     np.testing.assert_array_equal(env.last_obs, env._observe())
+
+
+def test_reset_params_randomise_the_physics_of_each_episode_that_starts():
+    """reset_params(np_random, mask) at every reset and autoreset: each mechanism that starts
+    takes its row, and runs as the single Simulator of its new config; the same seed gives the
+    same draws; the others run on untouched."""
+    masks = []
+
+    def draw(rng, mask):
+        masks.append(mask.copy())
+        return {"mechanism.rod_mass": rng.uniform(0.5, 2.0, mask.size),
+                "friction.crank_joint": rng.choice([0.0, 0.2], mask.size)}
+
+    def run(seed):
+        env = kane_sim.VectorEnv(6, config_path(), reset_params=draw, substeps=5,
+                                 max_episode_steps=4)
+        env.reset(seed=seed)
+        first = env.sim.values("mechanism.rod_mass").copy()
+        masses = [first]
+        for k in range(9):
+            env.step(np.linspace(-5.0, 5.0, 6))
+            masses.append(env.sim.values("mechanism.rod_mass").copy())
+        return env, masses
+
+    env, masses = run(3)
+    # The reset, then the autoreset at step 5 (next_step: the step after the 4th action).
+    assert len(masks) == 2 and masks[0].all() and masks[1].all()
+    assert len({tuple(m) for m in masses}) == 2  # a draw per episode, kept within it
+    assert not np.array_equal(masses[0], masses[-1])
+    _, again = run(3)
+    assert all(np.array_equal(a, b) for a, b in zip(masses, again))
+    # Mechanism i now is the single run of config(i) from its episode's start (time 0): the
+    # four actions of steps 6 to 9.
+    for i in range(6):
+        sim = kane_sim.Simulator(env.sim.config(i))
+        for _ in range(4):
+            sim.set_torque(np.linspace(-5.0, 5.0, 6)[i])
+            sim.step(5)
+        assert env.sim.times[i] == sim.time
+        assert np.array_equal(env.sim.states[i], sim.state)
+
+
+def test_reset_options_params_under_a_mask_and_hostile_rows():
+    env = kane_sim.VectorEnv(4, config_path())
+    env.reset(seed=0)
+    env.step(np.ones(4))
+    two = np.arange(4) < 2
+    obs, _ = env.reset(options={"reset_mask": two,
+                                "params": {"command.torque_limit": 3.0,
+                                           "initial_state.q1": [0.1, 0.2, 9.0, 9.0]}})
+    np.testing.assert_array_equal(env.action_high, [3.0, 3.0, 50.0, 50.0])
+    assert env.action_space.high[:, 0].tolist() == [3.0, 3.0, 50.0, 50.0]
+    assert env.single_action_space.high[0] == 3.0
+    assert obs[:2, 0].tolist() == [0.1, 0.2] and env.sim.times[2] > 0
+    _, _, _, _, info = env.step(np.full(4, 10.0))
+    assert info["clamped"].tolist() == [True, True, False, False]
+    before = env.sim.states.copy()
+    for params, error, words in (
+            ({"mechanism.rod_mass": np.nan}, kane_sim.ConfigError,
+             r"reset: options\['params'\]: set_params: mechanism 0: .*rod_mass.* finite"),
+            ({"mechanism.rod_mass": [1.0, 1.0, -1.0, 1.0]}, kane_sim.ConfigError,
+             r"mechanism 2: .*rod_mass"),
+            ({"sensors.enabled": True}, ValueError, r"sensors.enabled sets what the observation"),
+            ([1.0], TypeError, r"must be a dict")):
+        with pytest.raises(error, match=words):
+            env.reset(options={"params": params})
+        assert np.array_equal(env.sim.states, before)
+    for bad, error, words in ((lambda rng, mask: None, TypeError,
+                               r"reset_params\(np_random, mask\) must be a dict"),
+                              (lambda rng, mask: {"mechanism.rod_mass": np.inf},
+                               kane_sim.ConfigError, r"reset_params.*mechanism 0"),
+                              (lambda rng, mask: 1 / 0, ZeroDivisionError, r"")):
+        env = kane_sim.VectorEnv(2, config_path(), reset_params=bad)
+        with pytest.raises(error, match=words):
+            env.reset()
+    with pytest.raises(TypeError, match=r"reset_params must be callable"):
+        kane_sim.VectorEnv(2, config_path(), reset_params=3)

@@ -41,6 +41,7 @@ class BatchSimulator {
   // "avx512 lanes", "drivers (command.mode is position)", ...: how lanes step, and why.
   const std::string& path() const { return path_; }
   bool onLanes() const { return on_lanes_; }
+  unsigned threads() const { return static_cast<unsigned>(settings_.threads); }
 
   // Each running lane i takes actions[i] (a torque [N m], or in servo modes a setpoint) and
   // steps `steps` physics steps, as a single Simulator's set_torque then step(steps) (the
@@ -56,6 +57,11 @@ class BatchSimulator {
   // with seeds rebuilt from their config with sensors.seed = seeds[i] (time 0 again).
   void reset(const std::vector<bool>& mask);
   void reseed(const std::vector<bool>& mask, const std::vector<std::uint64_t>& seeds);
+  // Mechanisms lanes[k] take configs[k] (validated by the loader) and start afresh from it, as
+  // reseed: its initial state, time 0, running again (domain randomisation between episodes at
+  // the cost of the mechanisms that change). Throws std::invalid_argument, changing nothing,
+  // naming the mechanism, when a config would take it off the SIMD lanes the batch runs on.
+  void reconfigure(const std::vector<std::size_t>& lanes, const std::vector<Config>& configs);
   // Whether lane `lane` can be put into `state`: what a Simulator of its config's set_state
   // accepts (finite, within scale, the sliders apart, within rk4's reach at this step).
   Status checkState(std::size_t lane, const State& state) const;
@@ -91,6 +97,10 @@ class BatchSimulator {
     std::unique_ptr<SimDriver> driver;  // the drivers path
   };
   void buildDriver(std::size_t lane, const Config& config);
+  // The lanes path's chunks for lanes of these constants (one per lane), each lane's state and
+  // clock taken from `states` and `ticks` (one per lane).
+  void layoutLanes(const std::vector<generated::Constants>& constants,
+                   const std::vector<LaneState>& states, const std::vector<std::uint64_t>& ticks);
   void resetLane(std::size_t lane);
   // The lanes path's state of `lane` (q1, q2, u1, u2, W, D) and its clock [physics steps].
   OdeState& laneState(std::size_t lane) {
@@ -118,7 +128,7 @@ class BatchSimulator {
   std::vector<Config> configs_;
   BatchSettings settings_;
   std::vector<Lane> lanes_;
-  std::vector<char> terminated_;  // per lane: its first refused step or crossing has ended it
+  std::vector<char> terminated_;       // per lane: its first refused step or crossing has ended it
   std::vector<JointValues> readings_;  // the drivers path: per lane, as reading() says
   bool on_lanes_ = false;
   bool sensors_ = false;
