@@ -27,10 +27,8 @@ def _numbers_table(n, base, params):
     """(names, values (n, k)) when every param is a real number (or n of them) of the physics or
     the initial state and the sensors are off: the batch is built in C++ from the table (the
     loader's rules per number, no Config per row: 10^6 mechanisms in seconds). None otherwise."""
-    if base["sensors.enabled"]:
+    if not params or base["sensors.enabled"]:
         return None
-    if not params:  # n copies of the base: set_params can still take the numbers path
-        return [], np.zeros((n, 0))
     names, columns = [], []
     for name, values in params.items():
         if not isinstance(name, str):
@@ -85,7 +83,11 @@ def _param_columns(call, params, n):
         if not isinstance(name, str):
             raise TypeError("%s: names must be config names ('section.key'), got %r"
                             % (call, name))
-        array = np.asarray(values)
+        try:
+            array = np.asarray(values)
+        except ValueError:  # NumPy's "inhomogeneous shape"
+            raise ValueError("%s[%r]: one value or %d, got ragged rows" % (call, name, n)) \
+                from None
         if array.dtype.kind == "c" or array.dtype.kind not in "biufUSO":
             raise TypeError("%s[%r]: numbers, strings or bools, got %s"
                             % (call, name, array.dtype))
@@ -103,6 +105,14 @@ def _check_row(call, names, row, i):
         if isinstance(value, complex) or not isinstance(value, (bool, int, float, str)):
             raise TypeError("%s[%r][%d]: a number, a string or a bool, got %r"
                             % (call, name, i, value))
+
+
+def _as_float(value, name, i):
+    try:
+        return float(value)
+    except OverflowError:
+        raise ValueError("set_params: params[%r][%d] = an integer of %d digits, beyond any "
+                         "float" % (name, i, len(str(abs(value))))) from None
 
 
 def _real_array(what, values, n):
@@ -158,22 +168,19 @@ class BatchSimulator:
         if table is not None:
             # Domain randomisation of the physics: the C++ batch holds each mechanism's config
             # (~1 KB); a Python Config is made only when config(i) asks for one.
-            self._base, self._table = base, table
-            self._configs = None
             self._batch = _core.BatchSimulator.from_numbers(
                 base._core, table[0], table[1], simd, bool(vector_trig), int(threads))
         else:
-            self._table = None
-            self._configs = _lane_configs(int(n), base, params)
-            self._batch = _core.BatchSimulator([c._core for c in self._configs], simd,
-                                               bool(vector_trig), int(threads))
+            self._batch = _core.BatchSimulator([c._core for c in _lane_configs(int(n), base,
+                                                                               params)],
+                                               simd, bool(vector_trig), int(threads))
+        # The batch's mechanisms' configs are the one record of them (rows, set_params, seeds):
+        # config(i) reads back how mechanism i's differs from the base.
         self._base = base
         self._inertia_follows = _core.BatchSimulator.inertia_follows_mass(base._core)
-        self._changed = {}  # the numbers path: mechanism -> the values set_params gave it
         self._lock = threading.Lock()   # held by a step and by a read of the mechanisms
-        self._claim = threading.Lock()  # guards _busy: a step under way
+        self._claim = threading.Lock()  # guards _busy: a call that moves mechanisms under way
         self._busy = False
-        self._seeds = self._batch.values("sensors.seed").astype(np.int64)
 
     def __len__(self):
         return self._batch.size
@@ -200,34 +207,33 @@ class BatchSimulator:
         if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < len(self):
             raise IndexError("config: mechanism must be a whole number in [0, %d), got %r"
                              % (len(self), i))
-        if self._configs is None:
-            c = self._base.with_values(self._values_of(i))
-        else:
-            c = self._configs[i]
-        seed = int(self._seeds[i])
-        return c if seed == c["sensors.seed"] else c.with_values({"sensors.seed": seed})
+        return self._base.with_values(dict(self._read(
+            lambda: self._batch.differences(int(i), self._base._core))))
 
-    def _values_of(self, i):
-        """The numbers path: mechanism i's values beyond the base (its row, then set_params')."""
-        names, values = self._table if self._table is not None else ((), None)
-        out = {k: float(v) for k, v in zip(names, values[i])} if names else {}
-        out.update(self._changed.get(int(i), {}))
-        return out
-
-    def set_params(self, params, mask=None):
+    def set_params(self, params, mask=None, states=None):
         """Mechanisms where `mask` is true (default: all) take new values of config names
         (params: {name: one value or n values}; only the chosen mechanisms' are read), each
         written into that mechanism's config and checked as the loader checks it (a refused
         value changes nothing: ConfigError naming the mechanism), and start afresh from the new
-        config, as reset(seed=) does: its initial state, time 0, running again. Physics and
-        initial-state numbers cost ~1 us a mechanism (the loader's rules in C++); other names
-        go through the loader (~0.5 ms a mechanism). A change that would take a mechanism off
-        the batch's SIMD lanes (command.mode, sensors, ...) is refused: build the batch with it.
+        config, as reset(seed=) does: its initial state (or states[i], (n, 4), when given:
+        judged by the new config), time 0, running again. Physics and initial-state numbers
+        cost ~15 us a mechanism on the batch's threads (the loader's rules in C++; Ctrl-C stops
+        a long one, changing nothing); other names go through the loader (~0.5 ms a mechanism).
+        A change that would take a mechanism off the batch's SIMD lanes (command.mode, sensors,
+        ...) is refused: build the batch with it. config(i) and values() read the new values.
         Returns the states (n, 4)."""
         m = self._mask("set_params", mask)
+        starts = None
+        if states is not None:
+            x = self._state_table("set_params", states)
+            starts = [[float(v) for v in x[i]] for i in np.flatnonzero(m)]
         if not isinstance(params, dict) or not params:
             raise TypeError("set_params: params must be a non-empty dict {config name: one value "
                             "or n values}, got %r" % (params,))
+        try:  # every name known, even when no mechanism is chosen
+            direct = all([_core.BatchSimulator.takes_directly(k) for k in params])
+        except _core.ConfigError as e:
+            raise _core.ConfigError("set_params: %s" % e) from None
         columns = _param_columns("set_params: params", params, len(self))
         names = list(columns)
         chosen = [int(i) for i in np.flatnonzero(m)]
@@ -238,42 +244,30 @@ class BatchSimulator:
             rows.append(dict(zip(names, row)))
         if not chosen:
             return self.states
-        try:
-            direct = all([_core.BatchSimulator.takes_directly(k) for k in names])
-        except _core.ConfigError as e:
-            raise _core.ConfigError("set_params: %s" % e) from None
-        numbers = self._configs is None and direct and all(
-            isinstance(v, (int, float)) and not isinstance(v, bool)
-            for row in rows for v in row.values())
+        numbers = direct and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                 for row in rows for v in row.values())
         with self._exclusive("set_params"):
             if numbers:
-                follows = [self._inertia_follows and
-                           "mechanism.rod_inertia" not in self._values_of(i) for i in chosen]
-                values = np.array([[float(row[k]) for k in names] for row in rows])
-                self._batch.reconfigure_numbers(chosen, names, values, follows)
-            else:
-                configs = []
-                for i, row in zip(chosen, rows):
-                    try:
-                        if self._configs is None:
-                            configs.append(self._base.with_values({**self._values_of(i), **row}))
-                        else:
-                            configs.append(self.config(i).with_values(row))
-                    except _core.ConfigError as e:
-                        raise _core.ConfigError("set_params: mechanism %d: %s" % (i, e)) from None
-                self._batch.reconfigure(chosen, [c._core for c in configs])
-            for k, (i, row) in enumerate(zip(chosen, rows)):
-                if self._configs is None:
-                    self._changed[i] = {**self._changed.get(i, {}), **row}
-                else:
-                    self._configs[i] = configs[k]
-                    self._seeds[i] = configs[k]["sensors.seed"]
-            return self._batch.states
+                values = np.array([[_as_float(row[k], k, i) for k in names]
+                                   for i, row in zip(chosen, rows)])
+                return self._batch.reconfigure_numbers(chosen, names, values,
+                                                       self._inertia_follows, starts)
+            configs = []
+            for i, row in zip(chosen, rows):
+                try:
+                    configs.append(self._base.with_values({**dict(
+                        self._batch.differences(i, self._base._core)), **row}))
+                except _core.ConfigError as e:
+                    raise _core.ConfigError("set_params: mechanism %d: %s" % (i, e)) from None
+            return self._batch.reconfigure(chosen, [c._core for c in configs], starts)
 
-    def values(self, name):
-        """Every mechanism's value of config name `name`: an array (n,) of numbers, or a list of
-        n strings (command.mode, ...). Without building n Configs."""
-        return self._read(lambda: self._batch.values(name))
+    def values(self, name, mask=None):
+        """Every mechanism's value of config name `name` (or those where `mask` is true): an
+        array (n,) of numbers, or a list of n strings (command.mode, ...). Without building n
+        Configs."""
+        lanes = None if mask is None else [int(i) for i in np.flatnonzero(self._mask("values",
+                                                                                    mask))]
+        return self._read(lambda: self._batch.values(name, lanes))
 
     @contextlib.contextmanager
     def _exclusive(self, call):
@@ -281,8 +275,9 @@ class BatchSimulator:
         thread); it waits for a read in progress, which is short."""
         with self._claim:
             if self._busy:
-                raise RuntimeError("%s: the BatchSimulator is in a step (from another thread); "
-                                   "one call at a time" % call)
+                raise RuntimeError("%s: the BatchSimulator is busy with a call from another "
+                                   "thread (a step, a reset, set_params); one call at a time"
+                                   % call)
             self._busy = True
         try:
             with self._lock:
@@ -344,26 +339,30 @@ class BatchSimulator:
         again) with sensors.seed = seed + i (an int >= 0), or seed[i] (a list of n ints): the
         same noise as a Simulator of that config. Returns the states (n, 4)."""
         m = self._mask("reset", mask)
+        seeds = None if seed is None else self.seeds_of(seed)
         with self._exclusive("reset"):
-            if seed is None:
+            if seeds is None:
                 return self._batch.reset(m)
-            if isinstance(seed, (list, tuple, np.ndarray)):
-                seeds = np.asarray(seed)
-                if seeds.shape != (len(self),) or seeds.dtype.kind not in "iu" or \
-                        seeds.min() < 0 or seeds.max() > MAX_SEED:
-                    raise ValueError("reset: seed as a list holds %d whole numbers in [0, %d] "
-                                     "(one per mechanism), got %s of %s"
-                                     % (len(self), MAX_SEED, seeds.shape, seeds.dtype))
-            else:
-                most = MAX_SEED - (len(self) - 1)
-                if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or \
-                        not 0 <= seed <= most:
-                    raise ValueError("reset: seed must be a whole number in [0, %d] (mechanism "
-                                     "i takes sensors.seed = seed + i <= %d) or a list of %d, "
-                                     "got %r" % (most, MAX_SEED, len(self), seed))
-                seeds = int(seed) + np.arange(len(self))
-            self._seeds[m] = seeds[m]  # config(i) applies it when asked
             return self._batch.reseed(m, [int(v) for v in seeds])
+
+    def seeds_of(self, seed):
+        """Each mechanism's sensors.seed for reset(seed=seed): seed + i (an int), or the list;
+        ValueError naming what is wrong."""
+        if isinstance(seed, (list, tuple, np.ndarray)):
+            seeds = np.asarray(seed)
+            if seeds.shape != (len(self),) or seeds.dtype.kind not in "iu" or \
+                    seeds.min() < 0 or seeds.max() > MAX_SEED:
+                raise ValueError("reset: seed as a list holds %d whole numbers in [0, %d] "
+                                 "(one per mechanism), got %s of %s"
+                                 % (len(self), MAX_SEED, seeds.shape, seeds.dtype))
+            return seeds
+        most = MAX_SEED - (len(self) - 1)
+        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or \
+                not 0 <= seed <= most:
+            raise ValueError("reset: seed must be a whole number in [0, %d] (mechanism "
+                             "i takes sensors.seed = seed + i <= %d) or a list of %d, "
+                             "got %r" % (most, MAX_SEED, len(self), seed))
+        return int(seed) + np.arange(len(self))
 
     def set_states(self, states, mask=None):
         """Mechanisms where `mask` is true (default: all) put into states[i] = (q1, q2, u1, u2)
@@ -376,13 +375,17 @@ class BatchSimulator:
         with self._exclusive("set_states"):
             return self._batch.set_states(x, m)
 
+    def _state_table(self, call, states):
+        x = _real_array("%s: states" % call, states, len(self))
+        if x.shape != (len(self), 4):
+            raise ValueError("%s: states must have shape (%d, 4) (q1, q2, u1, u2 of "
+                             "each mechanism), got %s" % (call, len(self), x.shape))
+        return x
+
     def check_states(self, states, mask=None):
         """Raises what set_states(states, mask) would (nothing is set)."""
         m = self._mask("set_states", mask)
-        x = _real_array("set_states: states", states, len(self))
-        if x.shape != (len(self), 4):
-            raise ValueError("set_states: states must have shape (%d, 4) (q1, q2, u1, u2 of "
-                             "each mechanism), got %s" % (len(self), x.shape))
+        x = self._state_table("set_states", states)
         for i in np.flatnonzero(m):
             why = self._batch.check_state(int(i), [float(v) for v in x[i]])
             if why:

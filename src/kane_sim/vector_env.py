@@ -216,43 +216,62 @@ class VectorEnv(_VECTOR_ENV_BASE):
         self._draws = np.zeros(self.num_envs, dtype=np.int64)
         self._steps = np.zeros(self.num_envs, dtype=np.int64)
         self._ended = np.zeros(self.num_envs, dtype=bool)
+        # same_step: mechanisms whose autoreset failed (reset_params raised): started before the
+        # next step moves anything.
+        self._pending = np.zeros(self.num_envs, dtype=bool)
         self._started = False
 
-    def _read_configs(self):
+    def _read_configs(self, mask=None):
         """What the env takes from the mechanisms' configs: their command modes, action ranges
-        (and the action spaces of them) and initial states; again after their params change."""
-        self._mode = np.array(self.sim.values("command.mode"))
-        self._effort = self._mode == "effort"
+        (and the action spaces of them) and initial states; again for those of `mask` after
+        their params change (the spaces rebuilt only when a range changed)."""
+        every = mask is None
+        rows = slice(None) if every else mask
+        values = (lambda name: self.sim.values(name)) if every else \
+            (lambda name: self.sim.values(name, mask))
+        if every:
+            self._mode = np.empty(self.num_envs, dtype=object)
+            self.action_high = np.empty(self.num_envs)
+            self._initial = np.empty((self.num_envs, 4))
+        mode = np.array(values("command.mode"), dtype=object)
         # The command's range: effort the torque limit; velocity the servo's refusal (0.5 rad a
         # physics step); position a million turns.
-        self.action_high = np.where(
-            self._effort, self.sim.values("command.torque_limit"),
-            np.where(self._mode == "velocity", 0.5 * self.sim.values("simulation.physics_rate"),
-                     2e6 * np.pi))
+        high = np.where(mode == "effort", values("command.torque_limit"),
+                        np.where(mode == "velocity", 0.5 * values("simulation.physics_rate"),
+                                 2e6 * np.pi))
+        changed = every or not np.array_equal(self.action_high[rows], high)
+        self._mode[rows] = mode
+        self._effort = self._mode == "effort"
+        self.action_high[rows] = high
         self.action_low = -self.action_high
-        self._initial = np.column_stack([self.sim.values("initial_state." + k)
-                                         for k in START_NOISE_KEYS])
-        self.single_action_space = _box(self.action_low.max(), self.action_high.min(), (1,),
-                                        self.dtype)
-        self.action_space = _box(self.action_low[:, None], self.action_high[:, None],
-                                 (self.num_envs, 1), self.dtype)
+        self._initial[rows] = np.column_stack([values("initial_state." + k)
+                                               for k in START_NOISE_KEYS])
+        if changed:
+            self.single_action_space = _box(self.action_low.max(), self.action_high.min(), (1,),
+                                            self.dtype)
+            self.action_space = _box(self.action_low[:, None], self.action_high[:, None],
+                                     (self.num_envs, 1), self.dtype)
 
-    def _set_params(self, call, params, mask):
+    def _set_params(self, call, params, mask, states=None):
         """The chosen mechanisms' configs with `params` ({name: one value or n values}), checked
-        as the loader checks them (a refusal changes nothing)."""
+        as the loader checks them (a refusal changes nothing), started afresh (from `states`
+        when given). Returns whether any mechanism changed."""
         if not isinstance(params, dict):
             raise TypeError("%s must be a dict {config name: one value or %d values}, got %r"
                             % (call, self.num_envs, params))
-        fixed = [k for k in params if k == "sensors.enabled"]
-        if fixed:
+        if "sensors.enabled" in params:
             raise ValueError("%s: sensors.enabled sets what the observation is: build the "
                              "VectorEnv with it" % call)
-        if params and mask.any():
-            try:
-                self.sim.set_params(params, mask)
-            except (ValueError, TypeError, _core.ConfigError) as e:
-                raise type(e)("%s: %s" % (call, e)) from None
-            self._read_configs()
+        if not params:
+            return False
+        try:
+            self.sim.set_params(params, mask, states)
+        except (ValueError, TypeError, _core.ConfigError) as e:
+            raise type(e)("%s: %s" % (call, e)) from None
+        if not mask.any():
+            return False
+        self._read_configs(mask)
+        return True
 
     @staticmethod
     def _start_noise(noise):
@@ -306,14 +325,19 @@ class VectorEnv(_VECTOR_ENV_BASE):
         obs = np.hstack(self.sim.readings()) if self._sensors else self.sim.states
         return obs.astype(self.dtype, copy=False)
 
-    def _start(self, mask, states=None, params=None):
-        """The chosen mechanisms back to their start: with `params` (or what reset_params gives)
-        written into their configs, from the config's initial state, the given states, or a draw
-        within start_noise of the initial state."""
-        if params is None and self.reset_params is not None and mask.any():
+    def _start(self, mask, states=None, fresh=None, draw_params=True):
+        """The chosen mechanisms back to their start, from the config's initial state, the given
+        states, or a draw within start_noise of the initial state; first (draw_params) with what
+        reset_params gives written into their configs. `fresh` (a mask): mechanisms just
+        rebuilt (new params or seeds), which a driver's reset would not leave as they are (it
+        draws the sensors' first reading again)."""
+        if draw_params and self.reset_params is not None and mask.any():
             params = self.reset_params(self.np_random, mask.copy())
-            self._set_params("reset_params(np_random, mask)", params, mask)
-        self.sim.reset(mask)
+            if self._set_params("reset_params(np_random, mask)", params, mask):
+                fresh = mask
+        stale = mask if fresh is None else mask & ~fresh
+        if stale.any():
+            self.sim.reset(stale)
         if states is None and self.start_noise is not None and mask.any():
             chosen = np.flatnonzero(mask)
             x = self._initial.copy()
@@ -367,25 +391,34 @@ class VectorEnv(_VECTOR_ENV_BASE):
         if m.dtype != bool or m.shape != (self.num_envs,):
             raise TypeError("reset: reset_mask must be %d booleans, got %s of %s"
                             % (self.num_envs, m.shape, m.dtype))
-        params = options.get("params")
-        if params is not None:  # first: the states and starts are those of the new params
-            self._set_params("reset: options['params']", params, m)
+        # Everything is checked before anything changes: the seed, the states (against the new
+        # params when there are any), the params.
+        seeds = None if seed is None else self.sim.seeds_of(seed)
         states = options.get("states")
-        if states is not None:  # every chosen state checked before anything moves
-            states = _real_array("reset: options['states']", states, self.num_envs)
+        if states is not None:
+            states = self.sim._state_table("reset: options['states']", states)
+        # An int seed also seeds np_random (a list: its seeds), which reset_params draws from.
+        rng = self._rng if seeds is None else np.random.default_rng(
+            seed if np.ndim(seed) == 0 else [int(v) for v in seeds])
+        params, call = options.get("params"), "reset: options['params']"
+        drawn = params is None and self.reset_params is not None and m.any()
+        if drawn:
+            params, call = self.reset_params(rng, m.copy()), "reset_params(np_random, mask)"
+        fresh = None
+        if (params is not None or drawn) and self._set_params(call, params, m, states):
+            fresh = m  # the states were judged by the new params
+        elif states is not None:
             self.sim.check_states(states, m)
-        if seed is not None:
-            self.sim.reset(m, seed)  # the sensors' noise afresh; validates the seed
+        if seeds is not None:
+            self.sim.reset(m, seeds)  # the sensors' noise afresh
+            fresh = m
             # Each mechanism its own stream of starts, seed[i] and its start count; an int s is
             # the list s, s + 1, ... (as Gymnasium's vector envs take it, and as the sensors' noise).
-            if np.ndim(seed) == 0:
-                self._rng = np.random.default_rng(seed)
-                self._seeds = int(seed) + np.arange(self.num_envs)
-            else:
-                self._seeds = np.array([int(v) for v in seed])
-                self._rng = np.random.default_rng(self._seeds)
+            self._seeds = np.array([int(v) for v in seeds])
+            self._rng = rng
             self._draws = np.zeros(self.num_envs, dtype=np.int64)
-        self._start(m, states, params)
+        self._pending &= ~m
+        self._start(m, states, fresh, draw_params=False)
         self._started = True
         return self._observe(), {}
 
@@ -418,6 +451,9 @@ class VectorEnv(_VECTOR_ENV_BASE):
             restart = self._ended.copy()  # their episode ended last step: this step resets them
             if restart.any():
                 self._start(restart)
+        elif mode == "SameStep" and self._pending.any():
+            self._start(self._pending.copy())  # a failed autoreset again, before anything moves
+            self._pending[:] = False
         elif mode == "Disabled" and self._ended.any():
             ended = np.flatnonzero(self._ended)
             raise ValueError("step: mechanisms %s ended their episode: reset them first with "
@@ -460,7 +496,15 @@ class VectorEnv(_VECTOR_ENV_BASE):
             info["final_obs"], info["_final_obs"] = final, ended.copy()
             info["final_info"], info["_final_info"] = np.array(
                 [{} if e else None for e in ended], dtype=object), ended.copy()
-            self._start(ended)
+            try:
+                self._start(ended)
+            except Exception as e:  # reset_params failed: the step is kept, they start later
+                self._pending = ended.copy()
+                self.last_obs = obs
+                e.add_note("(the step was taken: its observation is env.last_obs; mechanisms "
+                           "%s, whose episodes ended, start at the next step or reset())"
+                           % ", ".join(str(i) for i in np.flatnonzero(ended)[:10]))
+                raise
             obs = self._observe()
         else:
             self._ended = ended

@@ -6,9 +6,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <exception>
 #include <future>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,7 @@
 #include <pybind11/stl.h>
 
 #include "kane_sim/format_number.h"
+#include "kane_sim/model/mechanism_laws.h"
 #include "kane_sim/sim/batch_simulator.h"
 #include "kane_sim/sim/numbers_into_configs.h"
 #include "kane_sim/sim/parallel.h"
@@ -82,6 +85,24 @@ Array readings(const BatchSimulator& batch, bool velocity) {
 }
 
 }  // namespace
+
+// The batch's reconfigure, starting the mechanisms from `starts` (one per lane) when given;
+// std::invalid_argument (nothing changed) becomes ValueError("set_params: ...").
+void reconfigureBatch(BatchSimulator& b, const std::vector<std::size_t>& lanes,
+                      const std::vector<Config>& configs,
+                      const std::optional<std::vector<std::array<double, 4>>>& starts) {
+  std::vector<State> from;
+  if (starts) {
+    if (starts->size() != lanes.size())
+      throw py::value_error("set_params: one state per mechanism changed");
+    for (const auto& x : *starts) from.push_back(State{x[0], x[1], x[2], x[3]});
+  }
+  try {
+    b.reconfigure(lanes, configs, starts ? &from : nullptr);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(std::string("set_params: ") + e.what());
+  }
+}
 
 void bindBatch(py::module_& m) {
   m.def(
@@ -159,6 +180,42 @@ void bindBatch(py::module_& m) {
           py::arg("vector_trig") = false, py::arg("threads") = 1,
           "n mechanisms from a base and a table of numbers (n, len(names)): physics and "
           "initial-state values stored by the loader's rules, no YAML per row")
+      .def(
+          "differences",
+          [](const BatchSimulator& b, std::size_t lane, const PythonConfig& base) {
+            if (lane >= b.size())
+              throw py::index_error("config: mechanism " + std::to_string(lane) + " of " +
+                                    std::to_string(b.size()));
+            // What mechanism `lane`'s config holds that the base does not: the batch's own
+            // record of it (its row, its changes, its seed), read back as config names.
+            const Config& mine = b.config(lane);
+            const Config& theirs = base.config();
+            const bool derived =
+                inertiaFollowsMass(base.tree()) &&
+                mine.mechanism.rod_inertia ==
+                    slenderRodInertia(mine.mechanism.rod_mass, mine.mechanism.rod_half_length);
+            py::list out;
+            for (const ParameterSpec& spec : parameterSchema()) {
+              if (derived && spec.path() == "mechanism.rod_inertia") continue;  // follows m, L
+              const ConfigField& f = spec.field;
+              if (f.number || f.whole) {
+                const double a = numericValue(spec, mine), c = numericValue(spec, theirs);
+                if (std::memcmp(&a, &c, sizeof(a)) == 0) continue;
+                if (f.whole)
+                  out.append(py::make_tuple(spec.path(), static_cast<long long>(a)));
+                else
+                  out.append(py::make_tuple(spec.path(), a));
+              } else if (f.flag) {
+                if (numericValue(spec, mine) != numericValue(spec, theirs))
+                  out.append(py::make_tuple(spec.path(), numericValue(spec, mine) != 0.0));
+              } else if (valueText(spec, mine) != valueText(spec, theirs)) {
+                out.append(py::make_tuple(spec.path(), valueText(spec, mine)));
+              }
+            }
+            return out;
+          },
+          py::arg("lane"), py::arg("base"),
+          "(name, value) of every parameter where the mechanism's config is not the base's.")
       .def_static(
           "inertia_follows_mass",
           [](const PythonConfig& base) { return inertiaFollowsMass(base.tree()); }, py::arg("base"),
@@ -168,21 +225,30 @@ void bindBatch(py::module_& m) {
           py::arg("name"), "Whether from_numbers takes this parameter.")
       .def(
           "values",
-          [](const BatchSimulator& b, const std::string& name) -> py::object {
+          [](const BatchSimulator& b, const std::string& name,
+             const std::optional<std::vector<std::size_t>>& lanes) -> py::object {
             const ParameterSpec& spec = specOf(name);
-            const std::size_t n = b.size();
+            std::vector<std::size_t> every;
+            if (!lanes)
+              for (std::size_t i = 0; i < b.size(); ++i) every.push_back(i);
+            const std::vector<std::size_t>& chosen = lanes ? *lanes : every;
+            for (std::size_t i : chosen)
+              if (i >= b.size())
+                throw py::index_error("values: mechanism " + std::to_string(i) + " of " +
+                                      std::to_string(b.size()));
             if (spec.field.number || spec.field.whole) {
-              Array out(static_cast<py::ssize_t>(n));
-              for (std::size_t i = 0; i < n; ++i)
-                out.mutable_data()[i] = numericValue(spec, b.config(i));
+              Array out(static_cast<py::ssize_t>(chosen.size()));
+              for (std::size_t k = 0; k < chosen.size(); ++k)
+                out.mutable_data()[k] = numericValue(spec, b.config(chosen[k]));
               return std::move(out);
             }
             py::list out;
-            for (std::size_t i = 0; i < n; ++i) out.append(valueText(spec, b.config(i)));
+            for (std::size_t i : chosen) out.append(valueText(spec, b.config(i)));
             return std::move(out);
           },
-          py::arg("name"),
-          "Every mechanism's value of a config name: numbers as an array, others as text.")
+          py::arg("name"), py::arg("lanes") = py::none(),
+          "Every mechanism's (or those of `lanes`) value of a config name: numbers as an array, "
+          "others as text.")
       .def_property_readonly("size", &BatchSimulator::size)
       .def_property_readonly("path", &BatchSimulator::path)
       .def_property_readonly("on_lanes", &BatchSimulator::onLanes)
@@ -265,23 +331,21 @@ void bindBatch(py::module_& m) {
       .def(
           "reconfigure",
           [](BatchSimulator& b, const std::vector<std::size_t>& lanes,
-             const std::vector<const PythonConfig*>& configs) {
+             const std::vector<const PythonConfig*>& configs,
+             const std::optional<std::vector<std::array<double, 4>>>& starts) {
             std::vector<Config> changed;
             for (const PythonConfig* c : configs) changed.push_back(c->config());
-            try {
-              b.reconfigure(lanes, changed);
-            } catch (const std::invalid_argument& e) {
-              throw py::value_error(std::string("set_params: ") + e.what());
-            }
+            reconfigureBatch(b, lanes, changed, starts);
             return states(b);
           },
-          py::arg("lanes"), py::arg("configs"),
+          py::arg("lanes"), py::arg("configs"), py::arg("starts") = py::none(),
           "Mechanisms lanes[k] take configs[k] and start afresh from it (time 0).")
       .def(
           "reconfigure_numbers",
           [](BatchSimulator& b, const std::vector<std::size_t>& lanes,
              const std::vector<std::string>& names, const Array& values,
-             const std::vector<bool>& inertia_from_mass) {
+             bool base_inertia_follows_mass,
+             const std::optional<std::vector<std::array<double, 4>>>& starts) {
             std::vector<const ParameterSpec*> specs;
             for (const std::string& name : names) {
               const ParameterSpec& spec = specOf(name);
@@ -291,8 +355,7 @@ void bindBatch(py::module_& m) {
               specs.push_back(&spec);
             }
             if (values.ndim() != 2 || static_cast<std::size_t>(values.shape(0)) != lanes.size() ||
-                static_cast<std::size_t>(values.shape(1)) != names.size() ||
-                inertia_from_mass.size() != lanes.size())
+                static_cast<std::size_t>(values.shape(1)) != names.size())
               throw py::value_error("set_params: values must have shape (" +
                                     std::to_string(lanes.size()) + ", " +
                                     std::to_string(names.size()) + "), got " + shapeText(values));
@@ -304,20 +367,36 @@ void bindBatch(py::module_& m) {
                                       std::to_string(b.size()));
             std::vector<Config> changed(lanes.size());
             std::vector<std::string> refused(lanes.size());
-            {
-              py::gil_scoped_release release;  // ~15 us a row: the batch's threads share them
-              const std::vector<bool> inertia = inertia_from_mass;  // read without the GIL
+            // ~15 us a row, on the batch's threads. Many rows (over ~60 ms) on a thread of its
+            // own while this one watches for Ctrl-C: stopped, nothing has changed.
+            std::atomic<bool> stop{false};
+            const auto build = [&] {
               parallelBlocks(static_cast<long>(lanes.size()), b.threads(), [&](long k0, long k1) {
-                for (long k = k0; k < k1; ++k) {
+                for (long k = k0; k < k1 && !stop.load(std::memory_order_relaxed); ++k) {
                   const std::size_t r = static_cast<std::size_t>(k);
                   try {
-                    changed[r] = configWithNumbers(b.config(lanes[r]), inertia[r], specs,
-                                                   values.data() + r * names.size());
+                    // The rod's inertia follows m and L where the base's file let it and this
+                    // mechanism's inertia still does.
+                    const Config& now = b.config(lanes[r]);
+                    const bool follows = base_inertia_follows_mass &&
+                                         now.mechanism.rod_inertia ==
+                                             slenderRodInertia(now.mechanism.rod_mass,
+                                                               now.mechanism.rod_half_length);
+                    changed[r] =
+                        configWithNumbers(now, follows, specs, values.data() + r * names.size());
                   } catch (const ConfigError& e) {
                     refused[r] = e.what();
                   }
                 }
               });
+            };
+            if (lanes.size() <= 4096) {
+              py::gil_scoped_release release;
+              build();
+            } else {
+              const std::unique_ptr<py::error_already_set> raised =
+                  runStoppable(stop, build, std::chrono::milliseconds(20));
+              if (raised) throw *raised;
             }
             for (std::size_t k = 0; k < lanes.size(); ++k) {  // the first refused row is named
               if (refused[k].empty()) continue;
@@ -327,16 +406,14 @@ void bindBatch(py::module_& m) {
                               text.c_str());
               throw py::error_already_set();
             }
-            try {
-              b.reconfigure(lanes, changed);
-            } catch (const std::invalid_argument& e) {
-              throw py::value_error(std::string("set_params: ") + e.what());
-            }
+            reconfigureBatch(b, lanes, changed, starts);
             return states(b);
           },
-          py::arg("lanes"), py::arg("names"), py::arg("values"), py::arg("inertia_from_mass"),
+          py::arg("lanes"), py::arg("names"), py::arg("values"),
+          py::arg("base_inertia_follows_mass"), py::arg("starts") = py::none(),
           "Mechanisms lanes[k] with values[k] written into their configs by the loader's rules "
-          "(the rod's inertia following m and L where inertia_from_mass[k]), started afresh.")
+          "(the rod's inertia following m and L where the base's file and the mechanism let it), "
+          "started afresh.")
       .def(
           "set_states",
           [](BatchSimulator& b, const Array& x, const Mask& mask) {

@@ -313,15 +313,22 @@ void BatchSimulator::reseed(const std::vector<bool>& mask,
 }
 
 void BatchSimulator::reconfigure(const std::vector<std::size_t>& lanes,
-                                 const std::vector<Config>& configs) {
-  if (lanes.size() != configs.size())
-    throw std::invalid_argument("reconfigure: one config per mechanism named");
+                                 const std::vector<Config>& configs,
+                                 const std::vector<State>* starts) {
+  if (lanes.size() != configs.size() || (starts && starts->size() != lanes.size()))
+    throw std::invalid_argument("reconfigure: one config (and start) per mechanism named");
   // Everything is checked before any mechanism changes.
   for (std::size_t k = 0; k < lanes.size(); ++k) {
     const std::size_t i = lanes[k];
     if (i >= size())
       throw std::invalid_argument("mechanism " + std::to_string(i) + " is not one of the " +
                                   std::to_string(size()));
+    if (starts) {  // judged by the new config, as a Simulator of it would
+      const Status placed = Simulator(configs[k]).checkState((*starts)[k]);
+      if (!placed.ok)
+        throw std::invalid_argument("mechanism " + std::to_string(i) + ": " + placed.error +
+                                    "; nothing changed");
+    }
     if (!on_lanes_) continue;
     std::string why = whyNotOnLanes(configs[k]);
     if (why.empty() && configs[k].sensors.enabled) why = "sensors.enabled";
@@ -338,6 +345,7 @@ void BatchSimulator::reconfigure(const std::vector<std::size_t>& lanes,
       configs_[lanes[k]] = configs[k];
       sensors_ = sensors_ || configs[k].sensors.enabled;
       buildDriver(lanes[k], configs_[lanes[k]]);
+      if (starts) static_cast<void>(setState(lanes[k], (*starts)[k]));  // checked above
     }
     return;
   }
@@ -374,9 +382,10 @@ void BatchSimulator::reconfigure(const std::vector<std::size_t>& lanes,
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     for (std::size_t chunk : touched) packLanes(chunks_[chunk].run, arch_);
   }
-  for (std::size_t i : lanes) {
-    laneTicks(i) = 0;
-    resetLane(i);
+  for (std::size_t k = 0; k < lanes.size(); ++k) {
+    laneTicks(lanes[k]) = 0;
+    resetLane(lanes[k]);
+    if (starts) static_cast<void>(setState(lanes[k], (*starts)[k]));  // checked above
   }
 }
 

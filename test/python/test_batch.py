@@ -501,3 +501,56 @@ def test_set_params_refuses_by_name_and_changes_nothing():
     # Nothing chosen: nothing changes.
     batch.set_params({"mechanism.rod_mass": 2.0}, np.zeros(4, dtype=bool))
     assert np.array_equal(batch.states, before)
+
+
+def test_set_params_keeps_each_mechanisms_seed_and_config_reads_the_batch(tmp_path):
+    """config(i) is read back from the batch: after reset(seed=) and a set_params through the
+    loader, each mechanism keeps its own noise and is the single run of config(i), readings
+    too; a sensors.seed given by set_params is the one config(i) and values() say."""
+    cfg = yaml.safe_load(open(config_path()))
+    cfg["sensors"] = yaml.safe_load(open(config_path("sensors.yaml")))["sensors"]
+    path = tmp_path / "sensors.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    batch = kane_sim.BatchSimulator(3, str(path))
+    batch.reset(seed=100)
+    batch.set_params({"command.timeout": 0.4, "mechanism.rod_mass": [0.9, 1.0, 1.1]})
+    assert [batch.config(i)["sensors.seed"] for i in range(3)] == [100, 101, 102]
+    np.testing.assert_array_equal(batch.values("sensors.seed"), [100, 101, 102])
+    for _ in range(20):
+        batch.step(np.full(3, 1.0), 10)
+    positions, _ = batch.readings()
+    for i in range(3):
+        sim = kane_sim.Simulator(batch.config(i))
+        assert sim.config["command.timeout"] == 0.4
+        for _ in range(20):
+            sim.set_torque(1.0)
+            sim.step(10)
+        assert np.array_equal(batch.states[i], sim.state), i
+        assert np.array_equal(positions[i], sim.take_readings()["position"][-1]), i
+    batch.set_params({"sensors.seed": 7})
+    assert [batch.config(i)["sensors.seed"] for i in range(3)] == [7, 7, 7]
+    np.testing.assert_array_equal(batch.values("sensors.seed", np.array([True, False, True])),
+                                  [7, 7])
+
+
+def test_set_params_from_given_states_judged_by_the_new_params():
+    batch = kane_sim.BatchSimulator(2, config_path())
+    batch.step(np.ones(2), 10)
+    before, times = batch.states.copy(), batch.times.copy()
+    start = np.array([[0.3, 0.0, 0.5, 0.0], [np.nan, 0.0, 0.0, 0.0]])
+    with pytest.raises(ValueError, match=r"mechanism 1: q1 = nan is not finite; nothing changed"):
+        batch.set_params({"mechanism.rod_mass": 2.0}, None, start)
+    assert np.array_equal(batch.states, before) and np.array_equal(batch.times, times)
+    assert (batch.values("mechanism.rod_mass") == 1.0).all()
+    states = batch.set_params({"mechanism.rod_mass": 2.0}, np.array([True, False]), start)
+    assert states[0].tolist() == [0.3, 0.0, 0.5, 0.0] and batch.times[0] == 0.0
+    assert np.array_equal(states[1], before[1])
+
+
+def test_ctrl_c_stops_a_long_set_params_changing_nothing():
+    seconds, (changed, times) = _interrupted(
+        "b = kane_sim.BatchSimulator(200_000, threads=1); b.step(np.zeros(200_000), 1)",
+        "b.set_params({'mechanism.rod_mass': 1.5})", 0.5,
+        "((b.values('mechanism.rod_mass') != 1.0).sum(), b.times.min())")
+    assert seconds < 2.0, seconds
+    assert changed == 0 and times > 0  # nothing changed, nothing restarted

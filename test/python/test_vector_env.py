@@ -8,6 +8,7 @@ import types
 
 import numpy as np
 import pytest
+import yaml
 
 import kane_sim
 from conftest import config_path
@@ -293,7 +294,10 @@ def test_randomised_physics_from_a_table_is_the_loaders_configs_bit_for_bit(tmp_
                "initial_state.q1": rng.uniform(-1.0, 1.0, n)}
     fast = kane_sim.BatchSimulator(n, config_path(), physics)
     slow = kane_sim.BatchSimulator(n, config_path(), dict(physics, **{"command.timeout": 0.5}))
-    assert fast._configs is None and slow._configs is not None
+    from kane_sim.batch import _numbers_table
+    base = kane_sim.Config(config_path())
+    assert _numbers_table(n, base, physics) is not None  # the C++ numbers path
+    assert _numbers_table(n, base, dict(physics, **{"command.timeout": 0.5})) is None  # loader
     actions = rng.uniform(-5.0, 5.0, (30, n))
     for a in actions:
         fast.step(a, 10)
@@ -439,3 +443,63 @@ def test_reset_options_params_under_a_mask_and_hostile_rows():
             env.reset()
     with pytest.raises(TypeError, match=r"reset_params must be callable"):
         kane_sim.VectorEnv(2, config_path(), reset_params=3)
+
+
+def test_a_refused_reset_changes_nothing_and_a_failed_autoreset_keeps_the_step(tmp_path):
+    env = kane_sim.VectorEnv(2, config_path(), max_episode_steps=2, autoreset_mode="same_step")
+    env.reset(seed=0)
+    env.step(np.ones(2))
+    before = (env.sim.states.copy(), env.sim.times.copy(), env.sim.values("mechanism.rod_mass"))
+    for options, seed in (({"params": {"mechanism.rod_mass": 1.4},
+                            "states": [[np.nan, 0, 0, 0], [0.2, 0, 0, 0]]}, None),
+                          ({"params": {"mechanism.rod_mass": 1.4},
+                            "states": np.zeros((2, 3))}, None),
+                          ({"params": {"mechanism.rod_mass": 1.4}}, -1)):
+        with pytest.raises(ValueError):
+            env.reset(seed=seed, options=options)
+        after = (env.sim.states, env.sim.times, env.sim.values("mechanism.rod_mass"))
+        assert all(np.array_equal(a, b) for a, b in zip(before, after)), options
+    # same_step: a reset_params that fails at an autoreset keeps the step that ended the
+    # episodes (last_obs) and tries again before the next step moves anything.
+    failing = [True]
+
+    def draw(rng, mask):
+        if failing[0]:
+            raise RuntimeError("no draw today")
+        return {"mechanism.rod_mass": np.full(mask.size, 1.2)}
+
+    env = kane_sim.VectorEnv(2, config_path(), max_episode_steps=2, autoreset_mode="same_step",
+                             reset_params=lambda rng, mask: {})
+    env.reset(seed=0)
+    env.reset_params = draw
+    env.step(np.ones(2))
+    with pytest.raises(RuntimeError, match="no draw today") as raised:
+        env.step(np.ones(2))
+    assert "start at the next step" in "".join(raised.value.__notes__)
+    times = env.sim.times.copy()
+    assert env.last_obs is not None and times == pytest.approx([0.02, 0.02])
+    with pytest.raises(RuntimeError, match="no draw today"):
+        env.step(np.ones(2))
+    assert np.array_equal(env.sim.times, times)  # nothing moved
+    failing[0] = False
+    _, _, _, _, info = env.step(np.ones(2))
+    assert (env.sim.values("mechanism.rod_mass") == 1.2).all()
+    assert info["episode_steps"].tolist() == [1, 1] and env.sim.times == pytest.approx([0.01] * 2)
+
+
+def test_readings_after_a_seeded_reset_are_a_fresh_simulators(tmp_path):
+    cfg = yaml.safe_load(open(config_path()))
+    cfg["sensors"] = yaml.safe_load(open(config_path("sensors.yaml")))["sensors"]
+    path = tmp_path / "sensors.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    env = kane_sim.VectorEnv(2, str(path), reset_params=lambda rng, mask: {
+        "mechanism.rod_mass": rng.uniform(0.8, 1.2, mask.size)})
+    obs, _ = env.reset(seed=4)
+    for _ in range(3):
+        obs, *_ = env.step(np.full(2, 2.0))
+    for i in range(2):
+        sim = kane_sim.Simulator(env.sim.config(i))
+        for _ in range(3):
+            sim.set_torque(2.0)
+            sim.step(env.substeps)
+        assert np.array_equal(obs[i, :4], sim.take_readings()["position"][-1]), i

@@ -58,10 +58,12 @@ class BatchSimulator {
   void reset(const std::vector<bool>& mask);
   void reseed(const std::vector<bool>& mask, const std::vector<std::uint64_t>& seeds);
   // Mechanisms lanes[k] take configs[k] (validated by the loader) and start afresh from it, as
-  // reseed: its initial state, time 0, running again (domain randomisation between episodes at
-  // the cost of the mechanisms that change). Throws std::invalid_argument, changing nothing,
-  // naming the mechanism, when a config would take it off the SIMD lanes the batch runs on.
-  void reconfigure(const std::vector<std::size_t>& lanes, const std::vector<Config>& configs);
+  // reseed: its initial state (or starts[k] when given), time 0, running again (domain
+  // randomisation between episodes at the cost of the mechanisms that change). Throws
+  // std::invalid_argument, changing nothing, naming the mechanism, when a config would take it
+  // off the SIMD lanes the batch runs on or its new config refuses starts[k].
+  void reconfigure(const std::vector<std::size_t>& lanes, const std::vector<Config>& configs,
+                   const std::vector<State>* starts = nullptr);
   // Whether lane `lane` can be put into `state`: what a Simulator of its config's set_state
   // accepts (finite, within scale, the sliders apart, within rk4's reach at this step).
   Status checkState(std::size_t lane, const State& state) const;
