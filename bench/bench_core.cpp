@@ -10,6 +10,7 @@
 
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/model/generated_mechanism.h"
+#include "kane_sim/model/math_functions.h"
 #include "kane_sim/sim/simulator.h"
 #include "ratio_reporter.h"
 
@@ -89,12 +90,22 @@ void BM_Dopri5PerSimSecond(benchmark::State& st) {
 BENCHMARK(BM_Dopri5PerSimSecond)->Arg(6)->Arg(9)->Arg(12)->Unit(benchmark::kMillisecond);
 
 // ---- the floor: the same equations written out by hand -------------------------------------
+// kDeterministicTrig: sin and cos as every path of the simulator takes them (math::sinCos,
+// SLEEF's deterministic algorithm without fused multiply-adds); otherwise glibc's, which picks
+// an FMA variant on CPUs that have it. The two floors tell the math's share of the ratio.
+template <bool kDeterministicTrig>
 struct ClosedForm {
   double m, L, M1, M2, k, g, I, separation0;  // separation0 = x_B0 - x_C0, the spring at rest
 
   // u1' = (F1 + F*1|u'=0) / M11,  u2' = F2 / M2 (M is diagonal for this mechanism).
   void operator()(const double x[4], double torque, double dx[4]) const {
-    const double s = std::sin(x[0]), c = std::cos(x[0]);
+    double s, c;
+    if (kDeterministicTrig) {
+      kane_sim::math::sinCos(x[0], &s, &c);
+    } else {
+      s = std::sin(x[0]);
+      c = std::cos(x[0]);
+    }
     const double e = 4 * L * c - x[1] - separation0;
     const double m11 = m * L * L * (2 + 8 * s * s) + 16 * M1 * L * L * s * s + 2 * I;
     const double f1 = torque - 4 * g * L * (m + M1) * s + 4 * k * L * e * s -
@@ -106,13 +117,15 @@ struct ClosedForm {
   }
 };
 
-void BM_ClosedFormRk4StepFloor(benchmark::State& st) {
+template <bool kDeterministicTrig>
+void closedFormRk4Steps(benchmark::State& st) {
   const kane_sim::Config c = defaultConfig();
   const auto& p = c.mechanism;
-  const ClosedForm f{p.rod_mass, p.rod_half_length, p.slider3_mass, p.slider4_mass,
-                     p.spring_stiffness, p.gravity, p.rod_inertia,
-                     // The model's rest length (x_C0 - x_B0), not a second formula for it.
-                     -kane_sim::mechanismModel(c).springRestLength()};
+  const ClosedForm<kDeterministicTrig> f{
+      p.rod_mass, p.rod_half_length, p.slider3_mass, p.slider4_mass, p.spring_stiffness, p.gravity,
+      p.rod_inertia,
+      // The model's rest length (x_C0 - x_B0), not a second formula for it.
+      -kane_sim::mechanismModel(c).springRestLength()};
   const double h = 1e-3;
   double x[4] = {c.initial_state.q1, c.initial_state.q2, 0, 0};
   long n = 0;
@@ -131,7 +144,12 @@ void BM_ClosedFormRk4StepFloor(benchmark::State& st) {
   }
   st.SetItemsProcessed(st.iterations());
 }
+void BM_ClosedFormRk4StepFloor(benchmark::State& st) { closedFormRk4Steps<false>(st); }
 BENCHMARK(BM_ClosedFormRk4StepFloor);
+void BM_ClosedFormRk4StepFloorDeterministicTrig(benchmark::State& st) {
+  closedFormRk4Steps<true>(st);
+}
+BENCHMARK(BM_ClosedFormRk4StepFloorDeterministicTrig);
 
 }  // namespace
 

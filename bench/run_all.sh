@@ -32,6 +32,9 @@ echo "- cores this process may use: $(nproc); $(lscpu 2>/dev/null | grep -m1 '^T
 echo "- SIMD lanes this CPU runs: $(/usr/bin/python3 -c 'from kane_sim import _core; print(", ".join(a for a in ("avx512", "avx2", "sse2") if _core.lane_arch_available(a)))')"
 echo "- $(uname -sr), $(gcc --version | head -1), $(date -u +%Y-%m-%d)"
 echo
+echo "## The speed goals: ratios within this run"
+/usr/bin/python3 bench/speed_goals.py "$build"
+echo
 echo "## Core throughput (Google Benchmark)"
 "$build/bench_bin/bench_core" --benchmark_min_time=1 --benchmark_repetitions=3 \
   --benchmark_report_aggregates_only=true 2>/dev/null

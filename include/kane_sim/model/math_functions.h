@@ -7,15 +7,16 @@
 // They are SLEEF's deterministic functions ("cinz", 3.5-ulp): the same bits for the same
 // argument in scalar code and at every vector width (SSE2, AVX, AVX-512), so that W mechanisms
 // stepped in one vector equal W single runs bit for bit while taking sin and cos W at a time
-// (libm per lane took half of a lane's time). The scalar sincos is SLEEF 3.5's own algorithm
-// written out below for |x| < 1e14 (every angle a run reaches: a Simulator refuses |q1| beyond
-// 2 pi 1e6), operation for operation, so that it inlines into the integrator's stages: a call
-// into the library spills every live register and costs a single run's rk4 step ~10 % of its
-// time (doc/reports/performance.md). test_sweep holds it to the library's bits. Beyond 1e14 (and
-// for NaN and infinities) the library answers. tanh is the library's (SSE2 form on one lane).
-// The WebAssembly build (no SLEEF there) runs the same written-out sincos, so its runs equal the
-// native ones bit for bit while |q1| < 1e14 and no friction's tanh enters; beyond that it takes
-// emscripten's libm, musl's (the browser test makes the native build use musl's there too).
+// (libm per lane took half of a lane's time). The scalar sincos and tanh are SLEEF 3.5's own
+// algorithms written out below (sincos for |x| < 1e14: every angle a run reaches, a Simulator
+// refuses |q1| beyond 2 pi 1e6; tanh for every argument), operation for operation, so that they
+// inline into the integrator's stages: a call into the library spills every live register (the
+// sincos call cost a single run's rk4 step ~10 % of its time; tanh's cost is its latency either
+// way: doc/reports/performance.md). test_sweep holds them to the library's bits. Beyond 1e14 (and
+// for NaN and infinities) the library answers sincos. The WebAssembly build (no SLEEF there)
+// runs the same written-out functions, so its runs equal the native ones bit for bit while
+// |q1| < 1e14, friction included; beyond that it takes emscripten's libm, musl's (the browser
+// test makes the native build use musl's there too).
 // `static`: a translation unit built for a wider instruction set (src/batch/lanes_avx2.cpp) keeps
 // its own copy instead of offering it to the linker as everyone's.
 #ifndef KANE_SIM_MODEL_MATH_FUNCTIONS_H
@@ -23,6 +24,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #if !defined(__EMSCRIPTEN__)
 #if defined(__SSE2__)
@@ -96,6 +98,110 @@ static inline void sinCos(double d, double* sine, double* cosine) {
 
 }  // namespace sleef_sincos
 
+namespace sleef_tanh {  // SLEEF 3.5.1, src/libm/sleefsimddp.c: xtanh_u35 and its expm1k
+
+// ln 2 split so that q ln 2 is exact in parts, and 1 / ln 2 (src/common/misc.h).
+constexpr double kLn2Upper = .69314718055966295651160180568695068359375;
+constexpr double kLn2Lower = .28235290563031577122588448175013436025525412068e-12;
+constexpr double kInverseLn2 = 1.442695040888963407359924681001892137426645954152985934135449406931;
+constexpr double kSaturation = 18.714973875;   // beyond it the library answers +-1
+constexpr double kShift = 6755399441055744.0;  // 1.5 * 2^52: see sleef_sincos::nearestInteger
+
+// The kernel below runs on one double or on two in an SSE2 register (Two): the same IEEE
+// operations in the same order, so each lane's bits are the one-value form's. What differs by
+// type is the few steps on bits: |v|, 2^n, choosing per lane, and the sign.
+static inline double absOf(double v) { return std::abs(v); }
+// 2^n for a whole n in [0, 1023] (vpow2i: n + 1023 into the exponent's bits).
+static inline double powerOfTwo(double n) {
+  const std::uint64_t bits = static_cast<std::uint64_t>(static_cast<int>(n) + 0x3ff) << 52;
+  double out;
+  std::memcpy(&out, &bits, sizeof(out));
+  return out;
+}
+static inline double whereZero(double v, double then, double otherwise) {
+  return v == 0.0 ? then : otherwise;
+}
+static inline double whereAtMost(double v, double bound, double then, double otherwise) {
+  return v <= bound ? then : otherwise;  // NaN: otherwise
+}
+// y with x's sign flipped in (vmulsign), then every bit set where x is NaN (the library's NaN).
+static inline double signedLike(double y, double x) {
+  std::uint64_t bits, sign;
+  std::memcpy(&bits, &y, sizeof(bits));
+  std::memcpy(&sign, &x, sizeof(sign));
+  bits ^= sign & 0x8000000000000000ull;
+  if (std::isnan(x)) bits = ~0ull;
+  std::memcpy(&y, &bits, sizeof(y));
+  return y;
+}
+
+#if defined(__SSE2__) && !defined(__EMSCRIPTEN__)
+struct Two {
+  __m128d v;
+  explicit Two(__m128d value) : v(value) {}
+  explicit Two(double c) : v(_mm_set1_pd(c)) {}
+};
+static inline Two operator+(Two a, Two b) { return Two(_mm_add_pd(a.v, b.v)); }
+static inline Two operator-(Two a, Two b) { return Two(_mm_sub_pd(a.v, b.v)); }
+static inline Two operator*(Two a, Two b) { return Two(_mm_mul_pd(a.v, b.v)); }
+static inline Two operator/(Two a, Two b) { return Two(_mm_div_pd(a.v, b.v)); }
+static inline Two operator+(Two a, double b) { return a + Two(b); }
+static inline Two operator+(double a, Two b) { return Two(a) + b; }
+static inline Two operator-(Two a, double b) { return a - Two(b); }
+static inline Two operator*(Two a, double b) { return a * Two(b); }
+static inline Two absOf(Two v) { return Two(_mm_andnot_pd(_mm_set1_pd(-0.0), v.v)); }
+static inline Two powerOfTwo(Two n) {
+  const __m128i e = _mm_add_epi32(_mm_cvtpd_epi32(n.v), _mm_set1_epi32(0x3ff));
+  return Two(_mm_castsi128_pd(_mm_slli_epi64(_mm_unpacklo_epi32(e, _mm_setzero_si128()), 52)));
+}
+static inline Two choose(__m128d mask, Two then, Two otherwise) {
+  return Two(_mm_or_pd(_mm_and_pd(mask, then.v), _mm_andnot_pd(mask, otherwise.v)));
+}
+static inline Two whereZero(Two v, Two then, Two otherwise) {
+  return choose(_mm_cmpeq_pd(v.v, _mm_setzero_pd()), then, otherwise);
+}
+static inline Two whereAtMost(Two v, double bound, Two then, Two otherwise) {
+  return choose(_mm_cmple_pd(v.v, _mm_set1_pd(bound)), then, otherwise);
+}
+static inline Two signedLike(Two y, Two x) {
+  const __m128d flipped = _mm_xor_pd(y.v, _mm_and_pd(x.v, _mm_set1_pd(-0.0)));
+  return Two(_mm_or_pd(_mm_cmpunord_pd(x.v, x.v), flipped));
+}
+#endif
+
+// e^d - 1 for 0 <= d <= 2 kSaturation (expm1k): d = q ln 2 + s, a polynomial in s by
+// Estrin's scheme (the library's POLY10 of MLA(x, y, z) = x y + z: a multiply, then an add),
+// then scaled by 2^q in two halves (vldexp2; q >> 1 is q / 2 - 1 / 4 rounded, q >= 0).
+template <class V>
+static inline V expm1k(V d) {
+  const V q = (d * kInverseLn2 + kShift) - kShift;  // vrint: the nearest whole, ties to even
+  V s = q * -kLn2Upper + d;
+  s = q * -kLn2Lower + s;
+  const V s2 = s * s, s4 = s2 * s2, s8 = s4 * s4;
+  const V high = s * 2.08860621107283687536341e-09 + 2.51112930892876518610661e-08;
+  const V upper = s2 * (s * 2.75573911234900471893338e-07 + 2.75572362911928827629423e-06) +
+                  (s * 2.4801587159235472998791e-05 + 0.000198412698960509205564975);
+  const V lower = s2 * (s * 0.00138888888889774492207962 + 0.00833333333331652721664984) +
+                  (s * 0.0416666666666665047591422 + 0.166666666666666851703837);
+  V u = s8 * high + (s4 * upper + lower);
+  u = (s2 * 0.5 + (s2 * s) * u) + s;
+  const V half = ((q * 0.5 - 0.25) + kShift) - kShift;
+  return whereZero(q, u, ((u + 1.0) * powerOfTwo(half)) * powerOfTwo(q - half) - 1.0);
+}
+
+// tanh x = e / (2 + e), e = e^(2|x|) - 1, with x's sign; +-1 beyond kSaturation; NaN as the
+// library returns it. Beyond kSaturation (and for NaN) the quotient is taken of 0, so that
+// every step stays in range, and dropped.
+template <class V>
+static inline V tanhOf(V x) {
+  const V magnitude = absOf(x);
+  const V within = whereAtMost(magnitude, kSaturation, magnitude, V(0.0));
+  const V e = expm1k(within * 2.0);
+  return signedLike(whereAtMost(magnitude, kSaturation, e / (2.0 + e), V(1.0)), x);
+}
+
+}  // namespace sleef_tanh
+
 // *s = sin x, *c = cos x (radians).
 static inline void sinCos(double x, double* s, double* c) {
   if (std::abs(x) < sleef_sincos::kFarRange) {  // false for NaN
@@ -128,26 +234,19 @@ static inline double sin(double x) {
   return s;
 }
 
-static inline double tanh(double x) {
-#if defined(__EMSCRIPTEN__)
-  return std::tanh(x);
-#elif defined(__SSE2__)
-  return _mm_cvtsd_f64(Sleef_cinz_tanhd2_u35sse2(_mm_set_sd(x)));
-#else
-  return Sleef_cinz_tanhd1_u35purec(x);
-#endif
-}
+// tanh x (SLEEF's deterministic tanh, written out above: its bits, inlined).
+static inline double tanh(double x) { return sleef_tanh::tanhOf(x); }
 
-// *tx = tanh x, *ty = tanh y: the library's two-lane call costs what one value does (a
-// friction step takes 16 tanh), and each lane's bits are the one-value call's.
+// *tx = tanh x, *ty = tanh y: two at once in one SSE2 register where there is one (a friction
+// step takes 16 tanh), each lane the one-value form's bits.
 static inline void tanhPair(double x, double y, double* tx, double* ty) {
-#if defined(__EMSCRIPTEN__) || !defined(__SSE2__)
-  *tx = tanh(x);
-  *ty = tanh(y);
-#else
-  const __m128d both = Sleef_cinz_tanhd2_u35sse2(_mm_set_pd(y, x));
+#if defined(__SSE2__) && !defined(__EMSCRIPTEN__)
+  const __m128d both = sleef_tanh::tanhOf(sleef_tanh::Two(_mm_set_pd(y, x))).v;
   *tx = _mm_cvtsd_f64(both);
   *ty = _mm_cvtsd_f64(_mm_unpackhi_pd(both, both));
+#else
+  *tx = tanh(x);
+  *ty = tanh(y);
 #endif
 }
 

@@ -1,8 +1,9 @@
 /* The native build's calls into SLEEF (include/kane_sim/model/math_functions.h: its
- * deterministic sincos beyond |x| = 1e14, and tanh; SSE2 form) answered with musl's sin, cos and
- * tanh, for the browser test's LD_PRELOAD library: `simulate` then computes with the WebAssembly
- * build's functions everywhere (below 1e14 both builds run the same written-out sincos), and the
- * two must agree bit for bit (the same C++ on the same numbers). */
+ * deterministic sincos beyond |x| = 1e14; tanh for the library's SSE2 form, which the single run
+ * no longer calls) answered with musl's sin, cos and tanh, for the browser test's LD_PRELOAD
+ * library: `simulate` then computes with the WebAssembly build's functions everywhere (below
+ * 1e14 both builds run the same written-out sincos and tanh), and the two must agree bit for
+ * bit (the same C++ on the same numbers). */
 #include <emmintrin.h>
 #include <sleef.h>
 

@@ -22,8 +22,8 @@ from page_fixtures import (RESULTS, Page, browser, page, page_url,  # noqa: E402
 from test_one_truth import MODES, SINE, case_config  # noqa: E402 (the one-truth matrix)
 
 MUSL = "/usr/share/emscripten/system/lib/libc/musl"
-# The math the equations call (sin, cos, sincos; tanh for friction, which calls expm1), as
-# emscripten's musl computes it.
+# The math the equations call beyond the written-out forms (sin, cos, sincos beyond 1e14), as
+# emscripten's musl computes it; tanh (with its expm1) for the library's vector calls.
 MUSL_MATH = ("sin", "cos", "sincos", "__sin", "__cos", "__rem_pio2", "__rem_pio2_large", "tanh",
              "expm1")
 
@@ -88,19 +88,12 @@ def test_a_run_is_simulates_run(shared_page, tmp_path, musl_math, mode, profile,
     # The same C++ on the same numbers: with the same libm, every column of every row is equal.
     same = (web == musl) | (np.isnan(web) & np.isnan(musl))
     assert same.all(), "first differing row %d" % np.argmin(same.all(axis=1))
-    # simulate with its own math functions: both builds run the same written-out sincos
-    # (model/math_functions.h) while |q1| < 1e14, so without friction (no tanh) every bit is
-    # equal with no stand-in at all. With friction tanh is SLEEF's natively and musl's in the
-    # page: they differ in the last bit for some arguments, and the motion carries that on. Over
-    # these 2 s cases the state differs by at most 2.7e-14 (measured); the bound leaves 300x.
+    # simulate with its own math functions: both builds run the same written-out sincos and
+    # tanh (model/math_functions.h) while |q1| < 1e14, so every bit is equal with no stand-in
+    # at all, friction (the one-truth matrix's comes with contact) included.
     _, native = simulate_rows(cfg, duration, flags)
-    if not contact:  # the one-truth matrix's friction comes with contact
-        same = (web == native) | (np.isnan(web) & np.isnan(native))
-        assert same.all(), "first differing row %d" % np.argmin(same.all(axis=1))
-    state = [header.index(c) for c in ("q1", "q2", "u1", "u2")]
-    difference = np.abs(web[:, state] - native[:, state]).max()
-    print("%s: state differs from native by %.3g" % (mode, difference))
-    assert difference <= 1e-11
+    same = (web == native) | (np.isnan(web) & np.isnan(native))
+    assert same.all(), "first differing row %d" % np.argmin(same.all(axis=1))
 
 
 def simulate_error(tmp_path, text):

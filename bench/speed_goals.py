@@ -1,0 +1,88 @@
+"""The speed goals in one table, with the machine: the rk4 step against the hand-written floor,
+friction's cost (every damper and Coulomb friction on) against the plain step, `simulate` 3600 s
+against the floor, and a 4096-mechanism batch's two threads against one at each SIMD width this
+CPU runs (KANE_SIM_SIMD_MAX caps it as a narrower CPU would). Ratios within one run are the
+stable figures on a shared machine; each is the median (bench_core, 5 repetitions) or the best
+(simulate: 3 processes; the batch: twenty 0.1 s windows taken in turn) of its run.
+Usage: /usr/bin/python3 bench/speed_goals.py BUILD_DIR"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from batch_simulator import Case, machine, measure  # noqa: E402
+
+from kane_sim import _core  # noqa: E402
+
+CONFIG = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "config",
+                      "mechanism.yaml")
+
+
+def core_medians(build):
+    """bench_core's medians [ns] of the plain rk4 step, the every-load step and the floor."""
+    out = subprocess.run(
+        [os.path.join(build, "bench_bin", "bench_core"),
+         "--benchmark_filter=Rk4Step/generated|Floor", "--benchmark_repetitions=5",
+         "--benchmark_min_time=0.5", "--benchmark_format=json"],
+        capture_output=True, text=True, check=True, timeout=600).stdout
+    medians = {b["run_name"]: b["real_time"] for b in json.loads(out)["benchmarks"]
+               if b.get("aggregate_name") == "median"}
+    return (medians["BM_Rk4Step/generated"], medians["BM_Rk4Step/generated_every_load"],
+            medians["BM_ClosedFormRk4StepFloor"],
+            medians["BM_ClosedFormRk4StepFloorDeterministicTrig"])
+
+
+def simulate_best(build, runs=3):
+    """The best of `runs` whole `simulate` processes of 3600 s at 1 kHz, CSV at 1 Hz [s]."""
+    simulate = os.path.join(build, "devel", "lib", "kane_sim", "simulate")
+    best = float("inf")
+    with tempfile.TemporaryDirectory() as work:
+        for _ in range(runs):
+            start = time.perf_counter()
+            subprocess.run([simulate, "--config", CONFIG, "--duration", "3600", "--torque", "2",
+                            "--output-rate", "1", "--csv", os.path.join(work, "long.csv")],
+                           check=True, capture_output=True, timeout=600)
+            best = min(best, time.perf_counter() - start)
+    return best
+
+
+def thread_ratios(n=4096):
+    """{width: (M mechanism-steps/s on 1 thread, on 2)} at ten physics steps a call."""
+    out = {}
+    for arch in ("avx512", "avx2", "sse2"):
+        if not _core.lane_arch_available(arch):
+            continue
+        one, two = Case(n, 10, simd=arch, threads=1), Case(n, 10, simd=arch, threads=2)
+        measure([one, two])
+        out[arch] = (one.rate(), two.rate())
+    return out
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    build = sys.argv[1]
+    print("machine: %s" % machine())
+    plain, every_load, floor, floor_same_trig = core_medians(build)
+    simulate = simulate_best(build)
+    print("| figure | measured | ratio | goal |")
+    print("|---|---|---|---|")
+    print("| rk4 step, plain / closed-form floor (bench_core) | %.1f / %.1f ns | %.2fx | <= 1.2x |"
+          % (plain, floor, plain / floor))
+    print("| rk4 step, plain / the floor with the simulator's sin and cos | %.1f / %.1f ns | "
+          "%.2fx | (the math's share: %.2fx) |"
+          % (plain, floor_same_trig, plain / floor_same_trig, floor_same_trig / floor))
+    print("| rk4 step with every damper and friction / plain | %.1f / %.1f ns | %.2fx | <= 1.5x |"
+          % (every_load, plain, every_load / plain))
+    print("| simulate 3600 s (best of 3) / floor x 3.6e6 steps | %.2f / %.2f s | %.2fx | <= 1.3x |"
+          % (simulate, floor * 3.6e-3, simulate / (floor * 3.6e-3)))
+    for arch, (one, two) in thread_ratios().items():
+        print("| BatchSimulator 4096, %s lanes, 2 threads / 1 | %.1f / %.1f M steps/s | %.2fx "
+              "| >= 1.85x |" % (arch, two, one, two / one))
+
+
+if __name__ == "__main__":
+    main()
