@@ -184,8 +184,29 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
         result.validation = validation(motion, base, result.config,
                                        result.estimates.get("torque_offset", 0.0), bandwidth,
                                        start=(rated.t[0], rated.states[0]))
+        result.warnings += _replay_warnings(result.validation)
     result.refusal = _refusal(result)
     return result
+
+
+def _replay_warnings(v):
+    """What the whole-run replay says when the fitted model parts from the recording by more
+    than half its span: said, not refused (a recording made under a controller can part
+    whatever the parameters: PD-controlled live-node recordings replayed with their true
+    parameters 5.6-11.9 rad RMS off against a 2.7 rad span)."""
+    if not v or "error" in v.get("fitted", {}):
+        return ["the fitted model cannot be re-simulated with the recorded torque: "
+                + v["fitted"]["error"]] if v else []
+    out = []
+    for k, unit in (("q1", "rad"), ("q2", "m")):
+        rms, span = v["fitted"][k + "_rms"], v[k + "_span"]
+        if not rms <= 0.5 * span:
+            out.append("re-simulated open loop from the first sample with the recorded torque, "
+                       "the fitted model parts from the recorded %s by %.4g %s RMS (its span: "
+                       "%.4g): expected of a recording made under a controller (its torque "
+                       "answers the motion); of an open-loop recording, it says the model does "
+                       "not describe the data" % (k, rms, unit, span))
+    return out
 
 
 # How far from the base's value (a factor, either way) a mass or k may be estimated.
@@ -245,16 +266,28 @@ def _refusal(result):
     # A mass, the rod's inertia or k more than OFF_SCALE times from the base's (either way): no
     # rig's rough values are that far off; a torque in the wrong units is (x1000 gave masses of
     # 1282 kg for 1.3).
+    # An estimate that far off but zero within its error is not a unit's doing: the motion did
+    # not tell it (a crank that barely moves leaves the rod's inertia at 0 +- its size).
     config_names = set(_core.Config.names())  # not torque_offset, spring_rest_length
+    untold = []
     for name in result.names:
         if name not in config_names or name in result.kept or \
                 _core.Config.role(name) not in ("inertial", "stiffness"):
             continue
         base, value = result.base_values[name], result.estimates[name]
+        sigma = result.std_errors.get(name, 0.0)
         if base > 0 and not (base / OFF_SCALE <= value <= base * OFF_SCALE):
+            if abs(value) <= 3.0 * sigma:
+                untold.append("%s %.3g +- %.2g" % (name, value, sigma))
+                continue
             return ("%s estimated %.6g, %.3g times the base's %.6g: the torque's units (N m), "
                     "or the positions' (rad, m), are not the model's, or the base is not this "
                     "mechanism" % (name, value, value / base, base))
+    if untold:
+        return ("the motion did not excite %s (each zero within its error, far from the base's "
+                "value): drive the rig harder or longer (rosrun kane_sim identify --excite writes "
+                "a torque that excites every parameter), or leave them out of --params to keep "
+                "the base's" % ", ".join(untold))
     v = result.validation
     if v and result.bandwidth is None and "error" not in v.get("fitted", {}):
         # Noise-free data (a simulation's output), fitted without the output-error stage: the

@@ -475,3 +475,45 @@ def test_stamps_that_repeat_within_the_jitter_are_a_regular_sampling(truth_run):
     lost = {k: np.delete(v, 300) for k, v in data.items()}
     with pytest.raises(ValueError, match="stamps must increase"):
         ki.identify(lost, config_path(), validate=False)
+
+
+def test_a_parameter_the_motion_did_not_excite_is_named_so_not_units():
+    # Estimated far from the base but zero within its error: "not excited", naming it.
+    fit = ki.Identification()
+    fit.names = ["mechanism.rod_inertia"]
+    fit.base_values = {"mechanism.rod_inertia": 0.02}
+    fit.estimates = {"mechanism.rod_inertia": 1e-5}
+    fit.std_errors = {"mechanism.rod_inertia": 3e-4}
+    assert "did not excite mechanism.rod_inertia" in ki._refusal(fit)
+    fit.std_errors = {"mechanism.rod_inertia": 1e-7}  # told: 2000 times off is units
+    assert "torque's units" in ki._refusal(fit)
+
+
+def test_the_cli_refuses_by_pythons_rule_and_says_so_on_stdout(truth_run, tmp_path):
+    # One rule: the CLI's refusal is fit.refusal (no whole-run replay of its own), said on
+    # stdout as the report's REFUSED line and on stderr with what was not written.
+    csv = tmp_path / "mNm.csv"
+    rows = np.column_stack([truth_run["t"], truth_run["q1"], truth_run["q2"],
+                            truth_run["applied_torque"] * 1000.0])
+    np.savetxt(csv, rows, delimiter=",", header="t,q1,q2,applied_torque", comments="")
+    r = subprocess.run([tool("identify"), str(csv), "--config", config_path(), "-o",
+                        str(tmp_path / "fit.yaml"), "--holdout", "0"], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 3, r.stdout + r.stderr
+    refused = [line for line in r.stdout.splitlines() if line.startswith("REFUSED: ")]
+    assert refused and "times the base's" in refused[0], r.stdout
+    assert "nothing written" in r.stderr and not (tmp_path / "fit.yaml").exists()
+    fit = ki.identify(str(csv), config_path(), holdout=0)
+    assert refused[0] == "REFUSED: " + fit.refusal
+
+
+def test_a_replay_that_parts_is_said_not_refused():
+    # The whole-run open-loop replay is a note in the report, never the refusal: a recording
+    # made under a controller parts from it whatever the parameters.
+    v = {"fitted": {"q1_rms": 5.6, "q2_rms": 0.01}, "q1_span": 2.7, "q2_span": 0.2}
+    said = ki._replay_warnings(v)
+    assert len(said) == 1 and "parts from the recorded q1 by 5.6 rad RMS" in said[0]
+    assert "under a controller" in said[0]
+    v["fitted"]["q1_rms"] = 1.3
+    assert ki._replay_warnings(v) == [] and ki._replay_warnings(None) == []
+    assert "cannot be re-simulated" in ki._replay_warnings({"fitted": {"error": "crossed"}})[0]
