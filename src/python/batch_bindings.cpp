@@ -263,10 +263,13 @@ void bindBatch(py::module_& m) {
             std::vector<bool> active;
             if (!mask.is_none()) active = maskOf(b, mask.cast<Mask>(), "step");
             const std::vector<bool>* only = mask.is_none() ? nullptr : &active;
-            runBatchWork(
-                "step", static_cast<double>(steps) * static_cast<double>(b.size()),
-                [&](const std::atomic<bool>& stop) { b.step(actions.data(), steps, only, &stop); });
-            return states(b);
+            Array out({static_cast<py::ssize_t>(b.size()), py::ssize_t{4}});
+            double* rows = out.mutable_data();
+            runBatchWork("step", static_cast<double>(steps) * static_cast<double>(b.size()),
+                         [&](const std::atomic<bool>& stop) {
+                           b.step(actions.data(), steps, only, &stop, rows);
+                         });
+            return out;
           },
           py::arg("actions"), py::arg("steps") = 1, py::arg("mask") = py::none())
       .def(

@@ -147,7 +147,7 @@ void BatchSimulator::parallel(std::size_t count, const F& work) {
 }
 
 bool BatchSimulator::step(const double* actions, long steps, const std::vector<bool>* active,
-                          const std::atomic<bool>* stop) {
+                          const std::atomic<bool>* stop, double* states_out) {
   if (steps < 1)
     throw std::invalid_argument("steps must be 1 or more, got " + std::to_string(steps));
   if (active && active->size() != size())
@@ -167,13 +167,14 @@ bool BatchSimulator::step(const double* actions, long steps, const std::vector<b
   stop_ = stop;
   if (on_lanes_) {
     for (Chunk& chunk : chunks_) chunk.run.stop = stop;
-    parallel(chunks_.size(), [&](std::size_t k) { stepLanes(actions, steps, k); });
+    parallel(chunks_.size(), [&](std::size_t k) { stepLanes(actions, steps, k, states_out); });
   } else {
     const std::size_t threads = static_cast<std::size_t>(settings_.threads);
     const std::size_t per = (size() + threads - 1) / threads;
     parallel(threads, [&](std::size_t k) {
       stepDrivers(actions, steps, k * per, std::min(size(), (k + 1) * per));
     });
+    if (states_out) states(states_out);
   }
   active_ = nullptr;
   stop_ = nullptr;
@@ -202,7 +203,8 @@ void BatchSimulator::stepDrivers(const double* actions, long steps, std::size_t 
   }
 }
 
-void BatchSimulator::stepLanes(const double* actions, long steps, std::size_t chunk_index) {
+void BatchSimulator::stepLanes(const double* actions, long steps, std::size_t chunk_index,
+                               double* states_out) {
   Chunk& chunk = chunks_[chunk_index];
   LaneRun& run = chunk.run;
   // Running lanes only: a terminated lane keeps its state (it is run, its result dropped).
@@ -229,6 +231,12 @@ void BatchSimulator::stepLanes(const double* actions, long steps, std::size_t ch
       terminated_[i] = 1;
       l.reason = at + kSliderCrossingReport;
     }
+  }
+  if (!states_out) return;
+  for (std::size_t k = 0; k < chunk.members.size(); ++k) {  // every lane's row, stepped or not
+    double* row = states_out + 4 * chunk.members[k];
+    const LaneState& x = run.start[k];
+    row[0] = x[0], row[1] = x[1], row[2] = x[2], row[3] = x[3];
   }
 }
 

@@ -49,9 +49,11 @@ class BatchSimulator {
   // anything moves (std::invalid_argument naming the lane and value): a non-finite action (of
   // any lane), steps < 1, a setpoint the servo refuses. `active` (when not null): only lanes
   // with active[i] step. `stop` (when not null) is checked at every step (drivers) or every 256
-  // (lanes): set, each lane ends where it is; returns false then.
+  // (lanes): set, each lane ends where it is; returns false then. `states_out` (when not null):
+  // every lane's state after the call, as states() writes it (on lanes, by the threads that
+  // stepped them: no serial pass after the step).
   bool step(const double* actions, long steps, const std::vector<bool>* active = nullptr,
-            const std::atomic<bool>* stop = nullptr);
+            const std::atomic<bool>* stop = nullptr, double* states_out = nullptr);
 
   // Lanes with mask[i] back to their initial state (the driver's reset: sim time runs on), or
   // with seeds rebuilt from their config with sensors.seed = seeds[i] (time 0 again).
@@ -123,7 +125,7 @@ class BatchSimulator {
     return !terminated_[lane] && (!active_ || (*active_)[lane]);
   }
   void stepDrivers(const double* actions, long steps, std::size_t begin, std::size_t end);
-  void stepLanes(const double* actions, long steps, std::size_t chunk);
+  void stepLanes(const double* actions, long steps, std::size_t chunk, double* states_out);
   template <class F>
   void parallel(std::size_t count, const F& work);
 
