@@ -227,8 +227,8 @@ class VectorEnv(_VECTOR_ENV_BASE):
         their params change (the spaces rebuilt only when a range changed)."""
         every = mask is None
         rows = slice(None) if every else mask
-        values = (lambda name: self.sim.values(name)) if every else \
-            (lambda name: self.sim.values(name, mask))
+        def values(name):
+            return self.sim.values(name, mask)
         if every:
             self._mode = np.empty(self.num_envs, dtype=object)
             self.action_high = np.empty(self.num_envs)

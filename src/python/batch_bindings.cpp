@@ -86,6 +86,34 @@ Array readings(const BatchSimulator& batch, bool velocity) {
 
 }  // namespace
 
+// kane_sim._core.ConfigError(text), as the loader's refusals reach Python.
+[[noreturn]] void raiseConfigError(const std::string& text) {
+  PyErr_SetString(py::module_::import("kane_sim._core").attr("ConfigError").ptr(), text.c_str());
+  throw py::error_already_set();
+}
+
+// The schema rows of `names`, each one a number the batch takes directly (takenDirectly);
+// ValueError "<call>: NAME is not ..." otherwise.
+std::vector<const ParameterSpec*> directSpecs(const std::vector<std::string>& names,
+                                              const char* call) {
+  std::vector<const ParameterSpec*> specs;
+  for (const std::string& name : names) {
+    const ParameterSpec& spec = specOf(name);
+    if (!takenDirectly(spec))
+      throw py::value_error(std::string(call) + ": " + name +
+                            " is not a number of the physics or the initial state");
+    specs.push_back(&spec);
+  }
+  return specs;
+}
+
+// Whether a mechanism's rod inertia still follows its m and L: the base's file let it (it sets
+// no mechanism.rod_inertia) and the mechanism's value is the derived one.
+bool inertiaFollows(const Config& c, bool base_follows) {
+  return base_follows && c.mechanism.rod_inertia ==
+                             slenderRodInertia(c.mechanism.rod_mass, c.mechanism.rod_half_length);
+}
+
 // The batch's reconfigure, starting the mechanisms from `starts` (one per lane) when given;
 // std::invalid_argument (nothing changed) becomes ValueError("set_params: ...").
 void reconfigureBatch(BatchSimulator& b, const std::vector<std::size_t>& lanes,
@@ -132,14 +160,7 @@ void bindBatch(py::module_& m) {
           "from_numbers",
           [](const PythonConfig& base, const std::vector<std::string>& names, const Array& values,
              const std::string& simd, bool vector_trig, int threads) {
-            std::vector<const ParameterSpec*> specs;
-            for (const std::string& name : names) {
-              const ParameterSpec& spec = specOf(name);
-              if (!takenDirectly(spec))
-                throw py::value_error("from_numbers: " + name +
-                                      " is not a number of the physics or the initial state");
-              specs.push_back(&spec);
-            }
+            const std::vector<const ParameterSpec*> specs = directSpecs(names, "from_numbers");
             if (values.ndim() != 2 || static_cast<std::size_t>(values.shape(1)) != names.size())
               throw py::value_error("from_numbers: values must have shape (n, " +
                                     std::to_string(names.size()) + "), got " + shapeText(values));
@@ -164,11 +185,7 @@ void bindBatch(py::module_& m) {
                 },
                 std::chrono::milliseconds(20));
             if (raised) throw *raised;
-            if (!refused.empty()) {
-              PyErr_SetString(py::module_::import("kane_sim._core").attr("ConfigError").ptr(),
-                              refused.c_str());
-              throw py::error_already_set();
-            }
+            if (!refused.empty()) raiseConfigError(refused);
             try {
               return std::make_unique<BatchSimulator>(std::move(configs),
                                                       BatchSettings{simd, vector_trig, threads});
@@ -190,10 +207,7 @@ void bindBatch(py::module_& m) {
             // record of it (its row, its changes, its seed), read back as config names.
             const Config& mine = b.config(lane);
             const Config& theirs = base.config();
-            const bool derived =
-                inertiaFollowsMass(base.tree()) &&
-                mine.mechanism.rod_inertia ==
-                    slenderRodInertia(mine.mechanism.rod_mass, mine.mechanism.rod_half_length);
+            const bool derived = inertiaFollows(mine, inertiaFollowsMass(base.tree()));
             py::list out;
             for (const ParameterSpec& spec : parameterSchema()) {
               if (derived && spec.path() == "mechanism.rod_inertia") continue;  // follows m, L
@@ -349,14 +363,7 @@ void bindBatch(py::module_& m) {
              const std::vector<std::string>& names, const Array& values,
              bool base_inertia_follows_mass,
              const std::optional<std::vector<std::array<double, 4>>>& starts) {
-            std::vector<const ParameterSpec*> specs;
-            for (const std::string& name : names) {
-              const ParameterSpec& spec = specOf(name);
-              if (!takenDirectly(spec))
-                throw py::value_error("set_params: " + name +
-                                      " is not a number of the physics or the initial state");
-              specs.push_back(&spec);
-            }
+            const std::vector<const ParameterSpec*> specs = directSpecs(names, "set_params");
             if (values.ndim() != 2 || static_cast<std::size_t>(values.shape(0)) != lanes.size() ||
                 static_cast<std::size_t>(values.shape(1)) != names.size())
               throw py::value_error("set_params: values must have shape (" +
@@ -381,12 +388,9 @@ void bindBatch(py::module_& m) {
                     // The rod's inertia follows m and L where the base's file let it and this
                     // mechanism's inertia still does.
                     const Config& now = b.config(lanes[r]);
-                    const bool follows = base_inertia_follows_mass &&
-                                         now.mechanism.rod_inertia ==
-                                             slenderRodInertia(now.mechanism.rod_mass,
-                                                               now.mechanism.rod_half_length);
                     changed[r] =
-                        configWithNumbers(now, follows, specs, values.data() + r * names.size());
+                        configWithNumbers(now, inertiaFollows(now, base_inertia_follows_mass),
+                                          specs, values.data() + r * names.size());
                   } catch (const ConfigError& e) {
                     refused[r] = e.what();
                   }
@@ -401,14 +405,10 @@ void bindBatch(py::module_& m) {
                   runStoppable(stop, build, std::chrono::milliseconds(20));
               if (raised) throw *raised;
             }
-            for (std::size_t k = 0; k < lanes.size(); ++k) {  // the first refused row is named
-              if (refused[k].empty()) continue;
-              const std::string text =
-                  "set_params: mechanism " + std::to_string(lanes[k]) + ": " + refused[k];
-              PyErr_SetString(py::module_::import("kane_sim._core").attr("ConfigError").ptr(),
-                              text.c_str());
-              throw py::error_already_set();
-            }
+            for (std::size_t k = 0; k < lanes.size(); ++k)  // the first refused row is named
+              if (!refused[k].empty())
+                raiseConfigError("set_params: mechanism " + std::to_string(lanes[k]) + ": " +
+                                 refused[k]);
             reconfigureBatch(b, lanes, changed, starts);
             return states(b);
           },

@@ -297,6 +297,17 @@ TEST(LaneMath, EveryWidthGivesTheScalarFormsBitsAndLibmsValuesTo4Ulp) {
   EXPECT_LE(worst, 4.0);
 }
 
+// `centre` and the `ulps` doubles on each side of it, into *x: where a function's reduction
+// changes hands, the arguments a rounding difference would show at.
+void addAround(std::vector<double>* x, double centre, int ulps) {
+  double up = centre, down = centre;
+  for (int i = 0; i < ulps; ++i) {
+    x->push_back(up = std::nextafter(up, INFINITY));
+    x->push_back(down = std::nextafter(down, -INFINITY));
+  }
+  x->push_back(centre);
+}
+
 // The scalar sincos is SLEEF's deterministic algorithm written out so that it inlines
 // (model/math_functions.h): bit for bit the library's own SSE2 function wherever it answers
 // (|x| < 1e14), checked densely where the reduction changes hands: around every multiple of pi/4
@@ -314,14 +325,7 @@ TEST(LaneMath, TheWrittenOutSincosIsTheLibrarysBitForBit) {
                            std::numeric_limits<double>::infinity(),
                            -std::numeric_limits<double>::infinity(),
                            std::numeric_limits<double>::quiet_NaN()};
-  const auto around = [&x](double centre, int ulps) {
-    double up = centre, down = centre;
-    for (int i = 0; i < ulps; ++i) {
-      x.push_back(up = std::nextafter(up, INFINITY));
-      x.push_back(down = std::nextafter(down, -INFINITY));
-    }
-    x.push_back(centre);
-  };
+  const auto around = [&x](double centre, int ulps) { addAround(&x, centre, ulps); };
   for (int k = -40; k <= 40; ++k) around(k * M_PI / 4, 300);
   for (double centre : {15.0, -15.0, 2 * M_PI * 1e6, 1e14, -1e14}) around(centre, 3000);
   std::mt19937_64 rng(5);
@@ -362,14 +366,7 @@ TEST(LaneMath, TheWrittenOutTanhIsTheLibrarysBitForBit) {
                            -std::numeric_limits<double>::infinity(),
                            std::numeric_limits<double>::quiet_NaN(),
                            -std::numeric_limits<double>::quiet_NaN()};
-  const auto around = [&x](double centre, int ulps) {
-    double up = centre, down = centre;
-    for (int i = 0; i < ulps; ++i) {
-      x.push_back(up = std::nextafter(up, INFINITY));
-      x.push_back(down = std::nextafter(down, -INFINITY));
-    }
-    x.push_back(centre);
-  };
+  const auto around = [&x](double centre, int ulps) { addAround(&x, centre, ulps); };
   for (int k = 0; k <= 60; ++k) {
     around((k + 0.5) * M_LN2 / 2, 300);
     around(-(k + 0.5) * M_LN2 / 2, 300);

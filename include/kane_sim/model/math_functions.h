@@ -47,7 +47,9 @@ constexpr double kFarRange = 1e14;   // TRIGRANGEMAX: the four-part one below it
 
 // Round to the nearest integer, ties to even (the library's vrint), for |v| < 2^51: adding
 // 1.5 2^52 leaves no fraction bits. Plain arithmetic, so the same in every build.
-static inline double nearestInteger(double v) {
+// A template: sleef_tanh's kernel runs it on one double and on two in an SSE2 register.
+template <class V>
+static inline V nearestInteger(V v) {
   constexpr double kShift = 6755399441055744.0;  // 1.5 * 2^52
   return (v + kShift) - kShift;
 }
@@ -104,8 +106,7 @@ namespace sleef_tanh {  // SLEEF 3.5.1, src/libm/sleefsimddp.c: xtanh_u35 and it
 constexpr double kLn2Upper = .69314718055966295651160180568695068359375;
 constexpr double kLn2Lower = .28235290563031577122588448175013436025525412068e-12;
 constexpr double kInverseLn2 = 1.442695040888963407359924681001892137426645954152985934135449406931;
-constexpr double kSaturation = 18.714973875;   // beyond it the library answers +-1
-constexpr double kShift = 6755399441055744.0;  // 1.5 * 2^52: see sleef_sincos::nearestInteger
+constexpr double kSaturation = 18.714973875;  // beyond it the library answers +-1
 
 // The kernel below runs on one double or on two in an SSE2 register (Two): the same IEEE
 // operations in the same order, so each lane's bits are the one-value form's. What differs by
@@ -174,7 +175,7 @@ static inline Two signedLike(Two y, Two x) {
 // then scaled by 2^q in two halves (vldexp2; q >> 1 is q / 2 - 1 / 4 rounded, q >= 0).
 template <class V>
 static inline V expm1k(V d) {
-  const V q = (d * kInverseLn2 + kShift) - kShift;  // vrint: the nearest whole, ties to even
+  const V q = sleef_sincos::nearestInteger(d * kInverseLn2);  // vrint: ties to even
   V s = q * -kLn2Upper + d;
   s = q * -kLn2Lower + s;
   const V s2 = s * s, s4 = s2 * s2, s8 = s4 * s4;
@@ -185,7 +186,7 @@ static inline V expm1k(V d) {
                   (s * 0.0416666666666665047591422 + 0.166666666666666851703837);
   V u = s8 * high + (s4 * upper + lower);
   u = (s2 * 0.5 + (s2 * s) * u) + s;
-  const V half = ((q * 0.5 - 0.25) + kShift) - kShift;
+  const V half = sleef_sincos::nearestInteger(q * 0.5 - 0.25);
   return whereZero(q, u, ((u + 1.0) * powerOfTwo(half)) * powerOfTwo(q - half) - 1.0);
 }
 
