@@ -5,6 +5,8 @@
 #include <rosbag/view.h>
 #include <sensor_msgs/JointState.h>
 
+#include "kane_sim/InputLog.h"
+
 namespace kane_sim {
 
 namespace {
@@ -19,6 +21,12 @@ rosbag::Bag openForReading(const std::string& path) {
                        "reindex`)");
   }
   return bag;
+}
+
+// Either spelling of a topic: a bag written by rosbag's Python API may hold "joint_states" for
+// "/joint_states".
+std::vector<std::string> bothSpellings(const std::string& topic) {
+  return {topic, !topic.empty() && topic[0] == '/' ? topic.substr(1) : "/" + topic};
 }
 
 std::string joined(const std::vector<std::string>& names) {
@@ -42,10 +50,7 @@ JointStateColumns readJointStates(const std::string& path, const std::string& to
                                   const std::function<bool()>& interrupted,
                                   UnusableMessages unusable) {
   rosbag::Bag bag = openForReading(path);
-  // A bag written by rosbag's Python API may hold "joint_states" for "/joint_states": either
-  // spelling is the topic.
-  const std::string other = !topic.empty() && topic[0] == '/' ? topic.substr(1) : "/" + topic;
-  rosbag::View view(bag, rosbag::TopicQuery(std::vector<std::string>{topic, other}));
+  rosbag::View view(bag, rosbag::TopicQuery(bothSpellings(topic)));
   JointStateColumns out;
   const std::size_t count = view.size();
   for (std::vector<double>* column :
@@ -112,6 +117,33 @@ JointStateColumns readJointStates(const std::string& path, const std::string& to
                        " unusable; the first: " + out.skip_notes.front() + ")");
   if (out.t.empty()) throw BagReadError(path + " has no messages on " + topic);
   if (out.has_velocity) out.velocity_rows.clear();  // every row: no mask needed
+  return out;
+}
+
+InputLogColumns readInputLog(const std::string& path, const std::string& topic,
+                             const std::function<bool()>& interrupted) {
+  rosbag::Bag bag = openForReading(path);
+  rosbag::View view(bag, rosbag::TopicQuery(bothSpellings(topic)));
+  InputLogColumns out;
+  std::size_t read = 0;
+  try {
+    for (const rosbag::MessageInstance& m : view) {
+      if ((++read & 0xFFFF) == 0 && interrupted && interrupted()) throw BagReadError("interrupted");
+      const kane_sim::InputLog::ConstPtr msg = m.instantiate<kane_sim::InputLog>();
+      if (!msg) throw BagReadError(path + " on " + topic + " is not kane_sim/InputLog");
+      out.t.push_back(msg->header.stamp.toSec());
+      out.seq.push_back(msg->seq);
+      out.tick.push_back(msg->tick);
+      out.kind.push_back(msg->kind);
+      out.value.push_back(msg->value);
+    }
+  } catch (const BagReadError&) {
+    throw;
+  } catch (const std::exception& e) {  // rosbag's and the deserializer's, on a corrupt chunk
+    throw BagReadError(path + " is not a readable bag: " + e.what() + " (after " +
+                       std::to_string(read) + " messages of " + topic + "; a corrupt chunk)");
+  }
+  if (out.t.empty()) throw BagReadError(path + " has no messages on " + topic);
   return out;
 }
 

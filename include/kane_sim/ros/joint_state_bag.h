@@ -1,7 +1,7 @@
-// Reads a bag's sensor_msgs/JointState topic into columns, in C++: identify reads rigs' bags of
-// an hour at 1 kHz (3.6 million messages), which rosbag's Python reader takes minutes and
-// gigabytes over (its index alone is a Python object per message). The Python module
-// kane_sim._bag is this, translated.
+// Reads a bag's sensor_msgs/JointState topic (and the node's ~input_log) into columns, in C++:
+// identify reads rigs' bags of an hour at 1 kHz (3.6 million messages), which rosbag's Python
+// reader takes minutes and gigabytes over (its index alone is a Python object per message). The
+// Python module kane_sim._bag is this, translated.
 #ifndef KANE_SIM_ROS_JOINT_STATE_BAG_H
 #define KANE_SIM_ROS_JOINT_STATE_BAG_H
 
@@ -57,6 +57,22 @@ JointStateColumns readJointStates(const std::string& path, const std::string& to
                                   const std::string& a, const std::string& b,
                                   const std::function<bool()>& interrupted = {},
                                   UnusableMessages unusable = UnusableMessages::kStop);
+
+// A node's ~input_log (kane_sim/InputLog) as columns, one row per logged input in the bag's
+// order: what identify needs to drive its replays with the commands as the node applied them
+// (held from the tick each arrived at) instead of guessing them from effort samples.
+struct InputLogColumns {
+  std::vector<double> t;            // header stamps [s]: the clock of the node's joint_states
+  std::vector<std::uint64_t> seq;   // the node's numbering: a gap is an input not recorded
+  std::vector<std::uint64_t> tick;  // the physics tick the input took effect at
+  std::vector<std::uint8_t> kind;   // InputLog::TORQUE, SETPOINT, RESET or SET_STATE
+  std::vector<double> value;        // the torque [N m] or setpoint as received (NaN kept)
+};
+
+// Reads `topic` (kane_sim/InputLog) of `path`. Throws BagReadError for a topic with no messages
+// or of another type, and for a message rosbag cannot read. `interrupted` as readJointStates'.
+InputLogColumns readInputLog(const std::string& path, const std::string& topic,
+                             const std::function<bool()>& interrupted = {});
 
 }  // namespace kane_sim
 

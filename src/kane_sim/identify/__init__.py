@@ -84,7 +84,7 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
         raise ValueError("refine must be 'auto', True or False, got %r" % (refine,))
     say = progress or (lambda text: None)
     clock = time.monotonic()
-    motion = load_motion(data, topic)
+    motion = load_motion(data, topic, base)
     say("read %d samples, %.4g s at %.4g Hz (%.1f s)" % (len(motion), motion.t[-1] - motion.t[0],
                                                          motion.rate, time.monotonic() - clock))
     rated = estimate_rates(motion, bandwidth)
@@ -151,8 +151,15 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
             refit = [n for n in quadrature if n in kept]
             fixed = [n for n in kept if n not in refit]
             start = theta
+            ls_cov = cov
             theta, cov, result.refined = refine_segments(base, names, start, fixed, motion,
                                                          rated, progress=progress)
+            if motion.servo is not None and "torque_offset" in names:
+                # The servo's law made the torque in the replays: the offset is the least
+                # squares' alone, with its error.
+                i = names.index("torque_offset")
+                cov[i, :], cov[:, i] = 0.0, 0.0
+                cov[i, i], theta[i] = ls_cov[i, i], start[i]
             result.refined["least_squares"] = ls_theta
             result.refined["refit"] = refit
             kept = [n for n in kept if n not in refit]

@@ -7,6 +7,8 @@ from collections.abc import Mapping
 import numpy as np
 
 from kane_sim import _core, bags, columns
+from kane_sim.identify.commands import (commands_from_columns, held_setpoints, held_torque,
+                                        on_tick_clock)
 
 
 # A file larger than this is refused before it is read (a 60 s, 1 kHz CSV of every column is
@@ -30,11 +32,18 @@ class Motion:
     a bag's stamps (1e9 s and more) keep only 1e-7 s of precision, and the fit's lag and
     interpolation need far finer than that."""
 
-    def __init__(self, t, q, u, torque, source="arrays", notes=(), start=0.0):
+    def __init__(self, t, q, u, torque, source="arrays", notes=(), start=0.0, commands=None):
         self.t, self.q, self.u, self.torque = t, q, u, torque
         self.source = source
         self.notes = list(notes)
         self.start = start
+        # The logged torque commands (commands.Commands, on this clock: t[0] = 0) or None, and
+        # the torque they held once checked against the effort samples (identify sets it).
+        self.commands = commands
+        self.held = None
+        # In a servo mode: the setpoints the servo held (commands.held_setpoints) or None; the
+        # replays then run the servo's law on the model's state.
+        self.servo = None
 
     def __len__(self):
         return len(self.t)
@@ -129,13 +138,43 @@ def _read_bag(path, topic=None):
     if c["unstamped"]:  # one clock for all: the bag's receive times
         source += " (%d of its %d messages have no header stamp: the bag's receive times used)" \
             % (c["unstamped"], len(c["t"]))
+    else:  # the node's ~input_log is stamped on its joint_states' clock
+        out.update(_input_log_commands(path, types))
     return out, source
 
 
-def load_motion(data, topic=None):
+# InputLog.kind of a torque command and of a servo setpoint (msg/InputLog.msg)
+INPUT_LOG_TORQUE, INPUT_LOG_SETPOINT = 0, 1
+
+
+def _input_log_commands(path, types):
+    """{"clock_t", "clock_tick"}: the stamps and ticks of every input the bag's one
+    kane_sim/InputLog topic (the node's ~input_log) holds, {"command_t", "command",
+    "command_tick", "command_source"}: its torque commands, and the same of "setpoint": its servo
+    setpoints; {} when the bag has no such topic (or several: which node's would be a
+    guess)."""
+    logs = bags.topics_of_type(types, "kane_sim/InputLog")
+    if len(logs) != 1:
+        return {}
+    from kane_sim import _bag
+    c = _bag.read_input_log(path, logs[0])
+    out = {"clock_t": c["t"], "clock_tick": c["tick"]}
+    for name, kind in (("command", INPUT_LOG_TORQUE), ("setpoint", INPUT_LOG_SETPOINT)):
+        rows = c["kind"] == kind
+        if np.any(rows):
+            out.update({name + "_t": c["t"][rows], name: c["value"][rows],
+                        name + "_tick": c["tick"][rows], name + "_source": logs[0]})
+    return out
+
+
+def load_motion(data, topic=None, config=None):
     """A Motion from a bag (joint_states: positions, velocities when present, effort = the
-    delivered torque), a CSV of simulate's columns (t, q1, q2, u1, u2, torque), a mapping of
-    arrays with those names (a kane_sim Result too) or a Motion. ValueError names what is wrong."""
+    delivered torque; the node's ~input_log when it has one), a CSV of simulate's columns (t,
+    q1, q2, u1, u2, torque), a mapping of arrays with those names (a kane_sim Result too;
+    command_t and command: the torque commands as a driver received them) or a Motion. With the
+    rig's `config` (a Config), a bag's input log puts the stamps on the simulation's clock and
+    the logged commands give the torque between samples (commands.held_torque). ValueError names
+    what is wrong."""
     if isinstance(data, Motion):
         return data
     if isinstance(data, (str, os.PathLike)):
@@ -154,14 +193,47 @@ def load_motion(data, topic=None):
         raise TypeError("data must be a bag or CSV path, a mapping of arrays or a Motion, got %s"
                         % type(data).__name__)
     cols = _columns_from_mapping(raw, source)
-    return _uniform(cols, source)
+    commands = commands_from_columns(raw, source)
+    setpoints = commands_from_columns(raw, source, "setpoint")
+    notes = []
+    if config is not None and "clock_t" in raw:
+        cols, (commands, setpoints), note = on_tick_clock(
+            cols, (raw["clock_t"], raw["clock_tick"]), [commands, setpoints], config)
+        regular = None if note is None else \
+            _regular_despite_jitter(cols["t"], np.diff(cols["t"]), on_tick_clock=True)
+        if regular is not None:
+            note += ("; the readings a regular %.4g s sampling on it (99 %% within %.3g ms, no "
+                     "reading lost), taken as that" % (regular[0], 1e3 * regular[0] / 3))
+            cols = dict(cols, t=regular[2])
+        notes += [note] if note else []
+    held, servo = None, None
+    if config is not None:
+        held, note = held_torque(commands, cols["t"], cols["applied_torque"], config)
+        notes += [note] if note else []
+        servo, note = held_setpoints(setpoints, cols["t"], config)
+        notes += [note] if note else []
+    motion = _uniform(cols, source)
+    motion.notes = notes + motion.notes
+    motion.commands = commands
+    for drive in (held, servo, commands, setpoints):
+        if drive is not None:  # onto the motion's clock (its first sample at 0)
+            if hasattr(drive, "changes"):
+                drive.changes = drive.changes - motion.start
+            else:
+                drive.t = drive.t - motion.start
+    motion.held, motion.servo = held, servo
+    return motion
 
 
-def _regular_despite_jitter(t, dt):
+def _regular_despite_jitter(t, dt, on_tick_clock=False):
     """(period, largest stray, the regular stamps) when stamps that repeat or go back are a
     regular sampling's, jittered by less than a period: the line fitted to them by index, when
     no reading was lost (a lost reading moves every stamp after it a period off the line: the
-    stamps' running mean about it would step by a period); else None."""
+    stamps' running mean about it would step by a period); else None. on_tick_clock: stamps put
+    on the simulation's clock by an input log (on_tick_clock), known only to within the log's
+    interval where the node fell behind and caught up (a 30 ms stall left one reading 26 ms off
+    the line, the 99th percentile 3 ms): the 99th percentile of the strays must be below a third
+    of a period, and no lost reading."""
     if not np.any(dt > 0):
         return None
     k = np.arange(len(t))
@@ -175,8 +247,11 @@ def _regular_despite_jitter(t, dt):
     # steps it by a period.
     width = min(101, len(t))
     running = np.convolve(residual, np.ones(width) / width, mode="valid")
-    if not (slope > 0 and stray < slope and stray <= 5.0 * spread
-            and np.ptp(running) < 0.5 * slope):
+    if on_tick_clock:
+        within = float(np.percentile(np.abs(residual), 99)) < slope / 3
+    else:
+        within = stray < slope and stray <= 5.0 * spread
+    if not (slope > 0 and within and np.ptp(running) < 0.5 * slope):
         return None
     return float(slope), stray, t[0] + offset + slope * k
 

@@ -20,7 +20,36 @@ def _torque_on_grid(motion, times, step):
     4 Hz torque sampled at 100 Hz, biased the dampers by several per cent), at each step's start:
     a sample is the torque in force from its instant, as a driver holds a command for its step
     (at the step's middle the replay ran half a step early and the spring damper came out 5 %
-    low)."""
+    low). With logged commands that reproduce the samples (motion.held), the torque they held,
+    exactly, from the first command on."""
+    if motion.held is not None:
+        held = motion.held.at(times)
+        before = np.isnan(held)
+        if not np.any(before):
+            return held
+        return np.where(before, _torque_from_samples(motion, times, step), held)
+    return _torque_from_samples(motion, times, step)
+
+
+def _drive_on_grid(motion, times, step):
+    """What drives the replays at the physics steps starting at `times`: in a servo mode with
+    its setpoints logged (motion.servo), the setpoints (the servo's law makes the torque from
+    the model's state, as the driver made it); else the torque (_torque_on_grid)."""
+    if motion.servo is not None:
+        return motion.servo.at(times)
+    return _torque_on_grid(motion, times, step)
+
+
+def replay_settings_of(motion, limit):
+    """replay_settings, or for a servo replayed with its law (motion.servo) only the sensors
+    off: the config's own mode, gains and torque limit drive the model."""
+    if motion.servo is not None:
+        return {"sensors.enabled": False}
+    return replay_settings(limit)
+
+
+def _torque_from_samples(motion, times, step):
+    """_torque_on_grid from the effort samples alone."""
     if motion.rate * step > 0.999:
         index = np.searchsorted(motion.t, times + 1e-9 * step, side="right") - 1
         return motion.torque[np.clip(index, 0, len(motion) - 1)]
@@ -39,10 +68,10 @@ def _torque_on_grid(motion, times, step):
 # its cost fell so slowly over the last STALL_ITERATIONS iterations that at that pace the
 # evaluations left would not bring it there: a local minimum it will not leave (seed 113 of the
 # family, 2 s segments: 40 iterations at 80 times slider 4's noise, the positions' RMS moving in
-# its third digit from the fourth on; on 1 s segments it then fits them to the noise). Not on
-# the last attempt: a fit can crawl for a few iterations and then find its way (seed 127 on 1 s
-# segments, stopped by this rule after 7 evaluations at 100 times the noise, converges to it
-# after 23).
+# its third digit from the fourth on; on 1 s segments it then fits them to the noise). On the
+# first attempt only: a fit can crawl for a few iterations and then find its way (seed 127 on
+# 1 s segments, stopped by this rule after 7 evaluations at 100 times the noise, converges to
+# it after 23).
 STALL_ITERATIONS = 6
 
 
@@ -69,8 +98,10 @@ def _torque_sampling_floor(motion, segments, step, model_q, z):
     samples moved by that much at random gives the positions' spread. 0 when the data is
     sampled at the physics rate (each sample held for its step, as the simulator held it).
     Measured: a 200 Hz PRBS rig replayed with its true parameters stays 58 um from slider 4's
-    readings against 17.6 um of noise; this floor names it."""
-    if motion.rate * step > 0.999:
+    readings against 17.6 um of noise; this floor names it. 0 when logged commands give the
+    torque between samples (motion.held) from before the first segment on."""
+    if motion.rate * step > 0.999 or motion.servo is not None or \
+            (motion.held is not None and motion.held.changes[0] <= segments.start[0]):
         return (0.0, 0.0)
     jumps = np.zeros(len(motion))
     jumps[2:] = np.abs(np.diff(motion.torque, 2))
@@ -162,6 +193,14 @@ CONVERGED_NOISE_FACTOR = 3.0
 # + the parameters + the drift knots) doubles (~30 MB), its SVD (the solver's, each iteration)
 # below half a second.
 MAX_SEGMENTS = 30
+
+
+def _max_segments(seconds):
+    """MAX_SEGMENTS, twice as many for segments under 1 s (they replay as much motion as 30 of
+    1 s at most): a saturating PD loop's recording fitted on 0.25 s segments was told by 30 of
+    them to 2.1 of its errors, rod inertia 9 % off; by 60, 2.8 % (120 did not converge in the
+    evaluations allowed)."""
+    return MAX_SEGMENTS * (2 if seconds < 1.0 - 1e-9 else 1)
 MAX_ROWS = 12000
 MAX_KNOTS = 20  # drift knots (and a last one) of a long recording: a knot every span / 20
 
@@ -176,7 +215,8 @@ class _Segments:
         t0, t1 = prepared.t[0], prepared.t[-1]
         self.count = max(1, int(math.floor((t1 - t0) / seconds)))
         edges = np.linspace(t0, t1, self.count + 1)
-        chosen = np.unique(np.round(np.linspace(0, self.count - 1, min(self.count, MAX_SEGMENTS)))
+        most = _max_segments(seconds)
+        chosen = np.unique(np.round(np.linspace(0, self.count - 1, min(self.count, most)))
                            .astype(int))
         samples = len(motion) * len(chosen) / self.count
         self.stride = max(1, int(math.ceil(samples / MAX_ROWS)))
@@ -198,7 +238,7 @@ class _Segments:
             n = int(math.floor((last - start) / step + 1e-9)) + 1
             self.rows.append(rows)
             self.steps.append(n)
-            self.torque.append(_torque_on_grid(motion, start + step * np.arange(n), step))
+            self.torque.append(_drive_on_grid(motion, start + step * np.arange(n), step))
             self.x0.append(prepared.states[first])
             self.start.append(start)
 
@@ -223,10 +263,14 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
     give_up_early: stop when the fit stalls far from the recording (STALL_ITERATIONS), for a
     caller with another attempt to make."""
     from scipy.optimize import least_squares
+    if motion.servo is not None:
+        # The servo's law makes the torque: an offset in the effort reading moves nothing.
+        kept = list(kept) + ["torque_offset"]
     free = [i for i, n in enumerate(names) if n not in kept]
     sigma = np.maximum(position_noise(motion), 1e-9)
     limit = float(np.max(np.abs(motion.torque)) + 1.0)
-    config0 = Config(base).with_values(replay_settings(limit))
+    settings = replay_settings_of(motion, limit)
+    config0 = Config(base).with_values(settings)
     step = 1.0 / config0["simulation.physics_rate"]
     segments = _Segments(motion, prepared, step, segment_seconds)
     rows = np.concatenate(segments.rows)
@@ -266,9 +310,9 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
         place of the recorded ones'."""
         torques = torques or segments.torque
         est = estimates(z)
-        config, _ = fitted_config(base, est, extra=replay_settings(limit))  # one validation
+        config, _ = fitted_config(base, est, extra=settings)  # one validation
         sim = Simulator(config)
-        offset = est.get("torque_offset", 0.0)
+        offset = 0.0 if motion.servo is not None else est.get("torque_offset", 0.0)
         x = z * scale
         lag = x[n_lag]
         q = np.empty((len(rows), 2))
@@ -426,21 +470,33 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
                       "lag_error": float(np.sqrt(max(cov_z[n_lag, n_lag], 0.0)) * scale[n_lag])}
 
 
+# [s] the shortest segments refine_segments tries: a crank whipped by a saturating PD loop (50 N m
+# bang-bang, 100 slider crossings in 40 s, live node) left its true parameters 0.86 rad from the
+# readings on 1 s segments (the filter's start states too far off for the fit to find its way)
+# and at the noise on 0.5 s ones; from the least squares' values (30-70 % off on that data) the
+# fit reached the noise on 0.25 s segments only.
+SHORTEST_SEGMENT_SECONDS = 0.25
+
+
 def refine_segments(base, names, theta, kept, motion, prepared, progress=None):
-    """_refine on SEGMENT_SECONDS segments, and again on segments half as long when that does not
-    converge: fast motion at a low sensor rate leaves the filter's start states of 2 s segments
-    too far off for the fit to find its way (a 100 Hz recording of full turns stopped at 30
-    times the noise); half as long, each start matters less (the same rig: 1.5 times the noise,
-    masses within 0.02 %). Returns what _refine does, of the better of the two."""
-    out = _refine(base, names, theta, kept, motion, prepared, progress=progress,
-                  give_up_early=True)
-    if out[2]["converged"]:
-        return out
-    if progress:
-        progress("output error: not converged with %g s segments; again with %g s"
-                 % (SEGMENT_SECONDS, SEGMENT_SECONDS / 2))
-    again = _refine(base, names, theta, kept, motion, prepared, progress=progress,
-                    segment_seconds=SEGMENT_SECONDS / 2)
-    if again[2]["converged"] or sum(again[2]["position_rms"]) < sum(out[2]["position_rms"]):
-        return again
-    return out
+    """_refine on SEGMENT_SECONDS segments, and again on segments half as long while that does
+    not converge, down to SHORTEST_SEGMENT_SECONDS: fast motion at a low sensor rate leaves the
+    filter's start states of 2 s segments too far off for the fit to find its way (a 100 Hz
+    recording of full turns stopped at 30 times the noise); half as long, each start matters
+    less (the same rig: 1.5 times the noise, masses within 0.02 %). Returns what _refine does,
+    of the best attempt."""
+    seconds = SEGMENT_SECONDS
+    best = None
+    while True:
+        last = seconds / 2 < SHORTEST_SEGMENT_SECONDS - 1e-9
+        out = _refine(base, names, theta, kept, motion, prepared, progress=progress,
+                      segment_seconds=seconds, give_up_early=seconds == SEGMENT_SECONDS)
+        if best is None or out[2]["converged"] or \
+                sum(out[2]["position_rms"]) < sum(best[2]["position_rms"]):
+            best = out
+        if out[2]["converged"] or last:
+            return best
+        if progress:
+            progress("output error: not converged with %g s segments; again with %g s"
+                     % (seconds, seconds / 2))
+        seconds /= 2

@@ -112,8 +112,9 @@ class Identification:
                 lines.append("the recorded torque steps between its samples (its steps' instants "
                              "are known to a sample): that alone leaves the positions about "
                              "%.3g rad, %.3g m from any model's (the fit is judged against it "
-                             "and the noise together; record the effort at the physics rate to "
-                             "remove it)" % floor)
+                             "and the noise together; record the node's ~input_log with it, e.g. "
+                             "rosbag record -a, whose commands give the torque between samples, "
+                             "or the effort at the physics rate, to remove it)" % floor)
             if self.refined.get("refit"):
                 lines.append("fitted by the output error alone (their effect on the energy "
                              "windows is within the windows' integration error): %s"

@@ -1,5 +1,6 @@
-// kane_sim._bag: a bag's JointState topic as NumPy columns (kane_sim/ros/joint_state_bag.h),
-// for identify. Apart from kane_sim._core, which stays ROS-free: this one links rosbag.
+// kane_sim._bag: a bag's JointState topic (and ~input_log) as NumPy columns
+// (kane_sim/ros/joint_state_bag.h), for identify. Apart from kane_sim._core, which stays ROS-free:
+// this one links rosbag.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -55,6 +56,36 @@ py::dict readJointStates(const std::string& path, const std::string& topic, cons
   return out;
 }
 
+template <typename T>
+py::array_t<T> array(const std::vector<T>& values) {
+  py::array_t<T> out(static_cast<py::ssize_t>(values.size()));
+  std::copy(values.begin(), values.end(), out.mutable_data());
+  return out;
+}
+
+py::dict readInputLog(const std::string& path, const std::string& topic) {
+  std::unique_ptr<py::error_already_set> raised;
+  const auto interrupted = [&raised]() {
+    if (PyErr_CheckSignals() == 0) return false;
+    raised = std::make_unique<py::error_already_set>();
+    return true;
+  };
+  kane_sim::InputLogColumns c;
+  try {
+    c = kane_sim::readInputLog(path, topic, interrupted);
+  } catch (const kane_sim::BagReadError& e) {
+    if (raised) throw *raised;
+    throw py::value_error(e.what());
+  }
+  py::dict out;
+  out["t"] = array(c.t);
+  out["seq"] = array(c.seq);
+  out["tick"] = array(c.tick);
+  out["kind"] = array(c.kind);
+  out["value"] = array(c.value);
+  return out;
+}
+
 std::map<std::string, std::string> topicTypes(const std::string& path) {
   try {
     return kane_sim::bagTopicTypes(path);
@@ -75,4 +106,8 @@ PYBIND11_MODULE(_bag, m) {
         "them) of joints a and b; ValueError naming what a message lacks. skip_unusable: leave "
         "such messages out (counted in skipped, the first named in skip_notes), and give the "
         "velocities when some messages have them, with velocity_rows (1 where they do)");
+  m.def("read_input_log", &readInputLog, py::arg("path"), py::arg("topic"),
+        "t (header stamps), seq, tick, kind (0 torque, 1 setpoint, 2 reset, 3 set_state) and "
+        "value of a kane_sim/InputLog topic, one row per message; ValueError when the topic has "
+        "no messages or another type");
 }

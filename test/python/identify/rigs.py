@@ -138,6 +138,45 @@ def record(rig, drive=None, mode=None):
             "u2": velocity[:, 3], "applied_torque": applied[index]}
 
 
+def record_closed_loop(rig, duration=None, rate=100.0, gains=(30.0, 3.0), seed=0):
+    """What the rig's bag holds when the example PD controller drives it in lockstep, as
+    `lockstep_controller` does: every 1/rate s the controller reads the newest sensor reading
+    (noisy, late), sets the torque kp (setpoint - q1) - kd u1 within 20 N m, and the rig runs on
+    with it held; the setpoint jumps to a random angle in [-1.5, 2.5] rad every 0.3-1.5 s.
+    Returns record()'s columns (effort: the torque in force at each reading's stamp) with the
+    commands as the node's ~input_log holds them: command_t (the instant each took effect) and
+    command."""
+    config = rig.config().with_values({"command.mode": "effort"})
+    sim = kane_sim.Simulator(config)
+    rng = np.random.default_rng(seed)
+    steps = int(round(config["simulation.physics_rate"] / rate))
+    kp, kd = gains
+    setpoint, change_at, reading = 1.0, 0.0, None
+    command_t, command, chunks = [], [], []
+    for _ in range(int(round((rig.start + (duration or rig.duration)) * rate))):
+        if sim.time >= change_at:
+            setpoint, change_at = rng.uniform(-1.5, 2.5), sim.time + rng.uniform(0.3, 1.5)
+        torque = 0.0 if reading is None else \
+            float(np.clip(kp * (setpoint - reading[0]) - kd * reading[1], -20.0, 20.0))
+        sim.set_torque(torque)
+        command_t.append(sim.time)
+        command.append(torque)
+        sim.step(steps)
+        got = sim.take_readings()
+        if len(got["t"]):
+            chunks.append(got)
+            reading = (got["position"][-1][0], got["velocity"][-1][0])
+    t = np.concatenate([np.asarray(c["t"]) for c in chunks])
+    position = np.concatenate([np.asarray(c["position"]) for c in chunks])
+    velocity = np.concatenate([np.asarray(c["velocity"]) for c in chunks])
+    command_t, command = np.array(command_t), np.array(command)
+    effort = command[np.clip(np.searchsorted(command_t, t + 1e-9, side="right") - 1, 0, None)]
+    keep = t >= rig.start
+    return {"t": t[keep], "q1": position[keep, 0], "q2": position[keep, 3],
+            "u1": velocity[keep, 0], "u2": velocity[keep, 3], "applied_torque": effort[keep],
+            "command_t": command_t, "command": command}
+
+
 def score(rig, fit):
     """Per fitted parameter: truth, estimate, relative error, reported sigma, z = error / sigma,
     whether it was told (not kept at the base, not marked as moving with a kept value)."""
