@@ -66,6 +66,10 @@ void BagWriter::writeServoState(const kane_sim::ServoState& state) {
   guarded([&](rosbag::Bag& bag) { bag.write("/servo_state", state.header.stamp, state); });
 }
 
+void BagWriter::writeInputLog(const kane_sim::InputLog& input) {
+  guarded([&](rosbag::Bag& bag) { bag.write("/kane_sim/input_log", input.header.stamp, input); });
+}
+
 void BagWriter::writeSensorReading(const sensor_msgs::JointState& reading) {
   const std::string topic = std::string("/") + kJointStatesTopic;
   guarded([&](rosbag::Bag& bag) { bag.write(topic, reading.header.stamp, reading); });

@@ -228,6 +228,10 @@ int run(const Options& options) {
   });
 
   Outputs out(options, config);
+  // Every input on the bag's input log, as the node logs them: identify then knows the torque
+  // (or the servo's setpoint) between the readings.
+  driver.setInputHandler(
+      [&out, &driver](const kane_sim::DriverInput& input) { out.logInput(input, driver.time()); });
   const auto wall_start = std::chrono::steady_clock::now();
   // A servo (command.mode velocity | position) takes the profile as its setpoint; without one it
   // holds its initial setpoint (the starting angle, or standing still), as every sweep case does.

@@ -19,6 +19,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "kane_sim/InputLog.h"
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/ServoState.h"
 #include "kane_sim/ros/messages.h"
@@ -66,7 +67,28 @@ TEST_F(SimulateBag, EveryTopicWithExpectedCountsAndIncreasingStamps) {
   EXPECT_EQ(counts["/visualization_markers"], 151);
   EXPECT_EQ(counts["/clock"], 151);
   EXPECT_EQ(counts["/tf_static"], 1);
-  EXPECT_EQ(counts.size(), 6u);
+  // The profile's commands as the node logs them on ~input_log: the held value is sent again
+  // every half command.timeout (0.5 s), so ticks 0, 250, ..., 3000.
+  EXPECT_EQ(counts["/kane_sim/input_log"], 13);
+  EXPECT_EQ(counts.size(), 7u);
+}
+
+TEST_F(SimulateBag, TheInputLogHoldsTheProfilesCommandsAtTheirTicks) {
+  rosbag::Bag bag(bag_path());
+  std::uint64_t seq = 0;
+  for (const rosbag::MessageInstance& m :
+       rosbag::View(bag, rosbag::TopicQuery("/kane_sim/input_log"))) {
+    const auto input = m.instantiate<kane_sim::InputLog>();
+    ASSERT_TRUE(input);
+    EXPECT_EQ(input->seq, seq++);
+    EXPECT_EQ(input->kind, kane_sim::InputLog::TORQUE);
+    EXPECT_EQ(input->tick, 250 * input->seq);
+    // The step: 0 N m before t = 1 s, 6 N m from it (tick 1000 at 1 kHz).
+    EXPECT_EQ(input->value, input->tick < 1000 ? 0.0 : 6.0) << input->tick;
+    // Stamped like the state at that tick (simulate's clock: 1e9 s + sim time).
+    EXPECT_NEAR(input->header.stamp.toSec() - 1e9, 1e-3 * input->tick, 1e-6);
+  }
+  EXPECT_EQ(seq, 13u);
 }
 
 TEST_F(SimulateBag, TfStaticIsLatchedAndHoldsWorldToMechanism) {

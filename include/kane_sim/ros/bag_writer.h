@@ -9,6 +9,7 @@
 
 #include <rosbag/bag.h>
 
+#include "kane_sim/InputLog.h"
 #include "kane_sim/ros/messages.h"
 
 namespace kane_sim {
@@ -28,6 +29,9 @@ class BagWriter {
   void writeServoState(const kane_sim::ServoState& state);
   // A sensor reading on /joint_states, stamped when it is delivered.
   void writeSensorReading(const sensor_msgs::JointState& reading);
+  // A driver input on /kane_sim/input_log (the node's ~input_log under its default name), so that
+  // identify drives its replays with the commands as they were applied.
+  void writeInputLog(const kane_sim::InputLog& input);
   void close();
 
  private:

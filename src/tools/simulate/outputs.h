@@ -3,6 +3,7 @@
 #ifndef KANE_SIM_TOOLS_SIMULATE_OUTPUTS_H
 #define KANE_SIM_TOOLS_SIMULATE_OUTPUTS_H
 
+#include <cstdint>
 #include <fstream>
 #include <memory>
 #include <stdexcept>
@@ -79,6 +80,17 @@ class Outputs {
     }
   }
 
+  // A driver input (a profile's command, a servo's setpoint) on the bag's /kane_sim/input_log,
+  // numbered and stamped at `time` [s] as the node logs it on ~input_log.
+  void logInput(const kane_sim::DriverInput& input, double time) {
+    if (!bag_) return;
+    try {
+      bag_->writeInputLog(kane_sim::inputLogMessage(input, kane_sim::simStamp(time), input_seq_++));
+    } catch (const std::exception& e) {
+      throw OutputError("writing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
+    }
+  }
+
   // Completes the outputs (the bag's index, the CSV's last bytes) and puts them in place.
   void finish() {
     if (bag_) {
@@ -100,6 +112,7 @@ class Outputs {
   std::string bag_path_;
   std::unique_ptr<CsvOutput> csv_;
   std::unique_ptr<kane_sim::BagWriter> bag_;
+  std::uint64_t input_seq_ = 0;  // /kane_sim/input_log's number of the next input
 };
 
 }  // namespace simulate

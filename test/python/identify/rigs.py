@@ -177,6 +177,50 @@ def record_closed_loop(rig, duration=None, rate=100.0, gains=(30.0, 3.0), seed=0
             "command_t": command_t, "command": command}
 
 
+# Closed-loop kinds (closed_loop): the example PD controller in lockstep (its commands logged),
+# a position servo and a velocity servo (integral off) driven by setpoint steps (logged).
+CLOSED_LOOP = ("pd", "position_servo", "velocity_servo")
+
+
+def draw_closed_loop(seed, kind, duration=None):
+    """draw(seed)'s rig under a controller of `kind` (CLOSED_LOOP), its sensors at 100, 200 or
+    500 Hz in turn by seed, with 2 ms of latency jitter (readings stamped on arrival)."""
+    rig = draw(seed, regime="servo" if kind == "position_servo" else "oscillation",
+               duration=duration)
+    rig.regime = kind
+    rig.sensors.update({"sensors.rate": (100.0, 200.0, 500.0)[seed % 3],
+                        "sensors.latency_jitter": 0.002})
+    if kind == "velocity_servo":
+        rig.truth.update({"command.mode": "velocity", "command.velocity_kp": 5.0,
+                          "command.velocity_ki": 0.0})
+    return rig
+
+
+def record_servo_steps(rig, seed=0):
+    """record() of a servo rig driven by setpoint steps every 0.3-1.5 s (position: [-1.5, 2.5]
+    rad; velocity: [-4, 4] rad/s), with the setpoints as logged (setpoint_t: where each took
+    effect, setpoint)."""
+    config = rig.config()
+    step = 1.0 / config["simulation.physics_rate"]
+    n = int(round((rig.start + rig.duration) / step))
+    rng = np.random.default_rng(20_000 + seed)
+    edges = np.cumsum(rng.uniform(0.3, 1.5, size=int(n * step / 0.3) + 2))
+    low, high = (-1.5, 2.5) if config["command.mode"] == "position" else (-4.0, 4.0)
+    setpoints = rng.uniform(low, high, size=len(edges))[np.searchsorted(edges, step * np.arange(n))]
+    data = record(rig, drive=setpoints)
+    changed = np.flatnonzero(np.diff(setpoints, prepend=np.nan) != 0)
+    data.update(setpoint_t=step * changed, setpoint=setpoints[changed])
+    return data
+
+
+def record_closed(rig, seed=0):
+    """A closed-loop rig's recording with its logged commands or setpoints: record_closed_loop
+    for "pd", record_servo_steps for the servos; seed: the setpoint sequence."""
+    if rig.regime == "pd":
+        return record_closed_loop(rig, seed=seed)
+    return record_servo_steps(rig, seed=seed)
+
+
 def score(rig, fit):
     """Per fitted parameter: truth, estimate, relative error, reported sigma, z = error / sigma,
     whether it was told (not kept at the base, not marked as moving with a kept value)."""
@@ -213,18 +257,22 @@ def sensor_noise(rig):
             rig.sensors["sensors.slider4_position_noise"])
 
 
-def fresh_recording_error(rig, fit, duration=10.0, seed=0):
+def fresh_recording_error(rig, fit, duration=10.0, seed=0, data=None):
     """How the fitted config follows a recording it never saw, as its user would check it: the
     true rig, its sensors on, driven by a fresh torque (_fresh_torque) and recorded as record()
     does; the fitted config, every parameter held, follows it as the fit follows its own data
     (identify's output error with nothing free but each segment's start state, the drift and the
     lag). Returns (q1 RMS / crank noise, q2 RMS / slider-4 noise), the noise sensor_noise's:
-    1 is a model that explains the fresh recording down to its sensors."""
+    1 is a model that explains the fresh recording down to its sensors. data: the fresh
+    recording to follow instead (a closed-loop one: record_closed with another seed), read with
+    its logged commands as identify reads them."""
     from kane_sim.identify.data import load_motion
     from kane_sim.identify.rates import estimate_rates
     from kane_sim.identify.refinement import refine_segments
-    torque, dt = _fresh_torque(rig, rig.start + duration, seed)
-    motion = load_motion(record(rig, drive=torque, mode="effort"))
+    if data is None:
+        torque, _ = _fresh_torque(rig, rig.start + duration, seed)
+        data = record(rig, drive=torque, mode="effort")
+    motion = load_motion(data, None, fit.config)
     theta = np.array([fit.estimates[n] for n in fit.names])
     _, _, report = refine_segments(fit.config, fit.names, theta, list(fit.names), motion,
                                    estimate_rates(motion))

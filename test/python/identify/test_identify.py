@@ -253,7 +253,9 @@ def test_cli_fits_a_sensor_bag_and_the_fit_loads(rig_bag, tmp_path):
                         str(fitted), "--plot", str(plot)], capture_output=True, text=True,
                        timeout=120)
     assert r.returncode == 0, r.stderr
-    assert "stamps jitter" in r.stdout  # arrival stamps, taken as the regular sampling
+    # Arrival stamps put on the simulation's clock by the bag's input log (simulate writes the
+    # node's), taken as the regular sampling; the logged commands give the torque.
+    assert "a regular 0.01 s sampling" in r.stdout and "/kane_sim/input_log" in r.stdout
     assert "refined by output error" in r.stdout  # measured data: the output-error stage ran
     fit = kane_sim.Config(str(fitted))
     head = fitted.read_text().splitlines()[:2]
