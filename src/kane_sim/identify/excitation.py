@@ -14,6 +14,10 @@ from kane_sim.identify.refinement import replay_settings
 EXCITATION_DESIGN_HORIZON = 120.0
 
 
+# The largest multisine a servo's setpoint profile may have: position [rad], velocity [rad/s].
+SERVO_SETPOINT_RANGE = {"position": 1.5, "velocity": 8.0}
+
+
 def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=4):
     """A torque profile (t, torque) that identifies every default parameter well: a slow bias
     sine (3 periods over the run, at least 0.05 Hz) that swings the crank's mean angle, so that
@@ -23,15 +27,20 @@ def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=4):
     multisine amplitude (a bisection) that keeps the base mechanism's sliders apart (x_C - x_B
     above contact.gap + 2 cm) over the first EXCITATION_DESIGN_HORIZON seconds; the whole profile
     is then checked (its amplitude halved until it passes); |torque| within command.torque_limit.
-    Refused when the torque the limit allows cannot swing the crank. Returns (t, torque, the
-    condition number)."""
+    With a base in a servo mode (command.mode position or velocity) the profile is the servo's
+    setpoint [rad or rad/s], designed the same way with the servo in the loop (its law, gains
+    and torque limit: the loop keeps the rig where the design saw it), the multisine up to
+    SERVO_SETPOINT_RANGE and the bias sine 0, 25, 50 or 75 % of it. Refused when the torque the limit
+    allows cannot swing the crank. Returns (t, torque or setpoint, the condition number)."""
     base = Config(config)
     if not (isinstance(duration, (int, float)) and math.isfinite(duration) and 2 <= duration <= 3600):
         raise ValueError("excite: duration must be in [2, 3600] s, got %r" % (duration,))
-    limit = min(base["command.torque_limit"], 40.0)
-    if not limit > 0:
+    if not base["command.torque_limit"] > 0:
         raise ValueError("excite: command.torque_limit is %g N m: the profile stays within it; "
                          "set it to what the rig's drive delivers" % base["command.torque_limit"])
+    mode = base["command.mode"]
+    limit = SERVO_SETPOINT_RANGE[mode] if mode in SERVO_SETPOINT_RANGE else \
+        min(base["command.torque_limit"], 40.0)
     rng = np.random.default_rng(seed)
     t = np.arange(0.0, duration, 1.0 / rate)
     design = t < EXCITATION_DESIGN_HORIZON
@@ -45,7 +54,9 @@ def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=4):
         for frequency, phase in zip(freqs, phases):
             shape += np.sin(2 * np.pi * frequency * t + phase)
         shape /= np.max(np.abs(shape))
-        for bias in (0.0, 0.02, 0.04, 0.08, 0.16):
+        # A servo's mean angle (or speed) may swing by most of its range: it holds the rig.
+        for bias in (0.0, 0.25, 0.5, 0.75) if mode in SERVO_SETPOINT_RANGE else \
+                (0.0, 0.02, 0.04, 0.08, 0.16):
             found = _largest_feasible(base, names, t[design], bias * limit * slow[design],
                                       shape[design], limit * (1 - bias))
             if found and (best is None or found[0] < best[0]):
@@ -129,9 +140,11 @@ def _largest_feasible(base, names, t, bias, shape, most):
 
 
 def _excitation_run(base, t, torque):
-    """The base mechanism driven by `torque` (100 Hz output), or None when the sliders come
-    within 2 cm of contact or a step is refused."""
-    cfg = base.with_values(replay_settings(float(np.max(np.abs(torque))) + 1.0))
+    """The base mechanism driven by `torque` (a servo's setpoint in its modes: the servo in the
+    loop; 100 Hz output), or None when the sliders come within 2 cm of contact or a step is
+    refused."""
+    cfg = base.with_values({"sensors.enabled": False} if base["command.mode"] != "effort" else
+                           replay_settings(float(np.max(np.abs(torque))) + 1.0))
     sim = Simulator(cfg)
     step = sim.step_size
     index = np.clip(np.searchsorted(t, step * np.arange(len(t)), side="right") - 1, 0, len(t) - 1)

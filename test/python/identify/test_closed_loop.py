@@ -14,7 +14,9 @@ from kane_sim.identify.commands import held_torque, Commands
 from kane_sim.identify.data import load_motion
 
 sys.path.insert(0, os.path.dirname(__file__))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 import rigs  # noqa: E402
+from conftest import tool  # noqa: E402
 
 MASSES_AND_K = rigs.MASSES + rigs.STIFFNESS
 
@@ -51,6 +53,11 @@ def test_logged_commands_fit_a_pd_loop_to_the_noise(pd_rig):
 def test_without_the_log_the_torque_between_samples_is_a_guess(pd_rig):
     rig, data = pd_rig
     plain = {k: v for k, v in data.items() if not k.startswith("command")}
+    # Fitted from the effort samples, the masses came out 18-22 % off at 3.4-3.8 of their
+    # errors: refused now, naming the cause and what to record.
+    fit = ki.identify(plain, _base(rig), validate=False)
+    assert fit.refusal and "steps between its samples" in fit.refusal, fit.refusal
+    assert "~input_log" in fit.refusal and "command_t" in fit.refusal
     motion = load_motion(plain, None, _base(rig))
     assert motion.held is None and motion.commands is None
     # The torque steps between samples: the replay's spline through the samples is not it.
@@ -212,3 +219,25 @@ def test_setpoints_a_replay_cannot_use_are_said(servo_rig):
     assert motion.servo is None and "command.mode is effort" in " ".join(motion.notes)
     with pytest.raises(ValueError, match=r"setpoint\[0\] = 1e\+300"):
         load_motion(dict(data, setpoint=np.full(len(data["setpoint"]), 1e300)), None, _base(rig))
+
+
+def test_excite_designs_a_servos_setpoints_with_the_servo_in_the_loop(tmp_path):
+    import subprocess
+    base = kane_sim.Config().with_values({"command.mode": "position",
+                                          "command.position_kp": 60.0,
+                                          "command.position_kd": 4.0})
+    t, setpoint, condition = ki.excitation(base, 10.0, rate=250.0)
+    assert len(t) == 2500 and 0.1 < np.max(np.abs(setpoint)) <= 1.5
+    assert condition < 1e3  # every parameter the mechanism can tell, told well
+    # Played on the base with the servo in the loop, the sliders stay apart and the crank moves.
+    sim = kane_sim.Simulator(base)
+    run = sim.run(10.0, torque=np.repeat(setpoint, 4), output_rate=100.0)
+    assert np.ptp(run.q[:, 0]) > 0.5
+    # The CLI writes it as the servo's setpoint, and says how to play it.
+    path = tmp_path / "base.yaml"
+    path.write_text(base.yaml())
+    out = tmp_path / "setpoints.csv"
+    r = subprocess.run([tool("identify"), "--excite", "4", "--config", str(path), "-o",
+                        str(out)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert out.read_text().startswith("t,setpoint\n") and "command.mode position" in r.stdout
