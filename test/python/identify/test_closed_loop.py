@@ -241,3 +241,35 @@ def test_excite_designs_a_servos_setpoints_with_the_servo_in_the_loop(tmp_path):
                         str(out)], capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     assert out.read_text().startswith("t,setpoint\n") and "command.mode position" in r.stdout
+
+
+def test_a_simulate_bag_of_a_servo_replays_its_law_from_the_bags_input_log(tmp_path):
+    """simulate --bag logs its inputs as the node does: a position servo's bag (setpoint steps,
+    sensors at 200 Hz with sensors.yaml's noise, latency and jitter) is fitted through the
+    servo's law, its stamps put on the simulation's clock by the log."""
+    import subprocess
+    import yaml
+    from conftest import config_path
+    cfg = yaml.safe_load(open(config_path()))
+    cfg["sensors"].update(yaml.safe_load(open(config_path("sensors.yaml")))["sensors"])
+    cfg["sensors"]["rate"] = 200.0
+    cfg["command"].update(mode="position", position_kp=60.0, position_kd=4.0)
+    cfg["mechanism"].update(rod_mass=1.2, spring_stiffness=240.0)
+    rig = tmp_path / "rig.yaml"
+    rig.write_text(yaml.safe_dump(cfg))
+    rng = np.random.default_rng(3)
+    t = np.cumsum(np.r_[0.0, rng.uniform(0.3, 1.5, 40)])
+    steps = tmp_path / "steps.csv"
+    steps.write_text("t,setpoint\n" + "".join("%r,%r\n" % row
+                                              for row in zip(t, rng.uniform(-1.5, 2.5, len(t)))))
+    bag = tmp_path / "servo.bag"
+    subprocess.run([tool("simulate"), "--config", str(rig), "--duration", "20", "--torque-csv",
+                    str(steps), "--bag", str(bag)], check=True, capture_output=True, timeout=120)
+    cfg["mechanism"].update(rod_mass=1.0, spring_stiffness=200.0)
+    cfg["sensors"]["enabled"] = False
+    fit = ki.identify(str(bag), kane_sim.Config(cfg), validate=False)
+    notes = " ".join(fit.notes)
+    assert "simulation's clock" in notes and "position servo replayed with its law" in notes
+    assert fit.refusal is None and fit.refined["converged"]
+    assert fit.estimates["mechanism.rod_mass"] == pytest.approx(1.2, rel=0.01)
+    assert fit.estimates["mechanism.spring_stiffness"] == pytest.approx(240.0, rel=0.01)
