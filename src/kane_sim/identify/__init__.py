@@ -61,8 +61,37 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
     re-simulated positions to the recorded ones (output error, _refine); "auto" does on measured
     (filtered) data, where the least squares is biased by the noise in its regressor. progress:
     a callable given a line of text at each stage (the CLI prints them on stderr). Returns an
-    Identification."""
+    Identification. The stages: the names checked, the data read, the least squares, the output
+    error, then the result judged (its held-out check, its validation, its refusal)."""
     base = Config(config)
+    names = _parameter_names(base, params, method, holdout, refine)
+    say = progress or (lambda text: None)
+    motion, rated, prepared, notes = _read(data, topic, base, bandwidth, say)
+    result = Identification()
+    result.names, result.method, result.bandwidth = names, method, prepared.bandwidth
+    result.notes = notes
+    result.base_values = {n: _core.identification_base_value(base._core, n) for n in names}
+    say("least squares: %d samples, %d parameters (%s form)" % (len(prepared), len(names), method))
+    fit = _least_squares(base, names, prepared, method)
+    if refine is True or (refine == "auto" and prepared.bandwidth is not None):
+        _output_error(result, base, fit, motion, rated, progress)
+    _record(result, base, fit, motion, prepared)
+    if holdout > 0:
+        say("held-out check: the least squares on the first %.0f %%" % (100 * (1 - holdout)))
+        result.holdout = _holdout(base, names, prepared, method, holdout)
+    if validate:
+        say("validation: re-simulating the recorded torque with the fitted and the base config")
+        result.validation = validation(motion, base, result.config,
+                                       result.estimates.get("torque_offset", 0.0), bandwidth,
+                                       start=(rated.t[0], rated.states[0]))
+        result.warnings += _replay_warnings(result.validation)
+    result.refusal = _refusal(result)
+    return result
+
+
+def _parameter_names(base, params, method, holdout, refine):
+    """The names to identify (params, or every one identifiable by default), each known and none
+    twice, with identify()'s other arguments checked, before any data is read."""
     if isinstance(params, str):  # "a,b" as the command line's --params
         params = [p.strip() for p in params.split(",") if p.strip()]
     names = list(params) if params is not None else \
@@ -82,7 +111,13 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
         raise ValueError("holdout must be a fraction in [0, 0.9), got %r" % (holdout,))
     if refine not in ("auto", True, False):
         raise ValueError("refine must be 'auto', True or False, got %r" % (refine,))
-    say = progress or (lambda text: None)
+    return names
+
+
+def _read(data, topic, base, bandwidth, say):
+    """(motion, its rates, the samples the least squares takes, notes): the data read (with its
+    logged commands), its rates estimated, the samples where the sliders touch left out, and
+    refused when nothing can be identified from it."""
     clock = time.monotonic()
     motion = load_motion(data, topic, base)
     say("read %d samples, %.4g s at %.4g Hz (%.1f s)" % (len(motion), motion.t[-1] - motion.t[0],
@@ -96,8 +131,8 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
     notes = list(motion.notes)
     if stride > 1:
         prepared = prepared.select(slice(None, None, stride))
-        notes.append("the least squares took one filtered sample in %d (%d of %d: at "
-                            "most %d)" % (stride, len(prepared), len(rated), MAX_LEAST_SQUARES_SAMPLES))
+        notes.append("the least squares took one filtered sample in %d (%d of %d: at most %d)"
+                     % (stride, len(prepared), len(rated), MAX_LEAST_SQUARES_SAMPLES))
     if len(prepared) < MIN_SAMPLES:
         raise ValueError("data (%s): %d usable samples (the sliders touch in the rest): too few"
                          % (motion.source, len(prepared)))
@@ -109,64 +144,88 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
                          "joint; a driver that publishes no effort gives zeros): without the "
                          "driving torque the motion fixes the parameters only up to a common "
                          "scale" % motion.source)
+    return motion, rated, prepared, notes
 
-    result = Identification()
-    result.names, result.method, result.bandwidth = names, method, prepared.bandwidth
-    result.notes = notes
-    result.base_values = {n: _core.identification_base_value(base._core, n) for n in names}
-    say("least squares: %d samples, %d parameters (%s form)" % (len(prepared), len(names), method))
+
+class _Fit:
+    """The estimate as it goes through the stages: theta, cov, what the least squares kept at
+    the base (kept, and why: messages), what moves with a kept value (entangled), what its
+    quadrature check kept (quadrature), the condition number, the residual RMS and the rows."""
+
+    def __init__(self, names, theta, cov, kept, messages, cond, rms, entangled, quadrature,
+                 rows):
+        self.names, self.theta, self.cov, self.kept = names, theta, cov, kept
+        self.messages, self.cond, self.rms, self.entangled = messages, cond, rms, entangled
+        self.quadrature, self.rows = quadrature, rows
+
+
+def _least_squares(base, names, prepared, method):
     y, b, groups, check = _system(base, names, prepared, method)
     theta, cov, kept, messages, cond, rms, entangled, quadrature = _estimate(
         base, names, y, b, groups, prepared.states, check, _rms(prepared.torque))
     theta, cov = _rest_length(names, theta, cov)
-    if refine is True or (refine == "auto" and prepared.bandwidth is not None):
-        # The least squares' dissipative values are noisy: a negative one starts the refinement
-        # at 0. A negative mass or
-        # stiffness (a flipped torque, wrong units) is refused here, by name, before the
-        # re-simulations would fail on it with a message about the integrator.
-        # Friction's least-squares value is the least reliable (a rig's came out 100 times the
-        # truth, a config rk4 could not run): the refinement starts it at the base's value.
-        # A mass or stiffness the least squares put at or a little below 0 (within
-        # UNPHYSICAL_SIGMAS of its error: a poorly excited coordinate, a base slightly off)
-        # starts at the base's value, and the refinement, which keeps it positive, decides;
-        # further below is a flipped torque or wrong units, refused now by name.
-        sigma = np.sqrt(np.maximum(np.diag(cov), 0.0))
-        for i, name in enumerate(names):
-            if name in kept:
-                continue
-            if name.startswith("friction."):
-                theta[i] = _core.identification_base_value(base._core, name)
-            elif _dissipative(name) and theta[i] < 0:
-                theta[i] = 0.0
-            elif name != "torque_offset" and name != "spring_rest_length" and theta[i] <= 0 \
-                    and theta[i] > -UNPHYSICAL_SIGMAS * sigma[i]:
-                theta[i] = _core.identification_base_value(base._core, name)
-        fitted_config(base, dict(zip(names, theta)), dict(zip(names, np.sqrt(np.diag(cov)))))
-        if len(kept) < len(names):
-            ls_theta = dict(zip(names, theta))
-            # What the quadrature check kept, the output error fits again from the base's value:
-            # an effect within the energy windows' integration error can still move the
-            # positions far beyond their noise (a servo rig's crank friction, 0.043 N m kept at
-            # 0, re-simulated a fresh torque 53 times the noise off).
-            refit = [n for n in quadrature if n in kept]
-            fixed = [n for n in kept if n not in refit]
-            start = theta
-            ls_cov = cov
-            theta, cov, result.refined = refine_segments(base, names, start, fixed, motion,
+    return _Fit(names, theta, cov, kept, messages, cond, rms, entangled, quadrature, len(b))
+
+
+def _refinement_start(base, fit):
+    """The output error's first guess from the least squares' values. Its dissipative values are
+    noisy: a negative one starts at 0. Friction's is the least reliable (a rig's came out 100
+    times the truth, a config rk4 could not run): it starts at the base's value. A mass or
+    stiffness the least squares put at or a little below 0 (within UNPHYSICAL_SIGMAS of its
+    error: a poorly excited coordinate, a base slightly off) starts at the base's value, and
+    the refinement, which keeps it positive, decides; further below is a flipped torque or wrong
+    units, refused now by name (fitted_config), before the re-simulations would fail on it with
+    a message about the integrator."""
+    theta = fit.theta.copy()
+    sigma = np.sqrt(np.maximum(np.diag(fit.cov), 0.0))
+    for i, name in enumerate(fit.names):
+        if name in fit.kept:
+            continue
+        if name.startswith("friction."):
+            theta[i] = _core.identification_base_value(base._core, name)
+        elif _dissipative(name) and theta[i] < 0:
+            theta[i] = 0.0
+        elif name != "torque_offset" and name != "spring_rest_length" and theta[i] <= 0 \
+                and theta[i] > -UNPHYSICAL_SIGMAS * sigma[i]:
+            theta[i] = _core.identification_base_value(base._core, name)
+    fitted_config(base, dict(zip(fit.names, theta)), dict(zip(fit.names, sigma)))
+    return theta
+
+
+def _output_error(result, base, fit, motion, rated, progress):
+    """The output-error stage (refine_segments) from the least squares' values, updating `fit`
+    and result.refined. What the quadrature check kept, it fits again from the base's value: an
+    effect within the energy windows' integration error can still move the positions far beyond
+    their noise (a servo rig's crank friction, 0.043 N m kept at 0, re-simulated a fresh torque
+    53 times the noise off)."""
+    names = fit.names
+    start = _refinement_start(base, fit)
+    if len(fit.kept) >= len(names):
+        fit.theta = start
+        return
+    refit = [n for n in fit.quadrature if n in fit.kept]
+    fixed = [n for n in fit.kept if n not in refit]
+    ls_cov = fit.cov
+    fit.theta, fit.cov, result.refined = refine_segments(base, names, start, fixed, motion,
                                                          rated, progress=progress)
-            if motion.servo is not None and "torque_offset" in names:
-                # The servo's law made the torque in the replays: the offset is the least
-                # squares' alone, with its error.
-                i = names.index("torque_offset")
-                cov[i, :], cov[:, i] = 0.0, 0.0
-                cov[i, i], theta[i] = ls_cov[i, i], start[i]
-            result.refined["least_squares"] = ls_theta
-            result.refined["refit"] = refit
-            kept = [n for n in kept if n not in refit]
-            messages = [m for m in messages if not any(m.startswith(n + " ") or
+    if motion.servo is not None and "torque_offset" in names:
+        # The servo's law made the torque in the replays: the offset is the least squares'
+        # alone, with its error.
+        i = names.index("torque_offset")
+        fit.cov[i, :], fit.cov[:, i] = 0.0, 0.0
+        fit.cov[i, i], fit.theta[i] = ls_cov[i, i], start[i]
+    result.refined["least_squares"] = dict(zip(names, start))
+    result.refined["refit"] = refit
+    fit.kept = [n for n in fit.kept if n not in refit]
+    fit.messages = [m for m in fit.messages if not any(m.startswith(n + " ") or
                                                        m.startswith(n + ":") for n in refit)]
-            entangled = [n for n in entangled if any(
-                m.startswith(k + " (kept at") and n in m for k in kept for m in messages)]
+    fit.entangled = [n for n in fit.entangled if any(
+        m.startswith(k + " (kept at") and n in m for k in fit.kept for m in fit.messages)]
+
+
+def _record(result, base, fit, motion, prepared):
+    """The fit's numbers, what it kept and why, the fitted config and the warnings, in
+    `result`."""
     result.warnings = base.warnings + _config_warnings(base, motion)
     physics_rate = base["simulation.physics_rate"]
     if prepared.bandwidth is None and not result.refined and motion.rate < 0.999 * physics_rate:
@@ -176,24 +235,13 @@ def identify(data, config=None, params=None, method=DEFAULT_METHOD, bandwidth="a
             "the equations close, not that (a 100 Hz simulate CSV of an --excite run gave the "
             "crank damper 23 %% off at 3.8 of its errors): record at the physics rate for errors "
             "that hold" % (motion.rate, physics_rate))
-    result.samples, result.rows = len(prepared), len(b)
-    result.condition_number, result.residual_rms = cond, rms
-    result.kept, result.unidentifiable, result.entangled = kept, messages, entangled
-    for i, n in enumerate(names):
-        result.estimates[n] = float(theta[i])
-        result.std_errors[n] = float(math.sqrt(max(cov[i, i], 0.0)))
+    result.samples, result.rows = len(prepared), fit.rows
+    result.condition_number, result.residual_rms = fit.cond, fit.rms
+    result.kept, result.unidentifiable, result.entangled = fit.kept, fit.messages, fit.entangled
+    for i, n in enumerate(fit.names):
+        result.estimates[n] = float(fit.theta[i])
+        result.std_errors[n] = float(math.sqrt(max(fit.cov[i, i], 0.0)))
     result.config, result.clipped = fitted_config(base, result.estimates, result.std_errors)
-    if holdout > 0:
-        say("held-out check: the least squares on the first %.0f %%" % (100 * (1 - holdout)))
-        result.holdout = _holdout(base, names, prepared, method, holdout)
-    if validate:
-        say("validation: re-simulating the recorded torque with the fitted and the base config")
-        result.validation = validation(motion, base, result.config,
-                                       result.estimates.get("torque_offset", 0.0), bandwidth,
-                                       start=(rated.t[0], rated.states[0]))
-        result.warnings += _replay_warnings(result.validation)
-    result.refusal = _refusal(result)
-    return result
 
 
 def _replay_warnings(v):
@@ -222,10 +270,10 @@ OFF_SCALE = 30.0
 # simulate's CSV at 100 Hz of an --excite run replays 2.6 % off (the torque between its samples
 # is not the profile's), the same with the torque 50 ms late 9.5 %.
 NOISE_FREE_REPLAY_SHARE = 0.05
-# How far (times the positions' noise) the torque-sampling floor may leave the positions from any
-# model's before the fit is refused as resting on a torque the recording does not hold: the
-# open-loop family's PRBS rigs reach 3.3 (a 200 Hz recording: 58 um against 17.6 um of noise);
-# PD loops and servos without their logged commands or setpoints 62-240.
+# How far (times their noise) a fit that passed by the torque-sampling floor may leave the
+# positions before it is refused as resting on a torque the recording does not hold: the
+# open-loop family's PRBS rig at 200 Hz is fitted to 6.8 times slider 4's noise; PD loops
+# without their logged commands to 290 (100 Hz, lockstep) and 320 (the live node).
 TORQUE_FLOOR_FACTOR = 10.0
 # How far below 0 (in its standard errors) a least-squares mass or stiffness may come out and
 # still be left to the refinement: beyond, the data's torque has the wrong sign or units.
@@ -238,62 +286,94 @@ def _lag_at_bound(refined):
 
 
 def _refusal(result):
-    """Why the fit must not be written, or None: the output-error fit left the positions further
-    from the recording than CONVERGED_NOISE_FACTOR times their noise (its numbers, and their
-    standard errors, then describe no model of this data), or the fitted model re-simulates the
-    recording no better than the base did. The reason names what is most likely wrong."""
+    """Why the fit must not be written, or None: the first of the causes below that holds, each
+    naming what is most likely wrong (a fit that does not converge first)."""
+    for cause in (_not_converged, _torque_between_samples_guessed, _lag_at_its_bound,
+                  _off_scale, _noise_free_replay_off, _no_better_than_the_base):
+        reason = cause(result)
+        if reason:
+            return reason
+    return None
+
+
+def _not_converged(result):
+    """The output-error fit left the positions further from the recording than
+    CONVERGED_NOISE_FACTOR times their noise: its numbers, and their standard errors, then
+    describe no model of this data."""
     r = result.refined
-    if r and not r["converged"]:
-        stopped = r["evaluations"] >= r["evaluation_limit"]
-        causes = ["the fit stopped at its limit of %d evaluations" % r["evaluation_limit"]] \
-            if stopped else []
-        if _lag_at_bound(r):
-            causes.insert(0, "a torque later than a sensor's latency (the positions' lag ran "
-                          "into the fit's bound: %.3g ms, the bound %g ms either way)"
-                          % (1e3 * r["lag"], 1e3 * MAX_LAG))
-        if r.get("stalled"):
-            causes.append("the fit stopped getting closer after %d evaluations (a local "
-                          "minimum: a base far from the rig)" % r["evaluations"])
-        fitted = set(result.names) - set(result.kept)
-        if "mechanism.rod_inertia" not in fitted:
-            causes.append("a parameter not fitted that matters (the rod's inertia: add "
-                          "mechanism.rod_inertia to the parameters)")
-        causes += ["a mechanism the base does not describe (its measured rod_half_length L "
-                   "and gravity g, which are not fitted)",
-                   "a torque that is not the one delivered (its sign, units, a lag)",
-                   "too little excitation for the parameters asked"]
-        return ("the output-error fit left the positions at %.3g rad and %.3g m RMS from the "
-                "recording, more than %g times their noise (%.3g rad, %.3g m): the estimates "
-                "and their errors describe no model of this data. Most likely: %s"
-                % (r["position_rms"] + (CONVERGED_NOISE_FACTOR,) + r["noise"]
-                   + ("; or ".join(causes),)))
-    floor = r.get("torque_sampling", (0.0, 0.0)) if r else (0.0, 0.0)
-    ratio = max(f / n for f, n in zip(floor, r["noise"])) if r else 0.0
-    if ratio > TORQUE_FLOOR_FACTOR:
-        # The torque between samples is a guess that moves the positions far more than the
-        # sensors' noise: the fit's error model (the noise alone) does not hold, and neither do
-        # its numbers (a 100 Hz PD loop's masses came out 18-22 % off at 3.4-3.8 of their errors;
-        # a live one with the torque saturating was "fitted" to 1.56 rad RMS on a 7 rad span).
-        return ("the recorded torque steps between its samples at instants the recording does "
-                "not hold: that alone leaves the positions %.3g rad, %.3g m from any model's, "
-                "%.0f times their noise, and the estimates rest on a torque the recording does "
-                "not have. Record the node's ~input_log with the readings (rosbag record -a: its "
-                "commands give the torque between samples), pass the commands you sent "
-                "(command_t and command columns), or record the effort at the physics rate"
-                % (floor + (ratio,)))
-    if r and _lag_at_bound(r):
-        # The lag ran into its bound: the torque and the positions are further apart in time
-        # than a sensor's latency (a 50 ms late effort was fitted at -25 ms to 2.3 times the
-        # noise, masses 8-14 % off).
-        return ("the positions' lag behind the torque ran into the fit's bound (%.3g ms, the "
-                "bound %g ms either way): the torque is not the one delivered when its sample "
-                "says (an effort read late, stamps from another clock); the estimates describe "
-                "no model of this data" % (1e3 * r["lag"], 1e3 * MAX_LAG))
-    # A mass, the rod's inertia or k more than OFF_SCALE times from the base's (either way): no
-    # rig's rough values are that far off; a torque in the wrong units is (x1000 gave masses of
-    # 1282 kg for 1.3).
-    # An estimate that far off but zero within its error is not a unit's doing: the motion did
-    # not tell it (a crank that barely moves leaves the rod's inertia at 0 +- its size).
+    if not r or r["converged"]:
+        return None
+    stopped = r["evaluations"] >= r["evaluation_limit"]
+    causes = ["the fit stopped at its limit of %d evaluations" % r["evaluation_limit"]] \
+        if stopped else []
+    if _lag_at_bound(r):
+        causes.insert(0, "a torque later than a sensor's latency (the positions' lag ran "
+                      "into the fit's bound: %.3g ms, the bound %g ms either way)"
+                      % (1e3 * r["lag"], 1e3 * MAX_LAG))
+    if r.get("stalled"):
+        causes.append("the fit stopped getting closer after %d evaluations (a local "
+                      "minimum: a base far from the rig)" % r["evaluations"])
+    fitted = set(result.names) - set(result.kept)
+    if "mechanism.rod_inertia" not in fitted:
+        causes.append("a parameter not fitted that matters (the rod's inertia: add "
+                      "mechanism.rod_inertia to the parameters)")
+    causes += ["a mechanism the base does not describe (its measured rod_half_length L "
+               "and gravity g, which are not fitted)",
+               "a torque that is not the one delivered (its sign, units, a lag)",
+               "too little excitation for the parameters asked"]
+    return ("the output-error fit left the positions at %.3g rad and %.3g m RMS from the "
+            "recording, more than %g times their noise (%.3g rad, %.3g m): the estimates "
+            "and their errors describe no model of this data. Most likely: %s"
+            % (r["position_rms"] + (CONVERGED_NOISE_FACTOR,) + r["noise"]
+               + ("; or ".join(causes),)))
+
+
+def _torque_between_samples_guessed(result):
+    """The fit passed only because the torque between samples is a guess (the torque-sampling
+    floor): it left the positions more than TORQUE_FLOOR_FACTOR times their noise from the
+    recording in a coordinate whose floor is over 3 times the noise. Its error model (the noise
+    alone) does not hold there, and neither do its numbers (a 100 Hz PD loop's masses came out
+    18-22 % off at 3.4-3.8 of their errors, fitted to 290 times slider 4's noise; a live one
+    with the torque saturating was "fitted" to 1.56 rad RMS on a 7 rad span). A PRBS rig at 200
+    Hz, fitted to 6.8 times the noise under a floor of 14, is not refused."""
+    r = result.refined
+    if not r:
+        return None
+    floor = r.get("torque_sampling", (0.0, 0.0))
+    for k in (0, 1):
+        misfit = r["position_rms"][k] / r["noise"][k]
+        if misfit > TORQUE_FLOOR_FACTOR and floor[k] > CONVERGED_NOISE_FACTOR * r["noise"][k]:
+            return ("the recorded torque steps between its samples at instants the recording "
+                    "does not hold: the fit follows the positions only to %.0f times their "
+                    "noise (%s %.3g %s), and that guess alone leaves them up to %.3g %s from any "
+                    "model's, so the estimates rest on a torque the recording does not have. "
+                    "Record the node's ~input_log with the readings (rosbag record -a: its "
+                    "commands give the torque between samples), pass the commands you sent "
+                    "(command_t and command columns), or record the effort at the physics rate"
+                    % (misfit, ("q1", "q2")[k], r["position_rms"][k], ("rad", "m")[k],
+                       floor[k], ("rad", "m")[k]))
+    return None
+
+
+def _lag_at_its_bound(result):
+    """The lag ran into its bound: the torque and the positions are further apart in time than
+    a sensor's latency (a 50 ms late effort was fitted at -25 ms to 2.3 times the noise, masses
+    8-14 % off)."""
+    r = result.refined
+    if not (r and _lag_at_bound(r)):
+        return None
+    return ("the positions' lag behind the torque ran into the fit's bound (%.3g ms, the "
+            "bound %g ms either way): the torque is not the one delivered when its sample "
+            "says (an effort read late, stamps from another clock); the estimates describe "
+            "no model of this data" % (1e3 * r["lag"], 1e3 * MAX_LAG))
+
+
+def _off_scale(result):
+    """A mass, the rod's inertia or k more than OFF_SCALE times from the base's (either way): no
+    rig's rough values are that far off; a torque in the wrong units is (x1000 gave masses of
+    1282 kg for 1.3). An estimate that far off but zero within its error is not a unit's doing:
+    the motion did not tell it (a crank that barely moves leaves the rod's inertia at 0 +- its
+    size)."""
     config_names = set(_core.Config.names())  # not torque_offset, spring_rest_length
     untold = []
     for name in result.names:
@@ -314,26 +394,37 @@ def _refusal(result):
                 "value): drive the rig harder or longer (rosrun kane_sim identify --excite writes "
                 "a torque that excites every parameter), or leave them out of --params to keep "
                 "the base's" % ", ".join(untold))
+    return None
+
+
+def _noise_free_replay_off(result):
+    """Noise-free data (a simulation's output), fitted without the output-error stage: the
+    fitted model must replay it to NOISE_FREE_REPLAY_SHARE of its span (a 50 ms lag in the
+    torque left 0.097 rad and was written)."""
     v = result.validation
-    if v and result.bandwidth is None and "error" not in v.get("fitted", {}):
-        # Noise-free data (a simulation's output), fitted without the output-error stage: the
-        # fitted model must replay it to a small part of its span (a 50 ms lag in the torque
-        # left 0.097 rad and was written).
-        for k, unit in (("q1", "rad"), ("q2", "m")):
-            rms, span = v["fitted"][k + "_rms"], v[k + "_span"]
-            if not rms <= NOISE_FREE_REPLAY_SHARE * span:
-                return ("the data is noise-free, yet the fitted model replays its %s %.4g %s RMS "
-                        "off (%.2g %% of its span): a torque that is not the one delivered "
-                        "(sign, units, a lag), or a mechanism the base does not describe (its "
-                        "L and g)" % (k, rms, unit, 100 * rms / span))
+    if not (v and result.bandwidth is None and "error" not in v.get("fitted", {})):
+        return None
+    for k, unit in (("q1", "rad"), ("q2", "m")):
+        rms, span = v["fitted"][k + "_rms"], v[k + "_span"]
+        if not rms <= NOISE_FREE_REPLAY_SHARE * span:
+            return ("the data is noise-free, yet the fitted model replays its %s %.4g %s RMS "
+                    "off (%.2g %% of its span): a torque that is not the one delivered "
+                    "(sign, units, a lag), or a mechanism the base does not describe (its "
+                    "L and g)" % (k, rms, unit, 100 * rms / span))
+    return None
+
+
+def _no_better_than_the_base(result):
+    """The fitted parameters follow the recording no better than the base's: judged through the
+    output error's segments when it ran (a whole-recording replay of full turns diverges for
+    any parameters: a rig fitted to 1.5 times its noise, masses within 0.02 %, replayed no
+    better than the base over 20 s), else by the whole-run replay."""
+    r, v = result.refined, result.validation
     if r and "base_position_rms" in r:
-        # Converged: the fitted parameters against the base's through the same segments (a
-        # whole-recording replay of full turns diverges for any parameters: a rig fitted to 1.5
-        # times its noise, masses within 0.02 %, replayed no better than the base over 20 s).
         if all(not r["position_rms"][k] < r["base_position_rms"][k] for k in (0, 1)):
-            return ("the base's parameters follow the recording's segments as well as the fitted "
-                    "ones (q1 %.4g rad against %.4g, q2 %.4g m against %.4g): the data cannot "
-                    "tell this model's parameters (too little excitation)"
+            return ("the base's parameters follow the recording's segments as well as the "
+                    "fitted ones (q1 %.4g rad against %.4g, q2 %.4g m against %.4g): the data "
+                    "cannot tell this model's parameters (too little excitation)"
                     % (r["position_rms"][0], r["base_position_rms"][0], r["position_rms"][1],
                        r["base_position_rms"][1]))
         return None

@@ -50,14 +50,34 @@ def test_logged_commands_fit_a_pd_loop_to_the_noise(pd_rig):
         assert rows[name]["z"] < 3.5, (name, rows[name])
 
 
-def test_without_the_log_the_torque_between_samples_is_a_guess(pd_rig):
-    rig, data = pd_rig
+@pytest.fixture(scope="module")
+def stiff_pd_rig():
+    """pd_rig's rig under the example controller's gains (kp = 500, kd = 30): the torque
+    saturates at 20 N m and swings between the limits from one command to the next."""
+    rig = rigs.draw(2, regime="oscillation", duration=30.0)
+    rig.sensors["sensors.rate"] = 100.0
+    return rig, rigs.record_closed_loop(rig, gains=(500.0, 30.0))
+
+
+def test_without_the_log_a_guessed_torque_is_refused(stiff_pd_rig):
+    rig, data = stiff_pd_rig
     plain = {k: v for k, v in data.items() if not k.startswith("command")}
-    # Fitted from the effort samples, the masses came out 18-22 % off at 3.4-3.8 of their
-    # errors: refused now, naming the cause and what to record.
+    # Fitted from the effort samples, the masses came out 20-100 % off, the positions followed
+    # to 365 times their noise only: refused, naming the cause and what to record.
     fit = ki.identify(plain, _base(rig), validate=False)
     assert fit.refusal and "steps between its samples" in fit.refusal, fit.refusal
     assert "~input_log" in fit.refusal and "command_t" in fit.refusal
+    # With the commands, the same recording is fitted to the noise, masses and k within 0.1 %.
+    fit = ki.identify(data, _base(rig), validate=False)
+    assert fit.refusal is None and fit.refined["converged"]
+    rows = rigs.score(rig, fit)
+    for name in MASSES_AND_K:
+        assert abs(rows[name]["error"]) < 0.001, (name, rows[name])
+
+
+def test_without_the_log_the_torque_between_samples_is_a_guess(pd_rig):
+    rig, data = pd_rig
+    plain = {k: v for k, v in data.items() if not k.startswith("command")}
     motion = load_motion(plain, None, _base(rig))
     assert motion.held is None and motion.commands is None
     # The torque steps between samples: the replay's spline through the samples is not it.
