@@ -270,6 +270,9 @@ OFF_SCALE = 30.0
 # simulate's CSV at 100 Hz of an --excite run replays 2.6 % off (the torque between its samples
 # is not the profile's), the same with the torque 50 ms late 9.5 %.
 NOISE_FREE_REPLAY_SHARE = 0.05
+# How far the servo law's torque in the replays may lie from the recorded effort (medians, a
+# share of the effort's) before the config's servo is refused as not the rig's.
+SERVO_EFFORT_SHARE = 0.03
 # How far (times their noise) a fit that passed by the torque-sampling floor may leave the
 # positions before it is refused as resting on a torque the recording does not hold: the
 # open-loop family's PRBS rig at 200 Hz is fitted to 6.8 times slider 4's noise; PD loops
@@ -288,12 +291,32 @@ def _lag_at_bound(refined):
 def _refusal(result):
     """Why the fit must not be written, or None: the first of the causes below that holds, each
     naming what is most likely wrong (a fit that does not converge first)."""
-    for cause in (_not_converged, _torque_between_samples_guessed, _lag_at_its_bound,
-                  _off_scale, _noise_free_replay_off, _no_better_than_the_base):
+    for cause in (_servo_not_the_rigs, _not_converged, _torque_between_samples_guessed,
+                  _lag_at_its_bound, _off_scale, _noise_free_replay_off,
+                  _no_better_than_the_base):
         reason = cause(result)
         if reason:
             return reason
     return None
+
+
+def _servo_not_the_rigs(result):
+    """A servo replayed with its law (logged setpoints) whose torque is not the recorded effort:
+    the config's gains or torque limit, or the setpoints, are not the rig's, and a fit through
+    that law can follow the positions to the noise with every mass twice the truth (a base with
+    kp and kd twice the rig's). With the rig's own gains the law gives the effort to a median
+    0.1-0.6 % of its size over four family rigs; 10 % off in the gains, 8.5-10 %."""
+    r = result.refined
+    if not (r and r.get("servo_effort")):
+        return None
+    mismatch, effort = r["servo_effort"]
+    if not mismatch > SERVO_EFFORT_SHARE * effort:
+        return None
+    return ("the servo's law with the config's gains gives a torque a median %.3g N m from the "
+            "recorded effort (whose median is %.3g N m): the config's command section (its "
+            "mode, gains and torque_limit) is not the rig's servo, or the logged setpoints are "
+            "not the ones it followed; the estimates describe no model of this data"
+            % (mismatch, effort))
 
 
 def _not_converged(result):

@@ -125,6 +125,18 @@ def held_torque(commands, t, effort, config):
                   % (len(changes), commands.source, len(t) - len(unmatched), len(t)))
 
 
+def _real_column(source, key, raw):
+    """`raw` as a one-dimensional float array, or ValueError naming `key` and what it is."""
+    values = np.asarray(raw)
+    if values.dtype.kind not in "iuf":
+        raise ValueError("data (%s): %s must be real numbers, got %s"
+                         % (source, key, "None" if raw is None else values.dtype))
+    if values.ndim != 1:
+        raise ValueError("data (%s): %s must be one-dimensional, got shape %s"
+                         % (source, key, values.shape))
+    return values.astype(float)
+
+
 def commands_from_columns(cols, source, name="command"):
     """Commands from a mapping's optional `name`_t and `name` columns (any length, on the clock
     of t): name "command" the torque commands of effort mode, "setpoint" a servo's setpoints;
@@ -132,11 +144,12 @@ def commands_from_columns(cols, source, name="command"):
     times = name + "_t"
     if times not in cols and name not in cols:
         return None
+    source = cols.get(name + "_source", source)
     if times not in cols or name not in cols:
         raise ValueError("data (%s): logged %ss need both %s and %s (has only %s)"
                          % (source, name, times, name, times if times in cols else name))
-    t = np.asarray(cols[times], dtype=float).ravel()
-    value = np.asarray(cols[name], dtype=float).ravel()
+    from_log = name + "_source" in cols  # a bag's input log: as the node received them
+    t, value = (_real_column(source, key, cols[key]) for key in (times, name))
     if len(t) != len(value):
         raise ValueError("data (%s): %s has %d values and %s %d"
                          % (source, times, len(t), name, len(value)))
@@ -150,6 +163,10 @@ def commands_from_columns(cols, source, name="command"):
         i = int(np.flatnonzero(np.diff(t) < 0)[0])
         raise ValueError("data (%s): %s[%d] = %r goes backward from %r: %ss in the order "
                          "received" % (source, times, i + 1, t[i + 1], t[i], name))
+    bad = np.flatnonzero(~np.isfinite(value))
+    if bad.size and not from_log:  # the node logs refused NaN and inf; a script's are its bugs
+        raise ValueError("data (%s): %s[%d] = %r is not finite"
+                         % (source, name, bad[0], value[bad[0]]))
     big = np.flatnonzero(np.isfinite(value) & (np.abs(value) > 1e6))
     if big.size:
         raise ValueError("data (%s): %s[%d] = %r is beyond any rig's (|x| > 1e6)"
@@ -190,21 +207,58 @@ def held_setpoints(setpoints, t, config):
         "setpoints (%s)" % (mode, len(changes), setpoints.source))
 
 
+def _log_fault(stamps, ticks, seq, step):
+    """Why an input log cannot be trusted (ticks or stamps going back, inputs missing, a tick
+    far beyond its stamps), or None."""
+    for name, values in (("tick", ticks), ("stamp", stamps)):
+        back = np.flatnonzero(np.diff(values) < 0)
+        if back.size:
+            i = int(back[0]) + 1
+            return ("its %s goes back at message %d (%.17g after %.17g)"
+                    % (name, i, values[i], values[i - 1]))
+    if seq is not None:
+        gap = np.flatnonzero(np.diff(seq) != 1)
+        if gap.size:
+            i = int(gap[0])
+            return ("inputs are missing from it (seq %d follows %d: a gap in the bag, or two "
+                    "runs' logs)" % (seq[i + 1], seq[i]))
+    # Between two inputs the node runs as many ticks as the time allows: real_time_factor
+    # within [0.01, 100] of the stamps, a second of slack (a node paused, then run fast).
+    far = np.flatnonzero(np.diff(ticks) * step > 100.0 * np.diff(stamps) + 1.0)
+    if far.size:
+        i = int(far[0]) + 1
+        return ("tick %d at message %d is %.3g s of simulation after the one before, %.3g s "
+                "later by its stamps" % (ticks[i], i, (ticks[i] - ticks[i - 1]) * step,
+                                         stamps[i] - stamps[i - 1]))
+    return None
+
+
 def on_tick_clock(cols, clock, logged, config):
-    """(cols, logged, note): a recording with the node's ~input_log (clock: its stamps and the
-    physics ticks they were taken at, of every input logged; logged: a list of its Commands, or
-    None), put on the simulation's own clock: each reading's stamp becomes
-    the sim time of the tick it was published at (interpolated between the logged ticks' stamps,
-    which the node stamps as it stamps its joint_states), each command's instant its tick's.
-    Wall-clock stamps then hold no pause: a node that fell behind and caught up (a 0.12 s stall
-    on a busy 2-core machine) published a run of readings within microseconds, which the stamps
-    read as a jump and a sprint of the motion. Readings outside the logged span are left out."""
-    stamps, ticks = (np.asarray(c, dtype=float) for c in clock)
+    """(cols, logged, note, used): a recording with the node's ~input_log (clock: its stamps, the
+    physics ticks they were taken at and the inputs' seq numbers, of every input logged; logged:
+    a list of its Commands, or None), put on the simulation's own clock: each reading's stamp
+    becomes the sim time of the tick it was published at (interpolated between the logged
+    ticks' stamps, which the node stamps as it stamps its joint_states), each command's instant
+    its tick's. Wall-clock stamps then hold no pause: a node that fell behind and caught up (a
+    0.12 s stall on a busy 2-core machine) published a run of readings within microseconds,
+    which the stamps read as a jump and a sprint of the motion. Readings outside the logged span
+    are left out. A log that cannot be trusted (_log_fault) is not used at all: its commands
+    neither (logged comes back as Nones), and the note says why."""
+    stamps, ticks = (np.asarray(c, dtype=float) for c in clock[:2])
+    seq = np.asarray(clock[2]) if len(clock) > 2 else None
     step = 1.0 / config["simulation.physics_rate"]
+    fault = _log_fault(stamps, ticks, seq, step)
+    if fault:
+        return cols, [None] * len(logged), (
+            "the input log is not used: %s; the readings' own stamps and the effort samples "
+            "drive the fit" % fault), False
     t = cols["t"]
     inside = (t >= stamps[0]) & (t <= stamps[-1])
-    if np.count_nonzero(inside) < 0.5 * len(t) or len(stamps) < 2:
-        return cols, logged, None
+    if len(stamps) < 2 or np.count_nonzero(inside) < 0.5 * len(t):
+        return cols, [None] * len(logged), (
+            "the input log is not used: its %d inputs, stamped %.6g..%.6g s, span less than half "
+            "the readings (stamped %.6g..%.6g s): another run's, or another clock's"
+            % (len(stamps), stamps[0], stamps[-1], t[0], t[-1])), False
     cols = {k: v[inside] for k, v in cols.items()}
     cols["t"] = np.interp(cols["t"], stamps, ticks * step)
     logged = [c if c is None or c.tick is None else
@@ -215,4 +269,4 @@ def on_tick_clock(cols, clock, logged, config):
                                                  "" if np.count_nonzero(~inside) == 0 else
                                                  "; %d readings outside its span left out"
                                                  % np.count_nonzero(~inside)))
-    return cols, logged, note
+    return cols, logged, note, True

@@ -154,11 +154,15 @@ def _input_log_commands(path, types):
     setpoints; {} when the bag has no such topic (or several: which node's would be a
     guess)."""
     logs = bags.topics_of_type(types, "kane_sim/InputLog")
-    if len(logs) != 1:
+    if len(logs) > 1:
+        return {"log_note": "the bag has %d input logs (%s): which is this rig's is a guess, "
+                            "none is used; cut the others out (rosbag filter)"
+                            % (len(logs), ", ".join(logs))}
+    if not logs:
         return {}
     from kane_sim import _bag
     c = _bag.read_input_log(path, logs[0])
-    out = {"clock_t": c["t"], "clock_tick": c["tick"]}
+    out = {"clock_t": c["t"], "clock_tick": c["tick"], "clock_seq": c["seq"]}
     for name, kind in (("command", INPUT_LOG_TORQUE), ("setpoint", INPUT_LOG_SETPOINT)):
         rows = c["kind"] == kind
         if np.any(rows):
@@ -196,10 +200,12 @@ def load_motion(data, topic=None, config=None):
     commands = commands_from_columns(raw, source)
     setpoints = commands_from_columns(raw, source, "setpoint")
     notes = []
+    notes += [raw["log_note"]] if "log_note" in raw else []
     if config is not None and "clock_t" in raw:
-        cols, (commands, setpoints), note = on_tick_clock(
-            cols, (raw["clock_t"], raw["clock_tick"]), [commands, setpoints], config)
-        regular = None if note is None else \
+        cols, (commands, setpoints), note, used = on_tick_clock(
+            cols, (raw["clock_t"], raw["clock_tick"], raw["clock_seq"]), [commands, setpoints],
+            config)
+        regular = None if not used else \
             _regular_despite_jitter(cols["t"], np.diff(cols["t"]), on_tick_clock=True)
         if regular is not None:
             note += ("; the readings a regular %.4g s sampling on it (99 %% within %.3g ms, no "

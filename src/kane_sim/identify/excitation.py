@@ -39,6 +39,10 @@ def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=4):
         raise ValueError("excite: command.torque_limit is %g N m: the profile stays within it; "
                          "set it to what the rig's drive delivers" % base["command.torque_limit"])
     mode = base["command.mode"]
+    gain = "command.%s_kp" % mode
+    if mode in SERVO_SETPOINT_RANGE and not base[gain] > 0:
+        raise ValueError("excite: %s = %g: the %s servo's setpoint cannot move the crank; give "
+                         "the rig's gain" % (gain, base[gain], mode))
     limit = SERVO_SETPOINT_RANGE[mode] if mode in SERVO_SETPOINT_RANGE else \
         min(base["command.torque_limit"], 40.0)
     rng = np.random.default_rng(seed)

@@ -331,6 +331,33 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
         q[:, 0] += bias_basis @ x[n_free + 4 * n_seg:n_lag]
         return q
 
+    def servo_effort_mismatch(z):
+        """(the median |servo law's torque in the replays - the recorded effort| at the rows,
+        the median |effort|) [N m]: how well the config's servo (its gains, limit) is the rig's.
+        A reading's effort is the torque in force at its stamp (a script's record) or, from the
+        node's sensors, at its sample, the lag before: the closer of the two."""
+        est = estimates(z)
+        config, _ = fitted_config(base, est, extra=settings)
+        sim = Simulator(config)
+        x = z * scale
+        lag = x[n_lag]
+        diffs = ([], [])
+        for k in range(n_seg):
+            sim.set_state([float(v) for v in x[n_free + 4 * k:n_free + 4 * k + 4]])
+            run = sim.run(segments.steps[k] * step, torque=segments.torque[k],
+                          output_rate=1.0 / step)
+            t = run.t - run.t[0] + segments.start[k]
+            seg_rows = segments.rows[k]
+            for diff, shift in zip(diffs, (0.0, lag)):
+                at = np.searchsorted(t, motion.t[seg_rows] - shift + 1e-9, side="right") - 1
+                model = np.asarray(run.applied_torque)[np.clip(at, 0, len(t) - 1)]
+                diff.append(model - motion.torque[seg_rows])
+        # Medians: a reading stamped within the sensors' jitter of a setpoint's step compares
+        # the torque on the step's other side (a 2 ms jitter put 10 % of the effort's RMS into
+        # the RMS mismatch of a servo with the rig's own gains).
+        mismatch = min(float(np.median(np.abs(np.concatenate(d)))) for d in diffs)
+        return mismatch, float(np.median(np.abs(motion.torque[rows])))
+
     def position_rms(r):
         """(q1 [rad], q2 [m]) RMS of a residual vector (q1 rows, then q2 rows, in noise units)."""
         half = len(r) // 2
@@ -458,7 +485,9 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
                                  for i in free]) / scale[:n_free]
     r_base = residual(at_base)
     base_rms = position_rms(r_base)
+    servo = servo_effort_mismatch(z) if motion.servo is not None else None
     return out, cov, {"evaluations": int(solution.nfev), "position_rms": rms,
+                      "servo_effort": servo,
                       "noise": tuple(float(x) for x in sigma), "segments": n_seg,
                       "stalled": stalled,
                       "torque_sampling": floor,

@@ -115,6 +115,11 @@ class Identification:
                              "and the noise together; record the node's ~input_log with it, e.g. "
                              "rosbag record -a, whose commands give the torque between samples, "
                              "or the effort at the physics rate, to remove it)" % floor)
+            if self.refined.get("servo_effort"):
+                mismatch, effort = self.refined["servo_effort"]
+                lines.append("the servo replayed with its law gives the recorded effort to a "
+                             "median %.3g N m (%.2g %% of the effort's median %.3g N m)"
+                             % (mismatch, 100 * mismatch / max(effort, 1e-300), effort))
             if self.refined.get("refit"):
                 lines.append("fitted by the output error alone (their effect on the energy "
                              "windows is within the windows' integration error): %s"

@@ -131,6 +131,11 @@ def test_the_held_torque_is_clamped_and_lapses_after_the_timeout():
     ({"command_t": [], "command": []}, "are empty"),
     ({"command_t": [0.0, 1.0], "command": [1.0, 1e308]}, "command[1] = 1e+308"),
     ({"command_t": [0.0, float("inf")], "command": [1.0, 2.0]}, "command_t[1] = inf"),
+    ({"command_t": [0.0, 1.0], "command": [1.0, float("nan")]}, "command[1] = nan is not finite"),
+    ({"command_t": [0.0, 1.0], "command": ["a", "b"]}, "command must be real numbers"),
+    ({"command_t": np.zeros((2, 2)), "command": [1.0, 2.0]}, "command_t must be one-dimensional"),
+    ({"command_t": None, "command": [1.0]}, "command_t must be real numbers, got None"),
+    ({"setpoint_t": [0.0, 1.0], "setpoint": [1.0, -float("inf")]}, "setpoint[1] = -inf"),
 ])
 def test_hostile_command_columns_are_refused_by_name(pd_rig, change, words):
     rig, data = pd_rig
@@ -141,20 +146,25 @@ def test_hostile_command_columns_are_refused_by_name(pd_rig, change, words):
     assert words in str(e.value), str(e.value)
 
 
-def _write_bag(path, data, stamp_of_tick, step, log_ticks, log_values, reading_ticks):
+def _write_bag(path, data, stamp_of_tick, step, log_ticks, log_values, reading_ticks,
+               seqs=None, log_topics=("/kane_sim/input_log",), stamp_ticks=None):
     """A bag as the node writes it: joint_states stamped stamp_of_tick(the tick each was published
-    at), the input log's torque commands with their ticks, stamped alike."""
+    at), the input log's torque commands with their ticks (and seq numbers: 0, 1, ... unless
+    given), stamped alike (or as at stamp_ticks), on each of `log_topics`."""
     import rosbag
     import rospy
     from sensor_msgs.msg import JointState
     from kane_sim.msg import InputLog
     names = kane_sim._core.joint_names()
+    seqs = range(len(log_ticks)) if seqs is None else seqs
+    stamp_ticks = log_ticks if stamp_ticks is None else stamp_ticks
     with rosbag.Bag(str(path), "w") as bag:
-        for k, (tick, value) in enumerate(zip(log_ticks, log_values)):
-            stamp = rospy.Time.from_sec(stamp_of_tick(tick))
-            msg = InputLog(seq=k, tick=int(tick), kind=InputLog.TORQUE, value=float(value))
+        for k, tick, at, value in zip(seqs, log_ticks, stamp_ticks, log_values):
+            stamp = rospy.Time.from_sec(stamp_of_tick(at))
+            msg = InputLog(seq=int(k), tick=int(tick), kind=InputLog.TORQUE, value=float(value))
             msg.header.stamp = stamp
-            bag.write("/kane_sim/input_log", msg, stamp)
+            for topic in log_topics:
+                bag.write(topic, msg, stamp)
         for i, tick in enumerate(reading_ticks):
             stamp = rospy.Time.from_sec(stamp_of_tick(tick))
             msg = JointState(name=list(names), position=[data["q1"][i], 0, 0, data["q2"][i]],
@@ -293,3 +303,67 @@ def test_a_simulate_bag_of_a_servo_replays_its_law_from_the_bags_input_log(tmp_p
     assert fit.refusal is None and fit.refined["converged"]
     assert fit.estimates["mechanism.rod_mass"] == pytest.approx(1.2, rel=0.01)
     assert fit.estimates["mechanism.spring_stiffness"] == pytest.approx(240.0, rel=0.01)
+
+
+@pytest.mark.parametrize("fault, words", [
+    ("tick_back", "the input log is not used: its tick goes back at message 1000"),
+    ("seq_gap", "inputs are missing from it (seq 1500 follows 999"),
+    ("tick_jump", "of simulation after the one before"),
+    ("two_logs", "the bag has 2 input logs (/kane_sim/input_log, /other/kane_sim/input_log)"),
+    ("other_clock", "span less than half the readings"),
+])
+def test_an_input_log_that_cannot_be_trusted_is_not_used_and_said(pd_rig, tmp_path, fault,
+                                                                 words):
+    rig, data = pd_rig
+    step = 1.0 / rig.config()["simulation.physics_rate"]
+    ticks = np.round(np.asarray(data["t"]) / step).astype(int)
+    log_ticks = np.round(np.asarray(data["command_t"]) / step).astype(int)
+    stamp_ticks = log_ticks.copy()  # the stamps as the node took them
+    seqs = np.arange(len(log_ticks))
+    topics = ("/kane_sim/input_log",)
+    wall = (lambda tick: 1.8e9 + tick * step)
+    if fault == "tick_back":
+        log_ticks[1000] -= 5000
+    elif fault == "seq_gap":
+        seqs[1000:] += 500
+    elif fault == "tick_jump":
+        log_ticks[1000:] += 10 ** 9
+    elif fault == "two_logs":
+        topics = ("/kane_sim/input_log", "/other/kane_sim/input_log")
+    bag = tmp_path / "faulty.bag"
+    _write_bag(bag, data, wall, step, log_ticks, data["command"], ticks, seqs, topics,
+               stamp_ticks)
+    if fault == "other_clock":  # the log stamped on a clock from 0, the readings from 1.8e9
+        bag.unlink()
+        _write_bag(bag, data, wall, step, [], [], ticks)
+        import rosbag
+        import rospy
+        from kane_sim.msg import InputLog
+        with rosbag.Bag(str(bag), "a") as b:
+            for k, (tick, value) in enumerate(zip(log_ticks, data["command"])):
+                msg = InputLog(seq=k, tick=int(tick), kind=InputLog.TORQUE, value=float(value))
+                msg.header.stamp = rospy.Time.from_sec(tick * step + 1e-3)
+                b.write("/kane_sim/input_log", msg, msg.header.stamp)
+    motion = load_motion(str(bag), None, _base(rig))
+    notes = " ".join(motion.notes)
+    assert words in notes, notes
+    assert motion.held is None and motion.servo is None
+
+
+def test_a_servo_whose_gains_are_not_the_rigs_is_refused(servo_rig):
+    """With kp and kd 1.5 times the rig's the law still follows the positions, with every mass
+    off; the law's torque against the recorded effort tells (a median 0.1-0.6 % of the effort
+    with the rig's gains, 40-50 % with these)."""
+    rig, data = servo_rig
+    base = _base(rig)
+    wrong = base.with_values({"command.position_kp": 1.5 * base["command.position_kp"],
+                              "command.position_kd": 1.5 * base["command.position_kd"]})
+    fit = ki.identify(data, wrong, validate=False, holdout=0)
+    assert fit.refusal and "servo's law with the config's gains" in fit.refusal, fit.refusal
+    assert "servo replayed with its law gives the recorded effort" in fit.report()
+
+
+def test_excite_refuses_a_servo_that_cannot_move_the_crank():
+    base = kane_sim.Config().with_values({"command.mode": "position", "command.position_kp": 0.0})
+    with pytest.raises(ValueError, match=r"command.position_kp = 0: the position servo"):
+        ki.excitation(base, 10.0)
