@@ -6,9 +6,10 @@ A PD loop at 100 Hz changes the torque between two 100 Hz readings; the replay's
 through the effort samples then drives the model with a torque that was never applied (a floor
 of 0.03-0.19 rad on live recordings). The log says when each command took effect: held from
 there, clamped to the torque limit, zero after the command timeout, it is the torque the model
-was driven by. It is used only when it reproduces every recorded effort sample (held_torque's
-check), so a log that is not this run's, or a drive it cannot describe (a motor line, a servo
-mode), leaves the effort samples in charge and says why.
+was driven by. It is used only when it reproduces the recorded effort samples (held_torque's
+check), so a log that is not this run's, or a drive it cannot describe (a motor line), leaves
+the effort samples in charge and says why. A servo's logged setpoints are held the same way
+(held_setpoints), for its law to make the torque in the replays.
 """
 import numpy as np
 
@@ -35,9 +36,10 @@ class Commands:
         self.tick = None if tick is None else np.asarray(tick, dtype=float)
 
 
-class HeldTorque:
-    """The torque in force at any instant from a Commands (changes: the instants it changed,
-    torque: its value from each on); before the first command it is unknown (None)."""
+class HeldCommand:
+    """The torque (or a servo's setpoint) in force at any instant, from a Commands (changes: the
+    instants it changed, torque: its value from each on); before the first command it is
+    unknown."""
 
     def __init__(self, changes, torque, source):
         self.changes, self.torque, self.source = changes, torque, source
@@ -85,7 +87,7 @@ def _unmatched(held, t, effort):
 
 
 def held_torque(commands, t, effort, config):
-    """(HeldTorque or None, note): the torque the logged `commands` held, when it reproduces
+    """(HeldCommand or None, note): the torque the logged `commands` held, when it reproduces
     MATCH_SHARE of the effort samples (`effort` at stamps `t`, as recorded: before any
     resampling) from the first command on; else None and the note saying why the effort samples
     drive the replays."""
@@ -105,7 +107,7 @@ def held_torque(commands, t, effort, config):
         return None, ("the %d logged commands (%s) fall outside the recording's %.6g..%.6g s: "
                       "another run's, or another clock's; the effort samples used"
                       % (len(commands.t), commands.source, t[0], t[-1]))
-    held = HeldTorque(changes, torque, commands.source)
+    held = HeldCommand(changes, torque, commands.source)
     after = t >= changes[0] + MATCH_WINDOW
     if np.count_nonzero(after) < 0.5 * len(t):
         return None, ("the logged commands (%s) start %.4g s into the recording, after half its "
@@ -176,7 +178,7 @@ def commands_from_columns(cols, source, name="command"):
 
 
 def held_setpoints(setpoints, t, config):
-    """(HeldTorque of the setpoints or None, note): in a servo mode, the setpoints the servo
+    """(HeldCommand of the setpoints or None, note): in a servo mode, the setpoints the servo
     held (each from the instant it took effect), so that the replays run the servo's own law
     with the config's gains on the model's state, as the driver did: the torque between samples
     is then the law's, not a spline through the effort samples (a position servo driven by
@@ -202,7 +204,7 @@ def held_setpoints(setpoints, t, config):
     step = 1.0 / config["simulation.physics_rate"]
     if config["sensors.enabled"]:
         changes = changes + step * round(config["sensors.command_latency"] / step)
-    return HeldTorque(changes, values, setpoints.source), (
+    return HeldCommand(changes, values, setpoints.source), (
         "the %s servo replayed with its law and the config's gains, driven by %d logged "
         "setpoints (%s)" % (mode, len(changes), setpoints.source))
 
