@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <functional>
 
 #include "kane_sim/ros/joint_state_bag.h"
 
@@ -20,24 +21,31 @@ py::array_t<double> array(std::vector<double>&& values) {
                              free_when_done);
 }
 
-py::dict readJointStates(const std::string& path, const std::string& topic, const std::string& a,
-                         const std::string& b, bool skip_unusable) {
-  // Ctrl-C: Python's signal handler, asked between blocks of messages.
+// `read(interrupted)`'s result: a BagReadError becomes ValueError, and Ctrl-C (Python's signal
+// handler, which `interrupted` asks between blocks of messages) its KeyboardInterrupt.
+template <typename Read>
+auto readTranslated(Read read) {
   std::unique_ptr<py::error_already_set> raised;
-  const auto interrupted = [&raised]() {
+  const std::function<bool()> interrupted = [&raised]() {
     if (PyErr_CheckSignals() == 0) return false;
     raised = std::make_unique<py::error_already_set>();
     return true;
   };
-  kane_sim::JointStateColumns c;
   try {
-    c = kane_sim::readJointStates(
-        path, topic, a, b, interrupted,
-        skip_unusable ? kane_sim::UnusableMessages::kSkip : kane_sim::UnusableMessages::kStop);
+    return read(interrupted);
   } catch (const kane_sim::BagReadError& e) {
     if (raised) throw *raised;
     throw py::value_error(e.what());
   }
+}
+
+py::dict readJointStates(const std::string& path, const std::string& topic, const std::string& a,
+                         const std::string& b, bool skip_unusable) {
+  kane_sim::JointStateColumns c = readTranslated([&](const std::function<bool()>& interrupted) {
+    return kane_sim::readJointStates(
+        path, topic, a, b, interrupted,
+        skip_unusable ? kane_sim::UnusableMessages::kSkip : kane_sim::UnusableMessages::kStop);
+  });
   py::dict out;
   out["unstamped"] = c.unstamped;
   out["skipped"] = c.skipped;
@@ -64,19 +72,9 @@ py::array_t<T> array(const std::vector<T>& values) {
 }
 
 py::dict readInputLog(const std::string& path, const std::string& topic) {
-  std::unique_ptr<py::error_already_set> raised;
-  const auto interrupted = [&raised]() {
-    if (PyErr_CheckSignals() == 0) return false;
-    raised = std::make_unique<py::error_already_set>();
-    return true;
-  };
-  kane_sim::InputLogColumns c;
-  try {
-    c = kane_sim::readInputLog(path, topic, interrupted);
-  } catch (const kane_sim::BagReadError& e) {
-    if (raised) throw *raised;
-    throw py::value_error(e.what());
-  }
+  const kane_sim::InputLogColumns c = readTranslated([&](const std::function<bool()>& interrupted) {
+    return kane_sim::readInputLog(path, topic, interrupted);
+  });
   py::dict out;
   out["t"] = array(c.t);
   out["seq"] = array(c.seq);
