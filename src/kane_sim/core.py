@@ -88,6 +88,14 @@ class Config:
         dissipative, load shape, drive, contact, initial state, operational or measurement."""
         return _core.Config.role(name)
 
+    @staticmethod
+    def law(name):
+        """The law of the load whose coefficient the parameter is: "viscous" (a damper),
+        "coulomb" (friction), "elastic" (the crank's spring), or "" (no such load's). Two
+        parameters of one role can differ here: a damper's and friction's are both
+        "dissipative"."""
+        return _core.Config.law(name)
+
     @property
     def warnings(self):
         """What the loader said of the source (unknown keys, a jitter longer than the reading

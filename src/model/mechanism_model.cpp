@@ -42,6 +42,23 @@ MechanismModel::MechanismModel(const MechanismParameters& parameters, double spr
       spring_rest_length_(spring_rest_length),
       constants_(generated::constantsFrom(parameters, spring_rest_length)) {}
 
+std::string lawOfCoefficient(const std::string& key) {
+  for (const LoadInfo& load : kLoadInfo) {
+    if (load.coefficient < 0 || key != generated::kConstantKeys[load.coefficient]) continue;
+    switch (load.law) {
+      case LoadLaw::kViscous:
+        return "viscous";
+      case LoadLaw::kCoulomb:
+        return "coulomb";
+      case LoadLaw::kElastic:
+        return "elastic";
+      case LoadLaw::kNone:
+        break;
+    }
+  }
+  return "";
+}
+
 double MechanismModel::resistanceCoefficient(const LoadInfo& load) const {
   return (&constants_.rod_mass)[load.coefficient];
 }

@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include "kane_sim/config/parameter_schema.h"
+#include "kane_sim/model/mechanism_model.h"
 #include "kane_sim/sim/config_check.h"
 #include "python_layer.h"
 
@@ -85,6 +86,10 @@ bool PythonConfig::reconfigurable(const std::string& name) { return specOf(name)
 
 std::string PythonConfig::role(const std::string& name) { return roleName(specOf(name).role); }
 
+std::string PythonConfig::law(const std::string& name) {
+  return lawOfCoefficient(specOf(name).path());
+}
+
 void bindConfig(py::module_& m) {
   py::class_<PythonConfig>(m, "Config",
                            "A validated config: the loader's checks, values by config name.")
@@ -105,6 +110,9 @@ void bindConfig(py::module_& m) {
       .def_static("role", &PythonConfig::role, py::arg("name"),
                   "The parameter's role: inertial, geometric, gravity, stiffness, dissipative, "
                   "load shape, drive, contact, initial state, operational or measurement.")
+      .def_static("law", &PythonConfig::law, py::arg("name"),
+                  "The law of the load the parameter is the coefficient of: viscous, coulomb, "
+                  "elastic, or '' for none.")
       .def_property_readonly("warnings", &PythonConfig::warnings)
       .def_property_readonly("source", &PythonConfig::source)
       .def("yaml", &PythonConfig::yaml, "The config as YAML text (a file for `simulate`).");

@@ -48,6 +48,9 @@ class PythonConfig {
   static bool reconfigurable(const std::string& name);
   // The parameter's role in the schema ("inertial", "dissipative", ...: ParameterRole).
   static std::string role(const std::string& name);
+  // The law of the load the parameter is the coefficient of ("viscous", "coulomb", "elastic"),
+  // or "" (lawOfCoefficient).
+  static std::string law(const std::string& name);
 
  private:
   PythonConfig(YAML::Node tree, std::string source);

@@ -68,6 +68,16 @@ def test_names_typos_and_types():
     assert kane_sim.Config.role("friction.velocity_scale") == "load shape"
     assert "friction.crank_joint" in kane_sim.Config.names("dissipative")
     assert "mechanism.gravity" not in kane_sim.Config.names("dissipative")
+    # One role, two laws: the loads' table tells a damper from friction.
+    assert kane_sim.Config.law("friction.slider4_joint") == "coulomb"
+    assert kane_sim.Config.law("damping.spring") == "viscous"
+    assert kane_sim.Config.law("mechanism.crank_spring_stiffness") == "elastic"
+    assert kane_sim.Config.law("mechanism.rod_mass") == ""
+    assert kane_sim.Config.law("friction.velocity_scale") == ""
+    for name in kane_sim.Config.names("dissipative"):
+        assert kane_sim.Config.law(name) in ("viscous", "coulomb"), name
+    with pytest.raises(kane_sim.ConfigError, match="damping.sprng"):
+        kane_sim.Config.law("damping.sprng")
     with pytest.raises(kane_sim.ConfigError, match="integrator"):
         cfg["simulation.integrator"] = "euler"
     with pytest.raises(TypeError):

@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <string>
 
 #include <Eigen/Core>
 #include <boost/container/static_vector.hpp>
@@ -72,6 +73,11 @@ using generated::LoadLaw;
 using generated::LoadName;
 using generated::LoadSite;
 inline const LoadInfo& loadInfo(LoadName name) { return kLoadInfo[static_cast<int>(name)]; }
+// The law of the load at a site whose coefficient is the config key `key` ("viscous",
+// "coulomb" or "elastic": LAWS' names), or "" when it is no such load's coefficient. What a
+// parameter does to the motion beyond its role (a damper's and friction's are both
+// "dissipative"; identification starts friction, the least told, at the base's value).
+std::string lawOfCoefficient(const std::string& key);
 
 // One entry of the list: the load, its name, and the body it acts on (for the reactions).
 struct MechanismLoad {

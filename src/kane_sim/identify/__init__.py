@@ -181,7 +181,7 @@ def _refinement_start(base, fit):
     for i, name in enumerate(fit.names):
         if name in fit.kept:
             continue
-        if name.startswith("friction."):
+        if Config.law(name) == "coulomb":
             theta[i] = _core.identification_base_value(base._core, name)
         elif _dissipative(name) and theta[i] < 0:
             theta[i] = 0.0
