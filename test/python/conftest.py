@@ -1,11 +1,17 @@
 """Shared by the Python module's tests (pytest, run by ctest after the build with the devel space
 sourced): the package's configs, the `simulate` and `analyze` executables, a scratch folder."""
 import os
+import signal
 import subprocess
 
 import pytest
 
 import kane_sim
+
+# Ctrl-C's tests send SIGINT to this process and expect KeyboardInterrupt. A test run started in
+# the background of a non-interactive shell (`cmd &`, nohup) inherits SIGINT ignored, and Python
+# then installs no handler: those tests waited for an interrupt that never came. Python's own.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CONFIG_DIR = os.path.join(HERE, "..", "..", "config")

@@ -31,7 +31,7 @@ from kane_sim.identify.rates import (  # noqa: F401  (the public names, as befor
     DEFAULT_BANDWIDTH, NOISE_FREE_ROUGHNESS, Prepared, estimate_rates, noise_free)
 from kane_sim.identify.least_squares import (  # noqa: F401  (the public names, as before the split)
     DEFAULT_METHOD, ENERGY_WINDOW, ENERGY_WINDOW_RECORDED, METHODS, QUADRATURE_TOLERANCE,
-    _dissipative, _estimate, _rest_length, _rms, _system, _usable, fitted_config, parameters)
+    _dissipative, _estimate, _friction, _rest_length, _rms, _system, _usable, fitted_config, parameters)
 from kane_sim.identify.refinement import (  # noqa: F401  (the public names, as before the split)
     BIAS_KNOT_SPACING, CONVERGED_NOISE_FACTOR, MAX_LAG, SEGMENT_SECONDS, _refine,
     refine_segments, simulate_motion)
@@ -181,7 +181,7 @@ def _refinement_start(base, fit):
     for i, name in enumerate(fit.names):
         if name in fit.kept:
             continue
-        if Config.law(name) == "coulomb":
+        if _friction(name):
             theta[i] = _core.identification_base_value(base._core, name)
         elif _dissipative(name) and theta[i] < 0:
             theta[i] = 0.0

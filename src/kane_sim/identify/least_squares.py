@@ -13,6 +13,11 @@ def _dissipative(name):
     return name in Config.names() and Config.role(name) == "dissipative"
 
 
+def _friction(name):
+    """Coulomb friction's coefficient (its load's law; a damper's is viscous)."""
+    return name in Config.names() and Config.law(name) == "coulomb"
+
+
 def _fit(y, b, weights):
     """theta of weighted least squares (rows weighted by `weights`) and its covariance."""
     yw, bw = y * weights[:, None], b * weights

@@ -246,6 +246,245 @@ class _Segments:
         return len(self.rows)
 
 
+class _Problem:
+    """One output-error fit by multiple shooting: its unknowns z (scaled: the free parameters,
+    each segment's start state, the crank encoder's drift knots, the lag), their bounds, the rows
+    compared, and the model's positions and residual at a z. Built from the least squares'
+    values theta; parameters in `kept` stay at theta."""
+
+    def __init__(self, base, names, theta, kept, motion, prepared, segment_seconds):
+        if motion.servo is not None:
+            # The servo's law makes the torque: an offset in the effort reading moves nothing.
+            kept = list(kept) + ["torque_offset"]
+        self.base, self.names, self.theta, self.motion = base, names, theta, motion
+        self.free = [i for i, n in enumerate(names) if n not in kept]
+        self.sigma = np.maximum(position_noise(motion), 1e-9)
+        limit = float(np.max(np.abs(motion.torque)) + 1.0)
+        self.settings = replay_settings_of(motion, limit)
+        self.step = 1.0 / Config(base).with_values(self.settings)["simulation.physics_rate"]
+        self.segments = _Segments(motion, prepared, self.step, segment_seconds)
+        self.rows = np.concatenate(self.segments.rows)
+        self.q_data = motion.q[self.rows]
+        t_data = motion.t[self.rows]
+        n_seg = len(self.segments)
+        # A knot every BIAS_KNOT_SPACING, no more than one per segment (a long recording's
+        # segments lie apart: a knot between two of them would be told by none) nor MAX_KNOTS,
+        # and a last one.
+        self.knots = np.linspace(
+            t_data[0], t_data[-1],
+            max(2, min(int(np.ceil((t_data[-1] - t_data[0]) / BIAS_KNOT_SPACING)), n_seg,
+                       MAX_KNOTS) + 1))
+        self.n_free, self.n_seg = len(self.free), n_seg
+        self.first_knot = self.n_free + 4 * n_seg
+        # The last unknown: how late the positions are against the torque [s] (a sensor's
+        # latency: readings stamped when they arrive, the effort when it is read; 0-4 ms biased
+        # dampers by tens of per cent). The model's positions are compared at t - lag.
+        self.n_lag = self.first_knot + len(self.knots)
+        self._bounds(np.concatenate([theta[self.free], np.concatenate(self.segments.x0),
+                                     np.zeros(len(self.knots)), [0.0]]))
+        self.bias_basis = np.column_stack([np.interp(t_data, self.knots, np.eye(len(self.knots))[j])
+                                           for j in range(len(self.knots))])
+        owner = np.concatenate([np.full(len(seg), k) for k, seg in enumerate(self.segments.rows)])
+        self.owner = np.concatenate([owner, owner])  # q1 rows, then q2 rows
+
+    def _bounds(self, x0):
+        """scale (z = x / scale), lower, upper and the start z0: masses and stiffnesses above 0,
+        dissipative coefficients at or above it, the lag within MAX_LAG."""
+        free_names = [self.names[i] for i in self.free]
+        floors = [0.01 if _dissipative(n) or n == "torque_offset" else 1e-3 for n in free_names] \
+            + [0.1, 0.01, 0.5, 0.1] * self.n_seg + [0.01] * len(self.knots) + [1e-3]
+        self.scale = np.maximum(np.abs(x0), floors)
+        self.lower = np.array([0.0 if _dissipative(n)
+                               else (-np.inf if n == "torque_offset" else 1e-6 * self.scale[k])
+                               for k, n in enumerate(free_names)]
+                              + [-np.inf] * (4 * self.n_seg + len(self.knots)) + [-MAX_LAG]) \
+            / self.scale
+        self.upper = np.full(len(x0), np.inf)
+        self.upper[self.n_lag] = MAX_LAG / self.scale[self.n_lag]
+        self.z0 = np.maximum(x0 / self.scale, self.lower + 1e-12)
+
+    def estimates(self, z):
+        """{name: value} of every parameter at z (the kept ones at theta)."""
+        out = dict(zip(self.names, self.theta))
+        out.update({self.names[i]: float(v) for i, v in
+                    zip(self.free, z[:self.n_free] * self.scale[:self.n_free])})
+        return out
+
+    def _segment_runs(self, z, torques=None, states_only=True):
+        """(segment index, its replay, the replay's times on the recording's clock) of each
+        segment, from its start state at z; torques: each segment's physics-step drive in place
+        of the recorded one."""
+        est = self.estimates(z)
+        config, _ = fitted_config(self.base, est, extra=self.settings)  # one validation
+        sim = Simulator(config)
+        offset = 0.0 if self.motion.servo is not None else est.get("torque_offset", 0.0)
+        x = z * self.scale
+        for k in range(self.n_seg):
+            sim.set_state([float(v) for v in x[self.n_free + 4 * k:self.n_free + 4 * k + 4]])
+            run = sim.run(self.segments.steps[k] * self.step,
+                          torque=(torques or self.segments.torque)[k] + offset,
+                          output_rate=1.0 / self.step, states_only=states_only)
+            yield k, run, run.t - run.t[0] + self.segments.start[k]
+
+    def lag(self, z):
+        return z[self.n_lag] * self.scale[self.n_lag]
+
+    def model_q(self, z, torques=None):
+        """The model's positions at the rows; torques: each segment's physics-step torques in
+        place of the recorded ones'."""
+        q = np.empty((len(self.rows), 2))
+        at = 0
+        for k, run, t in self._segment_runs(z, torques):
+            seg_rows = self.segments.rows[k]
+            for c in (0, 1):
+                q[at:at + len(seg_rows), c] = np.interp(self.motion.t[seg_rows] - self.lag(z), t,
+                                                        run.q[:, c])
+            at += len(seg_rows)
+        q[:, 0] += self.bias_basis @ (z * self.scale)[self.first_knot:self.n_lag]
+        return q
+
+    def residual(self, z, tolerant=True):
+        """The positions' misfit at z in noise units (q1 rows, then q2 rows)."""
+        try:
+            q = self.model_q(z)
+        except (ValueError, RuntimeError):  # a refused config or step: far from the data
+            if not tolerant:
+                raise
+            return np.full(2 * len(self.rows), 1e3)
+        return np.concatenate([(q[:, k] - self.q_data[:, k]) / self.sigma[k] for k in (0, 1)])
+
+    def position_rms(self, r):
+        """(q1 [rad], q2 [m]) RMS of a residual vector (q1 rows, then q2 rows, in noise units)."""
+        half = len(r) // 2
+        return tuple(float(self.sigma[k] * np.sqrt(np.mean(r[k * half:(k + 1) * half] ** 2)))
+                     for k in (0, 1))
+
+    def servo_effort_mismatch(self, z):
+        """(the median |servo law's torque in the replays - the recorded effort| at the rows,
+        the median |effort|) [N m]: how well the config's servo (its gains, limit) is the rig's.
+        A reading's effort is the torque in force at its stamp (a script's record) or, from the
+        node's sensors, at its sample, the lag before: the closer of the two."""
+        motion = self.motion
+        diffs = ([], [])
+        for k, run, t in self._segment_runs(z, states_only=False):
+            seg_rows = self.segments.rows[k]
+            for diff, shift in zip(diffs, (0.0, self.lag(z))):
+                at = np.searchsorted(t, motion.t[seg_rows] - shift + 1e-9, side="right") - 1
+                model = np.asarray(run.applied_torque)[np.clip(at, 0, len(t) - 1)]
+                diff.append(model - motion.torque[seg_rows])
+        # Medians: a reading stamped within the sensors' jitter of a setpoint's step compares
+        # the torque on the step's other side (a 2 ms jitter put 10 % of the effort's RMS into
+        # the RMS mismatch of a servo with the rig's own gains).
+        mismatch = min(float(np.median(np.abs(np.concatenate(d)))) for d in diffs)
+        return mismatch, float(np.median(np.abs(motion.torque[self.rows])))
+
+    def at_base(self, z):
+        """z with the parameters at the base's values (the start states, drift and lag kept)."""
+        out = z.copy()
+        out[:self.n_free] = np.array([
+            0.0 if self.names[i] == "torque_offset" else
+            _core.identification_base_value(self.base._core, self.names[i])
+            for i in self.free]) / self.scale[:self.n_free]
+        return out
+
+
+class _Jacobian:
+    """The residual's Jacobian by forward differences, grouped: a segment's start state moves
+    only its own rows, so one evaluation perturbs that component of every segment's state at
+    once (4 evaluations for all of them); each parameter takes one, the lag one. The drift knots
+    enter q1 linearly (q1 + basis @ bias): their columns are the basis, no replay. The
+    evaluations are independent replays (the simulator lets go of the GIL while it steps): they
+    run on every core this process may use. Keeps the cost at each call (`iterations`); with
+    give_up_early raises _Stalled when the fit has stalled far from the recording."""
+
+    def __init__(self, problem, max_evaluations, give_up_early, progress):
+        p = problem
+        self.problem, self.max_evaluations = p, max_evaluations
+        self.give_up_early, self.progress = give_up_early, progress
+        self.groups = [[j] for j in range(p.n_free)] + \
+            [[p.n_free + 4 * k + c for k in range(p.n_seg)] for c in range(4)] + [[p.n_lag]]
+        self.workers = min(len(self.groups), len(os.sched_getaffinity(0)))
+        self.iterations = []  # the cost (sum of squared residuals) at each Jacobian
+        self.calls = 0  # the solver's evaluations of the residual
+
+    def residual(self, z):
+        """The solver's residual, counted."""
+        self.calls += 1
+        return self.problem.residual(z)
+
+    def __call__(self, z):
+        p = self.problem
+        steps = []
+        for group in self.groups:
+            h = 1e-6 * np.maximum(np.abs(z[group]), 1.0)
+            steps.append(np.where(z[group] + h > p.upper[group], -h, h))  # inside the bounds
+
+        def moved(k):
+            z1 = z.copy()
+            if k >= 0:
+                z1[self.groups[k]] += steps[k]
+            return p.residual(z1)
+        with ThreadPoolExecutor(self.workers) as pool:
+            results = list(pool.map(moved, range(-1, len(self.groups))))  # -1: z itself
+        r0 = results[0]
+        rms0 = p.position_rms(r0)
+        if self.progress:
+            self.progress("output error: iteration %d, positions %.3g rad, %.3g m RMS (noise "
+                          "%.3g rad, %.3g m)" % ((len(self.iterations) + 1,) + rms0
+                                                 + tuple(p.sigma)))
+        self.iterations.append(float(r0 @ r0))
+        jac = np.zeros((len(r0), len(z)))
+        for group, h, r1 in zip(self.groups, steps, results[1:]):
+            delta = r1 - r0
+            if len(group) == 1:
+                jac[:, group[0]] = delta / h[0]
+            else:  # each segment's rows to its own state's column
+                for k, j in enumerate(group):
+                    mine = p.owner == k
+                    jac[mine, j] = delta[mine] / h[k]
+        jac[:len(p.rows), p.first_knot:p.n_lag] = \
+            p.bias_basis * (p.scale[p.first_knot:p.n_lag] / p.sigma[0])
+        if self._stalled(rms0, len(r0)):
+            raise _Stalled(z, r0, jac)
+        return jac
+
+    def _stalled(self, rms, rows):
+        """Far from the recording, and the cost's fall per iteration over the last
+        STALL_ITERATIONS, against what is left to fall (to CONVERGED_NOISE_FACTOR times the
+        noise on every row) and the evaluations left, says it will not get there."""
+        sigma, it = self.problem.sigma, self.iterations
+        far = any(rms[k] > CONVERGED_NOISE_FACTOR * sigma[k] for k in (0, 1))
+        if not (self.give_up_early and far and len(it) > STALL_ITERATIONS):
+            return False
+        rate = math.log(it[-1 - STALL_ITERATIONS] / it[-1]) / STALL_ITERATIONS
+        needed = math.log(it[-1] / (CONVERGED_NOISE_FACTOR ** 2 * rows))
+        return rate * (self.max_evaluations - self.calls) < needed
+
+
+def _covariance(problem, r, jac, z):
+    """The unknowns' covariance (scaled z) at the solution: the Gauss-Newton one from the
+    residual's variance, widened for correlated residuals and by the segments' disagreement."""
+    dof = max(len(r) - len(z), 1)
+    a_inv = np.linalg.pinv(jac.T @ jac)
+    cov_z = (r @ r / dof) * a_inv
+    # Correlated residuals (a sensor's bias walk, unmodelled dynamics) widen the errors.
+    half = len(r) // 2
+    inflation = max(_effective_samples_factor(r[:half]), _effective_samples_factor(r[half:]))
+    cov_z *= inflation ** 2
+    # And the segments as independent blocks (a cluster-robust sandwich, A^-1 B A^-1 with B the
+    # sum over segments of their score's outer product): what is left of a misfit (a lag, a
+    # quantiser, an unmodelled load) shows in how much the segments disagree. Each parameter's
+    # variance is the larger of the two.
+    n_seg, owner = problem.n_seg, problem.owner
+    if n_seg >= 3:
+        scores = np.array([jac[owner == k].T @ r[owner == k] for k in range(n_seg)])
+        sandwich = a_inv @ (scores.T @ scores) @ a_inv * n_seg / (n_seg - 1)
+        wider = np.sqrt(np.maximum(np.diag(sandwich), 0.0) / np.maximum(np.diag(cov_z), 1e-300))
+        widen = np.maximum(wider, 1.0)
+        cov_z = cov_z * np.outer(widen, widen)
+    return cov_z
+
+
 def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, progress=None,
             segment_seconds=SEGMENT_SECONDS, give_up_early=False):
     """Output error by multiple shooting: the parameters that make the model, driven by the
@@ -263,240 +502,51 @@ def _refine(base, names, theta, kept, motion, prepared, max_evaluations=40, prog
     give_up_early: stop when the fit stalls far from the recording (STALL_ITERATIONS), for a
     caller with another attempt to make."""
     from scipy.optimize import least_squares
-    if motion.servo is not None:
-        # The servo's law makes the torque: an offset in the effort reading moves nothing.
-        kept = list(kept) + ["torque_offset"]
-    free = [i for i, n in enumerate(names) if n not in kept]
-    sigma = np.maximum(position_noise(motion), 1e-9)
-    limit = float(np.max(np.abs(motion.torque)) + 1.0)
-    settings = replay_settings_of(motion, limit)
-    config0 = Config(base).with_values(settings)
-    step = 1.0 / config0["simulation.physics_rate"]
-    segments = _Segments(motion, prepared, step, segment_seconds)
-    rows = np.concatenate(segments.rows)
-    q_data = motion.q[rows]
-    t_data = motion.t[rows]
-    # A knot every BIAS_KNOT_SPACING, no more than one per segment (a long recording's segments
-    # lie apart: a knot between two of them would be told by none) nor MAX_KNOTS, and a last one.
-    knots = np.linspace(t_data[0], t_data[-1],
-                        max(2, min(int(np.ceil((t_data[-1] - t_data[0]) / BIAS_KNOT_SPACING)),
-                                   len(segments), MAX_KNOTS) + 1))
-    n_free, n_seg = len(free), len(segments)
-    # The last unknown: how late the positions are against the torque [s] (a sensor's latency:
-    # readings stamped when they arrive, the effort when it is read; 0-4 ms biased dampers by
-    # tens of per cent). The model's positions are compared at t - lag.
-    n_lag = n_free + 4 * n_seg + len(knots)
-    x0 = np.concatenate([theta[free], np.concatenate(segments.x0), np.zeros(len(knots)), [0.0]])
-    floors = [0.01 if _dissipative(names[i]) or names[i] == "torque_offset" else 1e-3
-              for i in free] + [0.1, 0.01, 0.5, 0.1] * n_seg + [0.01] * len(knots) + [1e-3]
-    scale = np.maximum(np.abs(x0), floors)
-    lower = np.array([0.0 if _dissipative(names[i])
-                      else (-np.inf if names[i] == "torque_offset" else 1e-6 * scale[k])
-                      for k, i in enumerate(free)] + [-np.inf] * (4 * n_seg + len(knots))
-                     + [-MAX_LAG]) / scale
-    upper = np.full(len(x0), np.inf)
-    upper[n_lag] = MAX_LAG / scale[n_lag]
-    z0 = np.maximum(x0 / scale, lower + 1e-12)
-    bias_basis = np.column_stack([np.interp(t_data, knots, np.eye(len(knots))[j])
-                                  for j in range(len(knots))])
-
-    def estimates(z):
-        out = dict(zip(names, theta))
-        out.update({names[i]: float(v) for i, v in zip(free, z[:n_free] * scale[:n_free])})
-        return out
-
-    def model_q(z, torques=None):
-        """The model's positions at the rows; torques: each segment's physics-step torques in
-        place of the recorded ones'."""
-        torques = torques or segments.torque
-        est = estimates(z)
-        config, _ = fitted_config(base, est, extra=settings)  # one validation
-        sim = Simulator(config)
-        offset = 0.0 if motion.servo is not None else est.get("torque_offset", 0.0)
-        x = z * scale
-        lag = x[n_lag]
-        q = np.empty((len(rows), 2))
-        at = 0
-        for k in range(n_seg):
-            sim.set_state([float(v) for v in x[n_free + 4 * k:n_free + 4 * k + 4]])
-            n = segments.steps[k]
-            run = sim.run(n * step, torque=torques[k] + offset, output_rate=1.0 / step,
-                          states_only=True)
-            t = run.t - run.t[0] + segments.start[k]
-            seg_rows = segments.rows[k]
-            for c in (0, 1):
-                q[at:at + len(seg_rows), c] = np.interp(motion.t[seg_rows] - lag, t,
-                                                        run.q[:, c])
-            at += len(seg_rows)
-        q[:, 0] += bias_basis @ x[n_free + 4 * n_seg:n_lag]
-        return q
-
-    def servo_effort_mismatch(z):
-        """(the median |servo law's torque in the replays - the recorded effort| at the rows,
-        the median |effort|) [N m]: how well the config's servo (its gains, limit) is the rig's.
-        A reading's effort is the torque in force at its stamp (a script's record) or, from the
-        node's sensors, at its sample, the lag before: the closer of the two."""
-        est = estimates(z)
-        config, _ = fitted_config(base, est, extra=settings)
-        sim = Simulator(config)
-        x = z * scale
-        lag = x[n_lag]
-        diffs = ([], [])
-        for k in range(n_seg):
-            sim.set_state([float(v) for v in x[n_free + 4 * k:n_free + 4 * k + 4]])
-            run = sim.run(segments.steps[k] * step, torque=segments.torque[k],
-                          output_rate=1.0 / step)
-            t = run.t - run.t[0] + segments.start[k]
-            seg_rows = segments.rows[k]
-            for diff, shift in zip(diffs, (0.0, lag)):
-                at = np.searchsorted(t, motion.t[seg_rows] - shift + 1e-9, side="right") - 1
-                model = np.asarray(run.applied_torque)[np.clip(at, 0, len(t) - 1)]
-                diff.append(model - motion.torque[seg_rows])
-        # Medians: a reading stamped within the sensors' jitter of a setpoint's step compares
-        # the torque on the step's other side (a 2 ms jitter put 10 % of the effort's RMS into
-        # the RMS mismatch of a servo with the rig's own gains).
-        mismatch = min(float(np.median(np.abs(np.concatenate(d)))) for d in diffs)
-        return mismatch, float(np.median(np.abs(motion.torque[rows])))
-
-    def position_rms(r):
-        """(q1 [rad], q2 [m]) RMS of a residual vector (q1 rows, then q2 rows, in noise units)."""
-        half = len(r) // 2
-        return tuple(float(sigma[k] * np.sqrt(np.mean(r[k * half:(k + 1) * half] ** 2)))
-                     for k in (0, 1))
-
-    def residual(z, tolerant=True):
-        try:
-            q = model_q(z)
-        except (ValueError, RuntimeError):  # a refused config or step: far from the data
-            if not tolerant:
-                raise
-            return np.full(2 * len(rows), 1e3)
-        return np.concatenate([(q[:, k] - q_data[:, k]) / sigma[k] for k in (0, 1)])
-
-    # The Jacobian by forward differences, grouped: a segment's start state moves only its own
-    # rows, so one evaluation perturbs that component of every segment's state at once (4
-    # evaluations for all of them); each parameter takes one, the lag one. The drift knots enter
-    # q1 linearly (q1 + basis @ bias): their columns are the basis, no replay. The evaluations
-    # are independent replays (the simulator lets go of the GIL while it steps): they run on
-    # every core this process may use.
-    owner = np.concatenate([np.full(len(seg), k) for k, seg in enumerate(segments.rows)])
-    owner = np.concatenate([owner, owner])  # q1 rows, then q2 rows
-    first_knot = n_free + 4 * n_seg
-    groups = [[j] for j in range(n_free)] + \
-        [[n_free + 4 * k + c for k in range(n_seg)] for c in range(4)] + [[n_lag]]
-    workers = min(len(groups), len(os.sched_getaffinity(0)))
-    iterations = []  # the cost (sum of squared residuals) at each Jacobian
-    calls = [0]  # the solver's evaluations
+    p = _Problem(base, names, theta, kept, motion, prepared, segment_seconds)
+    jacobian = _Jacobian(p, max_evaluations, give_up_early, progress)
     if progress:
         progress("output error: %d segments of %g s%s, %d parameters, at most %d evaluations"
-                 % (n_seg, segment_seconds, " (of %d)" % segments.count
-                    if segments.count > n_seg else "", n_free, max_evaluations))
-
-    def jacobian(z):
-        steps = []
-        for group in groups:
-            h = 1e-6 * np.maximum(np.abs(z[group]), 1.0)
-            steps.append(np.where(z[group] + h > upper[group], -h, h))  # inside the bounds
-
-        def moved(k):
-            z1 = z.copy()
-            if k >= 0:
-                z1[groups[k]] += steps[k]
-            return residual(z1)
-        with ThreadPoolExecutor(workers) as pool:
-            results = list(pool.map(moved, range(-1, len(groups))))  # -1: z itself
-        r0 = results[0]
-        rms0 = position_rms(r0)
-        if progress:
-            progress("output error: iteration %d, positions %.3g rad, %.3g m RMS (noise %.3g "
-                     "rad, %.3g m)" % ((len(iterations) + 1,) + rms0 + tuple(sigma)))
-        iterations.append(float(r0 @ r0))
-        jac = np.zeros((len(r0), len(z)))
-        for group, h, r1 in zip(groups, steps, results[1:]):
-            delta = r1 - r0
-            if len(group) == 1:
-                jac[:, group[0]] = delta / h[0]
-            else:  # each segment's rows to its own state's column
-                for k, j in enumerate(group):
-                    mine = owner == k
-                    jac[mine, j] = delta[mine] / h[k]
-        jac[:len(rows), first_knot:n_lag] = bias_basis * (scale[first_knot:n_lag] / sigma[0])
-        far = any(rms0[k] > CONVERGED_NOISE_FACTOR * sigma[k] for k in (0, 1))
-        if give_up_early and far and len(iterations) > STALL_ITERATIONS:
-            # The cost's fall per iteration over the last STALL_ITERATIONS, against what is left
-            # to fall (to CONVERGED_NOISE_FACTOR times the noise on every row) and the
-            # evaluations left.
-            rate = math.log(iterations[-1 - STALL_ITERATIONS] / iterations[-1]) / STALL_ITERATIONS
-            needed = math.log(iterations[-1] / (CONVERGED_NOISE_FACTOR ** 2 * len(r0)))
-            if rate * (max_evaluations - calls[0]) < needed:
-                raise _Stalled(z, r0, jac)
-        return jac
-
-    def counted(z):
-        calls[0] += 1
-        return residual(z)
-
-    residual(z0, tolerant=False)  # the start must simulate: a failure here is named, not hidden
+                 % (p.n_seg, segment_seconds, " (of %d)" % p.segments.count
+                    if p.segments.count > p.n_seg else "", p.n_free, max_evaluations))
+    p.residual(p.z0, tolerant=False)  # the start must simulate: a failure here is named
     stalled = False
     try:
-        solution = least_squares(counted, z0, jac=jacobian, bounds=(lower, upper),
-                                 max_nfev=max_evaluations, ftol=1e-8, xtol=1e-8, gtol=1e-8)
+        solution = least_squares(jacobian.residual, p.z0, jac=jacobian,
+                                 bounds=(p.lower, p.upper), max_nfev=max_evaluations,
+                                 ftol=1e-8, xtol=1e-8, gtol=1e-8)
     except _Stalled as stop:  # far from the recording and no longer getting closer
         solution = stop
-        solution.nfev = calls[0]
+        solution.nfev = jacobian.calls
         stalled = True
-    z = solution.x
+    z, r = solution.x, solution.fun
+    cov_z = _covariance(p, r, solution.jac, z)
     out = theta.copy()
-    out[free] = z[:n_free] * scale[:n_free]
-    r = solution.fun
-    jac = solution.jac
-    dof = max(len(r) - len(z), 1)
-    cov_z = (r @ r / dof) * np.linalg.pinv(jac.T @ jac)
-    # Correlated residuals (a sensor's bias walk, unmodelled dynamics) widen the errors.
-    half = len(r) // 2
-    inflation = max(_effective_samples_factor(r[:half]), _effective_samples_factor(r[half:]))
-    cov_z *= inflation ** 2
-    # And the segments as independent blocks (a cluster-robust sandwich, A^-1 B A^-1 with B the
-    # sum over segments of their score's outer product): what is left of a misfit (a lag, a
-    # quantiser, an unmodelled load) shows in how much the segments disagree. Each parameter's
-    # variance is the larger of the two.
-    if n_seg >= 3:
-        a_inv = np.linalg.pinv(jac.T @ jac)
-        scores = np.array([jac[owner == k].T @ r[owner == k] for k in range(n_seg)])
-        sandwich = a_inv @ (scores.T @ scores) @ a_inv * n_seg / (n_seg - 1)
-        wider = np.sqrt(np.maximum(np.diag(sandwich), 0.0) / np.maximum(np.diag(cov_z), 1e-300))
-        widen = np.maximum(wider, 1.0)
-        cov_z = cov_z * np.outer(widen, widen)
+    out[p.free] = z[:p.n_free] * p.scale[:p.n_free]
     cov = np.zeros((len(names), len(names)))
-    scaled = cov_z[:n_free, :n_free] * np.outer(scale[:n_free], scale[:n_free])
-    for a_i, i in enumerate(free):
-        cov[i, free] = scaled[a_i]
-    rms = position_rms(r)
-    bias = z[n_free + 4 * n_seg:n_lag] * scale[n_free + 4 * n_seg:n_lag]
-    floor = _torque_sampling_floor(motion, segments, step, model_q, z)
-    converged = all(rms[k] <= CONVERGED_NOISE_FACTOR * math.hypot(sigma[k], floor[k])
+    scaled = cov_z[:p.n_free, :p.n_free] * np.outer(p.scale[:p.n_free], p.scale[:p.n_free])
+    for a_i, i in enumerate(p.free):
+        cov[i, p.free] = scaled[a_i]
+    rms = p.position_rms(r)
+    floor = _torque_sampling_floor(motion, p.segments, p.step, p.model_q, z)
+    converged = all(rms[k] <= CONVERGED_NOISE_FACTOR * math.hypot(p.sigma[k], floor[k])
                     for k in (0, 1))
     # The base's parameters through the same segments (the fitted start states, drift and lag):
     # what the fit gained, judged where the model is judged (a whole-recording replay of a
     # crank in full turns diverges for any parameters, fitted or not).
-    at_base = z.copy()
-    at_base[:n_free] = np.array([0.0 if names[i] == "torque_offset" else
-                                 _core.identification_base_value(base._core, names[i])
-                                 for i in free]) / scale[:n_free]
-    r_base = residual(at_base)
-    base_rms = position_rms(r_base)
-    servo = servo_effort_mismatch(z) if motion.servo is not None else None
+    base_rms = p.position_rms(p.residual(p.at_base(z)))
+    bias = z[p.first_knot:p.n_lag] * p.scale[p.first_knot:p.n_lag]
     return out, cov, {"evaluations": int(solution.nfev), "position_rms": rms,
-                      "servo_effort": servo,
-                      "noise": tuple(float(x) for x in sigma), "segments": n_seg,
-                      "stalled": stalled,
-                      "torque_sampling": floor,
-                      "segments_of": segments.count, "stride": segments.stride,
+                      "servo_effort": p.servo_effort_mismatch(z) if motion.servo is not None
+                      else None,
+                      "noise": tuple(float(x) for x in p.sigma), "segments": p.n_seg,
+                      "stalled": stalled, "torque_sampling": floor,
+                      "segments_of": p.segments.count, "stride": p.segments.stride,
                       "converged": converged, "evaluation_limit": max_evaluations,
                       "base_position_rms": base_rms, "segment_seconds": segment_seconds,
-                      "crank_bias": (knots.tolist(), bias.tolist()),
-                      "lag": float(z[n_lag] * scale[n_lag]),
-                      "lag_error": float(np.sqrt(max(cov_z[n_lag, n_lag], 0.0)) * scale[n_lag])}
+                      "crank_bias": (p.knots.tolist(), bias.tolist()),
+                      "lag": float(p.lag(z)),
+                      "lag_error": float(np.sqrt(max(cov_z[p.n_lag, p.n_lag], 0.0))
+                                         * p.scale[p.n_lag])}
 
 
 # [s] the shortest segments refine_segments tries: a crank whipped by a saturating PD loop (50 N m

@@ -54,6 +54,8 @@ class Identification:
                 and self.std_errors[n] > POORLY_TOLD * abs(self.estimates[n])]
 
     def report(self):
+        """The fit as text: how it was fitted, each parameter with its error and base, what it
+        could not tell, the output error's refinement, the checks and the decision."""
         how = ("the work-energy form, %d windows" % self.rows if self.method == "energy"
                else "Kane's equations, %d rows" % self.rows)
         rates = ("data as recorded" if self.bandwidth is None
@@ -61,6 +63,16 @@ class Identification:
         lines = ["identified by %s from %d samples (%s; %s); condition number %.3g"
                  % (how, self.samples, rates, ", ".join(self.notes) or "uniform stamps",
                     self.condition_number)]
+        lines += self._parameter_lines()
+        lines += self._told_lines()
+        if self.refined:
+            lines += self._refinement_lines()
+        lines += self._check_lines()
+        return "\n".join(lines)
+
+    def _parameter_lines(self):
+        """One line per parameter: its value, error and base, or why it was kept."""
+        lines = []
         info = {p["name"]: p for p in _core.identifiable_parameters()}
         for name in self.names:
             unit = info[name]["unit"]
@@ -80,6 +92,11 @@ class Identification:
                 bound += ", moves with a kept value (below)"
             lines.append("  %-28s %12.6g %-9s +- %.3g%s   base %.6g%s"
                          % (name, value, unit, err, rel, self.base_values[name], bound))
+        return lines
+
+    def _told_lines(self):
+        """What the data could not tell, what it told poorly, and the notes."""
+        lines = []
         for message in self.unidentifiable:
             lines.append("  not identifiable: " + message)
         poor = self.poorly_told
@@ -91,49 +108,58 @@ class Identification:
                              for n in poor)))
         for warning in self.warnings:
             lines.append("note: " + warning)
-        if self.refined:
-            r = self.refined
-            part = ""
-            if r.get("segments_of", r["segments"]) > r["segments"] or r.get("stride", 1) > 1:
-                part = " (%d of the recording's %d spread over it%s: a long recording's fit " \
-                       "looks at a bounded part, its errors are that part's)" % (
-                           r["segments"], r["segments_of"],
-                           ", one sample in %d" % r["stride"] if r["stride"] > 1 else "")
-            lines.append("refined by output error (%d segments of %g s%s, %d evaluations): "
-                         "positions fitted to %.3g rad, %.3g m RMS (their noise %.3g rad, "
-                         "%.3g m)%s"
-                         % ((self.refined["segments"],
-                             self.refined.get("segment_seconds", SEGMENT_SECONDS), part,
-                             self.refined["evaluations"]) + self.refined["position_rms"]
-                            + self.refined["noise"]
-                            + ("" if self.refined["converged"] else ": NOT converged",)))
-            floor = self.refined.get("torque_sampling", (0.0, 0.0))
-            if any(f > 0.5 * n for f, n in zip(floor, self.refined["noise"])):
-                lines.append("the recorded torque steps between its samples (its steps' instants "
-                             "are known to a sample): that alone leaves the positions about "
-                             "%.3g rad, %.3g m from any model's (the fit is judged against it "
-                             "and the noise together; record the node's ~input_log with it, e.g. "
-                             "rosbag record -a, whose commands give the torque between samples, "
-                             "or the effort at the physics rate, to remove it)" % floor)
-            if self.refined.get("servo_effort"):
-                mismatch, effort = self.refined["servo_effort"]
-                lines.append("the servo replayed with its law gives the recorded effort to a "
-                             "median %.3g N m (%.2g %% of the effort's median %.3g N m)"
-                             % (mismatch, 100 * mismatch / max(effort, 1e-300), effort))
-            if self.refined.get("refit"):
-                lines.append("fitted by the output error alone (their effect on the energy "
-                             "windows is within the windows' integration error): %s"
-                             % ", ".join(self.refined["refit"]))
-            if "lag" in self.refined:
-                lines.append("the positions lag the torque by %.3g +- %.2g ms (fitted beside them: "
-                             "a sensor's latency, an effort read late)"
-                             % (1e3 * self.refined["lag"], 1e3 * self.refined["lag_error"]))
-            knots, bias = self.refined.get("crank_bias", ([], []))
-            if bias:
-                values = (" ".join("%.3g" % b for b in bias) if len(bias) <= 8 else
-                          "%d knots from %.3g to %.3g" % (len(bias), min(bias), max(bias)))
-                lines.append("crank encoder drift (fitted beside them, a knot every %.3g s): %s "
-                             "rad" % (knots[1] - knots[0], values))
+        return lines
+
+    def _refinement_lines(self):
+        """The output error: its segments, how close it came, and what it fitted beside."""
+        lines = []
+        r = self.refined
+        part = ""
+        if r.get("segments_of", r["segments"]) > r["segments"] or r.get("stride", 1) > 1:
+            part = " (%d of the recording's %d spread over it%s: a long recording's fit " \
+                   "looks at a bounded part, its errors are that part's)" % (
+                       r["segments"], r["segments_of"],
+                       ", one sample in %d" % r["stride"] if r["stride"] > 1 else "")
+        lines.append("refined by output error (%d segments of %g s%s, %d evaluations): "
+                     "positions fitted to %.3g rad, %.3g m RMS (their noise %.3g rad, "
+                     "%.3g m)%s"
+                     % ((r["segments"],
+                         r.get("segment_seconds", SEGMENT_SECONDS), part,
+                         r["evaluations"]) + r["position_rms"]
+                        + r["noise"]
+                        + ("" if r["converged"] else ": NOT converged",)))
+        floor = r.get("torque_sampling", (0.0, 0.0))
+        if any(f > 0.5 * n for f, n in zip(floor, r["noise"])):
+            lines.append("the recorded torque steps between its samples (its steps' instants "
+                         "are known to a sample): that alone leaves the positions about "
+                         "%.3g rad, %.3g m from any model's (the fit is judged against it "
+                         "and the noise together; record the node's ~input_log with it, e.g. "
+                         "rosbag record -a, whose commands give the torque between samples, "
+                         "or the effort at the physics rate, to remove it)" % floor)
+        if r.get("servo_effort"):
+            mismatch, effort = r["servo_effort"]
+            lines.append("the servo replayed with its law gives the recorded effort to a "
+                         "median %.3g N m (%.2g %% of the effort's median %.3g N m)"
+                         % (mismatch, 100 * mismatch / max(effort, 1e-300), effort))
+        if r.get("refit"):
+            lines.append("fitted by the output error alone (their effect on the energy "
+                         "windows is within the windows' integration error): %s"
+                         % ", ".join(r["refit"]))
+        if "lag" in r:
+            lines.append("the positions lag the torque by %.3g +- %.2g ms (fitted beside them: "
+                         "a sensor's latency, an effort read late)"
+                         % (1e3 * r["lag"], 1e3 * r["lag_error"]))
+        knots, bias = r.get("crank_bias", ([], []))
+        if bias:
+            values = (" ".join("%.3g" % b for b in bias) if len(bias) <= 8 else
+                      "%d knots from %.3g to %.3g" % (len(bias), min(bias), max(bias)))
+            lines.append("crank encoder drift (fitted beside them, a knot every %.3g s): %s "
+                         "rad" % (knots[1] - knots[0], values))
+        return lines
+
+    def _check_lines(self):
+        """The residual, the held-out part, the re-simulation and the refusal."""
+        lines = []
         if self.method == "energy":
             lines.append("residual RMS: %.4g J per window" % self.residual_rms)
         else:
@@ -143,16 +169,19 @@ class Identification:
             lines.append("held-out last %.2g %%: skipped (%s)" % (100 * self.holdout["fraction"],
                                                                 self.holdout["skipped"]))
         elif self.holdout:
-            lines.append("held-out last %.0f %% (fit on the rest): torque predicted to %.4g N m RMS "
-                         "(recorded torque RMS %.4g N m)" % (100 * self.holdout["fraction"],
-                                                              self.holdout["torque_rms_error"],
-                                                              self.holdout["torque_rms"]))
+            h = self.holdout
+            worse = h["torque_rms_error"] > h["torque_rms"]
+            lines.append("held-out last %.0f %% (fit on the rest): torque predicted to %.4g N m "
+                         "RMS (recorded torque RMS %.4g N m)%s"
+                         % (100 * h["fraction"], h["torque_rms_error"], h["torque_rms"],
+                            ": worse than predicting none, the fit does not carry over to it"
+                            if worse else ""))
         if self.validation:
             v = self.validation
-            lines.append("re-simulated with the recorded torque over %.3g s: RMS error q1 %.4g rad, "
-                         "q2 %.4g m (fitted); q1 %.4g rad, q2 %.4g m (base)"
+            lines.append("re-simulated with the recorded torque over %.3g s: RMS error q1 %.4g "
+                         "rad, q2 %.4g m (fitted); q1 %.4g rad, q2 %.4g m (base)"
                          % (v["duration"], v["fitted"]["q1_rms"], v["fitted"]["q2_rms"],
                             v["base"]["q1_rms"], v["base"]["q2_rms"]))
         if self.refusal:
             lines.append("REFUSED: " + self.refusal)
-        return "\n".join(lines)
+        return lines

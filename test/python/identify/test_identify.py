@@ -519,3 +519,21 @@ def test_a_replay_that_parts_is_said_not_refused():
     v["fitted"]["q1_rms"] = 1.3
     assert ki._replay_warnings(v) == [] and ki._replay_warnings(None) == []
     assert "cannot be re-simulated" in ki._replay_warnings({"fitted": {"error": "crossed"}})[0]
+
+
+def test_a_held_out_part_predicted_worse_than_none_is_said(truth_run):
+    # The last 20 % recorded with the torque's sign flipped (a driver rewired mid-run): the fit on
+    # the rest predicts that part's torque about twice as far off as predicting none would be,
+    # and the report says so.
+    data = dict(truth_run)
+    data["applied_torque"] = data["applied_torque"].copy()
+    tail = data["t"] >= data["t"][0] + 0.8 * (data["t"][-1] - data["t"][0])
+    data["applied_torque"][tail] *= -1.0
+    fit = ki.identify(data, config_path(), params=NAMES, validate=False, refine=False,
+                      holdout=0.2)
+    h = fit.holdout
+    assert h["torque_rms_error"] > 1.5 * h["torque_rms"], h
+    assert "worse than predicting none" in fit.report()
+    fit = ki.identify(truth_run, config_path(), params=NAMES, validate=False, refine=False,
+                      holdout=0.2)
+    assert "worse than predicting none" not in fit.report()
