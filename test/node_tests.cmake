@@ -49,7 +49,7 @@ if(TARGET node_tests)
       reconfigure crank_marker teleop options fuzz resets resets_rsp lockstep lockstep_hog
       lockstep_fallback lockstep_python lockstep_start stamps resets_paused_clock
       resets_paused_clock_rsp one_truth sensors servo
-      replay tracking observer observer_tracking)
+      replay tracking observer observer_tracking controller_table)
     add_rostest(test/node/${case}.test DEPENDENCIES node_tests kane_sim_node pd_controller simulate
       crank_marker teleop_key tracking_controller observer)
   endforeach()

@@ -20,7 +20,9 @@ constexpr const char* kDescription =
     "torque_command_stamped with each reading's stamp (what lockstep waits for). Gains in\n"
     "config/controller.yaml. _law:=FILE runs the state-feedback law a file of `rosrun kane_sim\n"
     "design lqr --out FILE` holds instead (M_m = torque - K (x - state) on crank_joint and\n"
-    "slider4_joint, clamped to torque_limit).\n";
+    "slider4_joint, clamped to torque_limit). _setpoint_table:=CSV plays a table of t,setpoint\n"
+    "rows [s, rad] (identify --excite --controller writes one) as the setpoint, t from the first\n"
+    "reading, each row held until the next, the last after the end; the topic is then ignored.\n";
 
 // The defaults shown are the law's own (PdGains), so the usage cannot drift from them.
 std::string usage() {
@@ -28,7 +30,7 @@ std::string usage() {
   std::ostringstream out;
   out << "Usage: rosrun kane_sim pd_controller [_kp:=" << d.kp << "] [_kd:=" << d.kd
       << "] [_ki:=" << d.ki << "] [_setpoint:=0] [_torque_limit:=" << d.torque_limit
-      << "] [_stamped:=false] [_law:=FILE]\n\n"
+      << "] [_stamped:=false] [_law:=FILE | _setpoint_table:=CSV]\n\n"
       << kDescription;
   return out.str();
 }

@@ -24,6 +24,23 @@ PdControllerNode::PdControllerNode(const ros::NodeHandle& nh, const ros::NodeHan
   std::string law_file;
   if (private_nh.getParam("law", law_file) && !law_file.empty())
     law_ = readStateFeedbackFile(law_file);
+  // ~setpoint_table: the setpoint as a table of time (the same reader as simulate's
+  // --torque-csv, so a bad file is named with its line).
+  std::string table_file;
+  if (private_nh.getParam("setpoint_table", table_file)) {
+    if (table_file.empty())
+      throw std::invalid_argument("~setpoint_table: give a CSV of t,setpoint rows, got ''");
+    if (law_)
+      throw std::invalid_argument(
+          "~setpoint_table plays the PD's setpoint, and ~law (" + law_file +
+          ") replaces the PD with a state feedback that has none: give one of the two");
+    try {
+      table_ = TorqueProfile::fromCsvFile(table_file);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("~setpoint_table: ") + e.what());
+    }
+    table_first_time_ = table_->parts().points.front().first;
+  }
   // ~stamped: answer each reading on torque_command_stamped with its stamp, which lockstep
   // (simulation.lockstep) waits for; else the plain torque_command.
   stamped_ = flagParam(private_nh, "stamped", false);
@@ -42,6 +59,12 @@ PdControllerNode::PdControllerNode(const ros::NodeHandle& nh, const ros::NodeHan
         "within +-%g N m",
         law_file.c_str(), law_->state[0], law_->K[0], law_->K[1], law_->K[2], law_->K[3],
         gains_.torque_limit);
+  else if (table_)
+    ROS_INFO(
+        "pd_controller: the crank's setpoint follows %s (%zu rows, t %g to %g s from the first "
+        "reading; %g rad before), kp %g N m/rad, kd %g N m s/rad, ki %g N m/(rad s)",
+        table_file.c_str(), table_->parts().points.size(), table_first_time_,
+        table_->parts().points.back().first, setpoint_, gains_.kp, gains_.kd, gains_.ki);
   else
     ROS_INFO(
         "pd_controller: holding crank_joint at %g rad (kp %g N m/rad, kd %g N m s/rad, ki %g N "
@@ -67,6 +90,7 @@ void PdControllerNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg
     }
     torque = std::clamp(law_->command(x), -gains_.torque_limit, gains_.torque_limit);
   } else {
+    if (table_) followTable(msg->header.stamp);
     const double q1 = x.q1;
     if (!last_sample_.isZero())
       integral_.add(gains_, setpoint_ - q1, (msg->header.stamp - last_sample_).toSec());
@@ -86,7 +110,20 @@ void PdControllerNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg
   }
 }
 
+void PdControllerNode::followTable(const ros::Time& stamp) {
+  if (!table_origin_) table_origin_ = stamp;
+  const double t = (stamp - *table_origin_).toSec();
+  if (t >= table_first_time_) setpoint_ = table_->at(t);
+}
+
 void PdControllerNode::onSetpoint(const std_msgs::Float64::ConstPtr& msg) {
+  if (table_) {
+    ROS_WARN_THROTTLE(5.0,
+                      "pd_controller: setpoint %g on the topic ignored: ~setpoint_table plays "
+                      "the setpoint",
+                      msg->data);
+    return;
+  }
   if (!std::isfinite(msg->data)) {
     ROS_WARN("pd_controller: setpoint %g is not finite: keeping %g rad", msg->data, setpoint_);
     return;

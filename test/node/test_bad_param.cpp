@@ -141,9 +141,20 @@ TEST(BadParam, SmallNodesRefuseBadNumbersNamingThem) {
       {"pd_controller __name:=pd_ki _ki:=-5", "parameter /pd_ki/ki must be finite and >= 0"},
       {"pd_controller __name:=pd_stamped _stamped:=yes",
        "parameter /pd_stamped/stamped must be true or false"},
+      // The example controller's setpoint table: a device, no file, a file that is no table,
+      // and a table beside a state feedback (which has no setpoint).
+      {"pd_controller __name:=pd_table_zero _setpoint_table:=/dev/zero",
+       "~setpoint_table: torque CSV '/dev/zero' is not a readable file (not a regular file"},
+      {"pd_controller __name:=pd_table_none _setpoint_table:=/nonexistent/sp.csv",
+       "~setpoint_table: torque CSV '/nonexistent/sp.csv'"},
+      {"pd_controller __name:=pd_table_yaml _setpoint_table:=" KANE_SIM_CONFIG_DIR
+       "/mechanism.yaml",
+       "~setpoint_table: " KANE_SIM_CONFIG_DIR "/mechanism.yaml:"},
+      {"pd_controller __name:=pd_table_law _law:=" KANE_SIM_CONFIG_DIR
+       "/upright_lqr.yaml _setpoint_table:=" KANE_SIM_CONFIG_DIR "/swing_up_plan.csv",
+       "~setpoint_table plays the PD's setpoint, and ~law"},
       // The tracking controller: no plan, a device, a plan for another mechanism, a bad clamp.
-      {"tracking_controller __name:=track_none",
-       "parameter /track_none/plan must name a plan CSV"},
+      {"tracking_controller __name:=track_none", "parameter /track_none/plan must name a plan CSV"},
       {"tracking_controller __name:=track_zero _plan:=/dev/zero",
        "~plan: plan CSV '/dev/zero' is not a readable file (not a regular file"},
       {"tracking_controller __name:=track_other _plan:=" KANE_SIM_CONFIG_DIR

@@ -12,6 +12,7 @@
 #include "kane_sim/MechanismState.h"
 #include "kane_sim/design/lqr_file.h"
 #include "kane_sim/sim/sim_driver.h"
+#include "kane_sim/sim/torque_profile.h"
 #include "node_test_utils.h"
 
 namespace kane_sim {
@@ -76,6 +77,57 @@ TEST(ControllerLaw, HoldsTheCrankUprightAsTheOfflineDriverDoes) {
   const sensor_msgs::JointState& last = recorded[kPublishes - 1];
   EXPECT_NEAR(std::remainder(last.position[0] - M_PI, 2 * M_PI), 0.0, 1e-3);
   EXPECT_NEAR(last.velocity[0], 0.0, 1e-2);
+}
+
+// ~setpoint_table (test/node/controller_table.csv) in lockstep: the table's t is measured from
+// the controller's first reading (the paused initial state, answered with ~setpoint 0.2 before
+// the table's first row at 0.255 s), each row held until the next. The node's trajectory is the
+// ROS-free driver's under the PD law with the table's setpoint at each publish, bit for bit, and
+// the crank reaches each row's setpoint in turn.
+TEST(ControllerTable, ThePdFollowsItsSetpointTableAsTheOfflineDriverDoes) {
+  ros::NodeHandle nh;
+  Recorder<sensor_msgs::JointState> js(nh, "joint_states");
+  ros::Time paused_stamp;
+  ASSERT_TRUE(test::awaitPausedStart(&js, &paused_stamp));
+  constexpr size_t kPublishes = 400;  // 4 s of sim time at 100 Hz: every row and past the last
+  // A bound, not an expectation: ~1 s here, longer on one core beside a CPU hog.
+  ASSERT_TRUE(test::runUnpausedFor(js, kPublishes + 2, 500.0));
+
+  test::ControlledRun run;
+  ASSERT_TRUE(test::readControlledRun(&run));
+  std::string table_file;
+  ASSERT_TRUE(ros::param::get("/pd_controller/setpoint_table", table_file));
+  const TorqueProfile table = TorqueProfile::fromCsvFile(table_file);
+  const double first_row = table.parts().points.front().first;
+  SimDriver driver(run.config, {});
+  const std::vector<sensor_msgs::JointState> recorded = test::steppedMessages(js, paused_stamp);
+  ASSERT_GE(recorded.size(), kPublishes);
+  const int ticks_per_publish = static_cast<int>(
+      wholeStepsPerPeriod(run.config.simulation.physics_rate, run.config.simulation.publish_rate));
+  double setpoint = run.setpoint;
+  for (size_t k = 0; k < kPublishes; ++k) {
+    // The state answered: the paused one, then the k-th stepped one, at its stamp.
+    const ros::Time stamp = k == 0 ? paused_stamp : recorded[k - 1].header.stamp;
+    const double t = (stamp - paused_stamp).toSec();
+    if (t >= first_row) setpoint = table.at(t);
+    const Snapshot before = driver.snapshot();
+    driver.command(
+        pdTorque(run.gains, setpoint, before.joints.position[0], before.joints.velocity[0]));
+    for (int i = 0; i < ticks_per_publish; ++i) ASSERT_TRUE(driver.step());
+    const Snapshot s = driver.snapshot();
+    ASSERT_EQ(recorded[k].position.size(), 4u);
+    for (int j = 0; j < 4; ++j) {
+      ASSERT_EQ(recorded[k].position[j], s.joints.position[j]) << "publish " << k << " joint " << j;
+      ASSERT_EQ(recorded[k].velocity[j], s.joints.velocity[j]) << "publish " << k << " joint " << j;
+    }
+  }
+  // Each row reached in turn before the next: within 0.1 rad, the PD's steady error (the holding
+  // moment over kp: 0.055 rad at -0.4 rad, where the spring is stretched furthest) and then some;
+  // the rows are 0.4 rad or more apart.
+  const auto q1_at = [&](double t) { return recorded[std::lround(t * 100.0) - 1].position[0]; };
+  EXPECT_NEAR(q1_at(1.5), 1.2, 0.1);
+  EXPECT_NEAR(q1_at(2.7), -0.4, 0.1);
+  EXPECT_NEAR(q1_at(4.0), 0.8, 0.1);
 }
 
 }  // namespace
