@@ -73,6 +73,32 @@ def _writable(parser, flag, path):
         parser.error("%s %s cannot be written (permissions)" % (flag, path))
 
 
+# A controller's gains file is a few lines; anything larger is not one.
+CONTROLLER_MAX_BYTES = 1 << 20
+
+
+def _readable(parser, flag, path):
+    """parser.error unless `path` is a regular file of at most CONTROLLER_MAX_BYTES (a device
+    such as /dev/zero would be read forever)."""
+    if not os.path.isfile(path):
+        parser.error("%s %s is not a readable file (%s)" % (
+            flag, path, "no such file" if not os.path.exists(path) else
+            "not a regular file: a device, a pipe or a folder"))
+    if os.path.getsize(path) > CONTROLLER_MAX_BYTES:
+        parser.error("%s %s is %d bytes: a controller's gains file is a few lines"
+                     % (flag, path, os.path.getsize(path)))
+
+
+def _controller_gains(path):
+    """The controller's parameters from its YAML file (ValueError naming the file)."""
+    import yaml
+    try:
+        with open(path, encoding="utf-8") as f:
+            return yaml.safe_load(f)
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
+        raise ValueError("not YAML: %s" % " ".join(str(e).split())) from None
+
+
 def _write(path, *parts):
     """Writes the texts (or iterables of texts: written as they come) to path; exit 4 if not."""
     try:
@@ -117,6 +143,10 @@ def _parser(description):
                         help="write an exciting torque (a servo base: setpoint) profile of this "
                         "many seconds to -o")
     parser.add_argument("--seed", type=_seed, default=0, help="--excite's phase draw")
+    parser.add_argument("--controller", metavar="GAINS.yaml",
+                        help="--excite for the example PD controller with these gains "
+                        "(config/controller.yaml): writes its setpoint table, for "
+                        "pd_controller _setpoint_table:=")
     parser.add_argument("--list", action="store_true", help="list the identifiable parameters")
     return parser
 
@@ -147,6 +177,10 @@ def _check(parser, args):
         parser.error("--params needs names (--list shows them), got %r" % args.params)
     if args.excite is not None and (args.data or not args.output):
         parser.error("--excite takes no DATA and needs -o TORQUE.csv")
+    if args.controller is not None and args.excite is None:
+        parser.error("--controller is for --excite (the controller's setpoint table)")
+    if args.controller is not None:
+        _readable(parser, "--controller", args.controller)
     if args.excite is None and not args.list and not args.data:
         parser.error("DATA is required (or --excite, --list)")
 
@@ -157,15 +191,23 @@ def _write_excitation(args, base, ki):
     4 Hz, so even 100 Hz holds every component)."""
     rate = next(r for r in (1000.0, 500.0, 250.0, 100.0)
                 if args.excite * r * EXCITE_ROW_BYTES <= EXCITE_MAX_BYTES or r == 100.0)
+    if args.controller:
+        try:
+            base = ki.pd_controller_base(base, _controller_gains(args.controller))
+        except ValueError as e:
+            raise ValueError("--controller %s: %s" % (args.controller, e)) from None
     t, drive, cond = ki.excitation(base, args.excite, seed=args.seed, rate=rate)
     mode = base["command.mode"]
     what, unit = ("torque", "N m") if mode == "effort" else \
         ("setpoint", "rad" if mode == "position" else "rad/s")
     _write(args.output, "t,%s\n" % what, ("%.6f,%.12g\n" % row for row in zip(t, drive)))
+    play = "" if mode == "effort" else \
+        " (the %s servo's setpoint: play it in command.mode %s)" % (mode, mode)
+    if args.controller:
+        play = " (the PD controller's setpoint: rosrun kane_sim pd_controller _setpoint_table:=%s" \
+               " with the gains of %s)" % (os.path.abspath(args.output), args.controller)
     print("identify: wrote %s: %.3g s at %g Hz, |%s| <= %.4g %s, condition number %.3g on the "
-          "base%s" % (args.output, args.excite, rate, what, max(abs(drive)), unit, cond,
-                      "" if mode == "effort" else
-                      " (the %s servo's setpoint: play it in command.mode %s)" % (mode, mode)))
+          "base%s" % (args.output, args.excite, rate, what, max(abs(drive)), unit, cond, play))
 
 
 def _fit(args, base, ki):

@@ -40,7 +40,7 @@ from kane_sim.identify.validation import (  # noqa: F401  (the public names, as 
 from kane_sim.identify.report import (  # noqa: F401  (the public names, as before the split)
     Identification)
 from kane_sim.identify.excitation import (  # noqa: F401  (the public names, as before the split)
-    EXCITATION_DESIGN_HORIZON, excitation)
+    EXCITATION_DESIGN_HORIZON, excitation, pd_controller_base)
 
 __all__ = ["Motion", "Identification", "identify", "load_motion", "excitation", "simulate_motion"]
 

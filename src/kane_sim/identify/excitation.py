@@ -18,6 +18,58 @@ EXCITATION_DESIGN_HORIZON = 120.0
 SERVO_SETPOINT_RANGE = {"position": 1.5, "velocity": 8.0}
 
 
+# The example PD controller's private parameters (config/controller.yaml) and PdGains' defaults
+# for them: those of its law, and those that do not change it.
+PD_CONTROLLER_GAINS = {"kp": 500.0, "kd": 30.0, "ki": 0.0, "torque_limit": 50.0}
+PD_CONTROLLER_OTHER_KEYS = ("setpoint", "stamped", "setpoint_table")
+
+
+def pd_controller_base(config, gains):
+    """The base config as the example PD controller (pd_controller, its `gains`: a dict of
+    config/controller.yaml's keys) drives it, for excitation(): a position servo with the
+    controller's kp, kd and ki, which is the controller's law (M_m = kp (setpoint - q1) - kd u1
+    + ki * the error's integral, clamped), the smaller of the two torque limits, no feedforward.
+    The setpoint table it designs plays through pd_controller's ~setpoint_table. One difference
+    the design does not see: the servo acts at every physics step, the controller at every
+    reading (100 Hz by default, a sensor's latency later), so the rig's loop is a little softer.
+    ValueError names a key that is not the controller's, a value that is not a finite number
+    >= 0, and ~law (a state feedback: no setpoint to play)."""
+    base = Config(config)
+    if not isinstance(gains, dict):
+        raise ValueError("the controller's file must be a mapping of its parameters (%s), got "
+                         "%r" % (", ".join(PD_CONTROLLER_GAINS), gains))
+    if "law" in gains:
+        raise ValueError("the controller's law: %r is a state feedback, which has no setpoint "
+                         "to excite through: remove it to design for the PD" % (gains["law"],))
+    values = dict(PD_CONTROLLER_GAINS)
+    for key, value in gains.items():
+        if key in PD_CONTROLLER_OTHER_KEYS:
+            continue
+        if key not in PD_CONTROLLER_GAINS:
+            raise ValueError("the controller's %r is not one of its parameters (%s)"
+                             % (key, ", ".join(list(PD_CONTROLLER_GAINS)
+                                               + list(PD_CONTROLLER_OTHER_KEYS))))
+        if isinstance(value, str):
+            # YAML 1.1 reads 1e3 (no dot) as text; rosparam, which loads the file for the
+            # controller, reads it as the number.
+            try:
+                value = float(value)
+            except ValueError:
+                pass
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or \
+                not math.isfinite(value) or value < 0:
+            raise ValueError("the controller's %s must be a finite number >= 0, got %r"
+                             % (key, value))
+        values[key] = float(value)
+    if values["kp"] == 0:
+        raise ValueError("the controller's kp is 0: its setpoint cannot move the crank")
+    return base.with_values({
+        "command.mode": "position", "command.feedforward": "none",
+        "command.position_kp": values["kp"], "command.position_kd": values["kd"],
+        "command.position_ki": values["ki"],
+        "command.torque_limit": min(values["torque_limit"], base["command.torque_limit"])})
+
+
 def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=4):
     """A torque profile (t, torque) that identifies every default parameter well: a slow bias
     sine (3 periods over the run, at least 0.05 Hz) that swings the crank's mean angle, so that

@@ -273,6 +273,73 @@ def test_excite_designs_a_servos_setpoints_with_the_servo_in_the_loop(tmp_path):
     assert out.read_text().startswith("t,setpoint\n") and "command.mode position" in r.stdout
 
 
+def test_excite_designs_the_pd_controllers_setpoint_table_with_its_law_in_the_loop(tmp_path):
+    import subprocess
+    from conftest import config_path
+    # The example controller's law is a position servo's: its gains, the smaller torque limit.
+    gains = {"kp": 200.0, "kd": 12.0, "torque_limit": 80.0, "setpoint": 1.0, "stamped": True}
+    base = ki.pd_controller_base(kane_sim.Config(), gains)
+    assert (base["command.mode"], base["command.position_kp"], base["command.position_kd"],
+            base["command.position_ki"], base["command.torque_limit"]) == \
+        ("position", 200.0, 12.0, 0.0, 50.0)
+    # The CLI designs it from config/controller.yaml and says how the controller plays it.
+    out = tmp_path / "setpoints.csv"
+    r = subprocess.run([tool("identify"), "--excite", "6", "--controller",
+                        config_path("controller.yaml"), "-o", str(out)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert "pd_controller _setpoint_table:=%s" % out in r.stdout
+    t, setpoint = np.loadtxt(out, delimiter=",", skiprows=1, unpack=True)
+    assert t[0] == 0.0 and t[-1] > 5.9 and 0.1 < np.max(np.abs(setpoint)) <= 1.5
+    # Played through the controller's law (its readings at 100 Hz, its clamp), the crank moves
+    # and the sliders stay apart.
+    law = kane_sim.Config().with_values({"command.torque_limit": 50.0})
+    sim = kane_sim.Simulator(law)
+    gap = []
+    for k in range(600):
+        q1, u1 = sim.state[0], sim.state[2]
+        sp = setpoint[np.searchsorted(t, k / 100.0, side="right") - 1]
+        torque = float(np.clip(500.0 * (sp - q1) - 30.0 * u1, -50.0, 50.0))
+        run = sim.run(0.01, torque=torque, output_rate=100.0)
+        gap.append(float(np.min(run["slider_separation"])))
+    assert min(gap) > law["contact.gap"]
+
+
+@pytest.mark.parametrize("text, words", [
+    ("kp: .nan\n", "the controller's kp must be a finite number >= 0, got nan"),
+    ("kd: -1e308\n", "the controller's kd must be a finite number >= 0, got -1e+308"),
+    ("kp: fast\n", "the controller's kp must be a finite number >= 0, got 'fast'"),
+    ("kpp: 3\n", "the controller's 'kpp' is not one of its parameters"),
+    ("kp: 0\n", "the controller's kp is 0: its setpoint cannot move the crank"),
+    ("- 1\n", "must be a mapping of its parameters"),
+    ("", "must be a mapping of its parameters (kp, kd, ki, torque_limit), got None"),
+    ("kp: [1\n", "not YAML: while parsing"),
+    ("law: upright.yaml\n", "is a state feedback, which has no setpoint"),
+])
+def test_a_controller_file_that_is_not_the_pds_gains_is_named(tmp_path, text, words):
+    import subprocess
+    path = tmp_path / "gains.yaml"
+    path.write_text(text)
+    r = subprocess.run([tool("identify"), "--excite", "4", "--controller", str(path), "-o",
+                        str(tmp_path / "sp.csv")], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 3 and words in r.stderr, r.stderr
+    assert "--controller %s" % path in r.stderr and not (tmp_path / "sp.csv").exists()
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--controller", "/dev/zero", "--excite", "4"], "not a regular file"),
+    (["--controller", "/nonexistent.yaml", "--excite", "4"], "no such file"),
+    (["--controller", "CONFIG"], "--controller is for --excite"),
+])
+def test_controller_arguments_are_checked_before_any_work(tmp_path, args, words):
+    import subprocess
+    from conftest import config_path
+    args = [config_path("controller.yaml") if a == "CONFIG" else a for a in args]
+    r = subprocess.run([tool("identify")] + args + ["-o", str(tmp_path / "sp.csv")],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and words in r.stderr, r.stderr
+
+
 def test_a_simulate_bag_of_a_servo_replays_its_law_from_the_bags_input_log(tmp_path):
     """simulate --bag logs its inputs as the node does: a position servo's bag (setpoint steps,
     sensors at 200 Hz with sensors.yaml's noise, latency and jitter) is fitted through the
