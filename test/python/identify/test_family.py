@@ -144,19 +144,19 @@ def lagging_torque(tmp_path_factory):
 
 def test_a_fit_that_does_not_converge_is_refused_and_written_only_when_forced(lagging_torque,
                                                                               tmp_path):
+    # One run, forced: its refusal is said as an unforced one says it, and the file says what it
+    # is. (Unforced, a refusal writes nothing and exits 3: test_identify's
+    # test_the_cli_refuses_by_pythons_rule_and_says_so_on_stdout, on a refusal that costs no
+    # output-error ladder; this one runs every segment length, ~20 s.)
     out = tmp_path / "fitted.yaml"
     args = [tool("identify"), str(lagging_torque), "-o", str(out), "--holdout", "0",
-            "--no-validate"]
-    r = subprocess.run(args, capture_output=True, text=True, timeout=300)
-    assert r.returncode == 3, r.stdout + r.stderr
-    assert "NOT converged" in r.stdout and "REFUSED" in r.stdout
-    for words in ("more than 3 times their noise", "rod_half_length L and gravity g",
-                  "a lag", "nothing written (--force writes it anyway)"):
-        assert words in r.stderr, (words, r.stderr)
-    assert not out.exists()
-    forced = subprocess.run(args + ["--force"], capture_output=True, text=True, timeout=300)
-    assert forced.returncode == 0, forced.stderr
-    assert "--force: writing a refused fit" in forced.stderr and out.exists()
+            "--no-validate", "--force"]
+    forced = subprocess.run(args, capture_output=True, text=True, timeout=300)
+    assert forced.returncode == 0, forced.stdout + forced.stderr
+    assert "NOT converged" in forced.stdout and "REFUSED" in forced.stdout
+    for words in ("more than 3 times their noise", "rod_half_length L and gravity g", "a lag",
+                  "--force: writing a refused fit"):
+        assert words in forced.stderr, (words, forced.stderr)
     assert "# REFUSED, written with --force: the output-error fit" in out.read_text()
     kane_sim.Config(str(out))  # a config the loader takes
 
