@@ -6,8 +6,10 @@
 #include <string>
 
 #include "kane_sim/design/lqr_file.h"
+#include "kane_sim/format_number.h"
 #include "kane_sim/ros/joint_reading.h"
 #include "kane_sim/ros/node_params.h"
+#include "kane_sim/sim/simulator.h"
 
 namespace kane_sim {
 
@@ -20,14 +22,23 @@ PdControllerNode::PdControllerNode(const ros::NodeHandle& nh, const ros::NodeHan
       boundedParam(private_nh, "torque_limit", defaults.torque_limit, ParamBound::kNonNegative);
   gains_.ki = boundedParam(private_nh, "ki", defaults.ki, ParamBound::kNonNegative);
   setpoint_ = boundedParam(private_nh, "setpoint", 0.0, ParamBound::kAnyFinite);
+  if (std::abs(setpoint_) > Simulator::kMaxCrankAngle)
+    throw std::invalid_argument("parameter " + private_nh.resolveName("setpoint") + " " +
+                                formatNumber(setpoint_) + " rad is beyond a million turns");
+  for (const std::string& name : unknownParams(
+           private_nh,
+           {"kp", "kd", "ki", "torque_limit", "setpoint", "stamped", "law", "setpoint_table"}))
+    ROS_WARN(
+        "pd_controller: parameter %s is not read (its parameters: kp, kd, ki, torque_limit, "
+        "setpoint, stamped, law, setpoint_table)",
+        name.c_str());
   // ~law: a state-feedback file (design lqr --out); a bad one stops start-up naming the field.
-  std::string law_file;
-  if (private_nh.getParam("law", law_file) && !law_file.empty())
-    law_ = readStateFeedbackFile(law_file);
+  const std::string law_file = pathParam(private_nh, "law");
+  if (!law_file.empty()) law_ = readStateFeedbackFile(law_file);
   // ~setpoint_table: the setpoint as a table of time (the same reader as simulate's
-  // --torque-csv, so a bad file is named with its line).
-  std::string table_file;
-  if (private_nh.getParam("setpoint_table", table_file)) {
+  // --torque-csv, reading setpoints: a bad file is named with its line).
+  const std::string table_file = pathParam(private_nh, "setpoint_table");
+  if (private_nh.hasParam("setpoint_table")) {
     if (table_file.empty())
       throw std::invalid_argument("~setpoint_table: give a CSV of t,setpoint rows, got ''");
     if (law_)
@@ -35,9 +46,14 @@ PdControllerNode::PdControllerNode(const ros::NodeHandle& nh, const ros::NodeHan
           "~setpoint_table plays the PD's setpoint, and ~law (" + law_file +
           ") replaces the PD with a state feedback that has none: give one of the two");
     try {
-      table_ = TorqueProfile::fromCsvFile(table_file);
+      table_ = TorqueProfile::fromCsvFile(table_file, TorqueProfile::TableValue::kSetpoint);
     } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(std::string("~setpoint_table: ") + e.what());
+      // A relative path is read from the node's working folder (~/.ros under roslaunch).
+      throw std::invalid_argument(
+          std::string("~setpoint_table: ") + e.what() +
+          (table_file[0] == '/' ? ""
+                                : " (a relative path is read from this node's working folder, "
+                                  "~/.ros under roslaunch: give an absolute one)"));
     }
     table_first_time_ = table_->parts().points.front().first;
   }

@@ -181,6 +181,9 @@ def _check(parser, args):
         parser.error("--controller is for --excite (the controller's setpoint table)")
     if args.controller is not None:
         _readable(parser, "--controller", args.controller)
+        if args.output and os.path.exists(args.output) and \
+                os.path.samefile(args.output, args.controller):
+            parser.error("-o %s is the --controller file: it would be overwritten" % args.output)
     if args.excite is None and not args.list and not args.data:
         parser.error("DATA is required (or --excite, --list)")
 
@@ -192,10 +195,11 @@ def _write_excitation(args, base, ki):
     rate = next(r for r in (1000.0, 500.0, 250.0, 100.0)
                 if args.excite * r * EXCITE_ROW_BYTES <= EXCITE_MAX_BYTES or r == 100.0)
     if args.controller:
+        from kane_sim import ConfigError
         try:
             base = ki.pd_controller_base(base, _controller_gains(args.controller))
-        except ValueError as e:
-            raise ValueError("--controller %s: %s" % (args.controller, e)) from None
+        except ValueError as e:  # the controller's config: exit 1, as a bad --config
+            raise ConfigError("--controller %s: %s" % (args.controller, e)) from None
     t, drive, cond = ki.excitation(base, args.excite, seed=args.seed, rate=rate)
     mode = base["command.mode"]
     what, unit = ("torque", "N m") if mode == "effort" else \

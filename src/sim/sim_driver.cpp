@@ -20,7 +20,7 @@ std::string format(const char* fmt, Args... args) {
 }
 
 // A position setpoint beyond a million turns is refused, like such a q1 in set_state.
-constexpr double kMaxCrankAngle = 2e6 * M_PI;  // [rad]
+constexpr double kMaxCrankAngle = Simulator::kMaxCrankAngle;  // [rad]
 // A speed setpoint the integrator cannot follow is refused: half of set_state's 1 rad per step.
 constexpr double kMaxServoTurnPerStep = 0.5;  // [rad]
 

@@ -10,6 +10,7 @@
 #include "kane_sim/format_number.h"
 #include "kane_sim/model/math_functions.h"
 #include "kane_sim/sim/output_grid.h"
+#include "kane_sim/sim/simulator.h"
 
 namespace kane_sim {
 namespace {
@@ -80,15 +81,17 @@ TorqueProfile TorqueProfile::table(std::vector<std::pair<double, double>> points
   return p;
 }
 
-TorqueProfile TorqueProfile::fromCsvFile(const std::string& path) {
-  std::ifstream in = openInputFile(path, "torque CSV", kMaxTableBytes);
+TorqueProfile TorqueProfile::fromCsvFile(const std::string& path, TableValue value) {
+  const bool setpoint = value == TableValue::kSetpoint;
+  const std::string quantity = setpoint ? "setpoint" : "torque";
+  std::ifstream in = openInputFile(path, quantity + " CSV", kMaxTableBytes);
   std::vector<std::pair<double, double>> points;
   std::string line;
   int number = 0;
   bool first_row = true;
-  // The columns read: t and the torque, the first two unless a header names them (t or time;
-  // torque or M_m): a plan of `design plan` (t,q1,q2,u1,u2,M_m,...) plays its M_m.
-  size_t time_column = 0, torque_column = 1, columns = 2;
+  // The columns read: t and the value, the first two unless a header names them (t or time;
+  // torque or M_m, or setpoint): a plan of `design plan` (t,q1,q2,u1,u2,M_m,...) plays its M_m.
+  size_t time_column = 0, value_column = 1, columns = 2;
   while (std::getline(in, line)) {
     ++number;
     const std::string where = path + ":" + std::to_string(number);
@@ -111,9 +114,16 @@ TorqueProfile TorqueProfile::fromCsvFile(const std::string& path) {
         return std::string::npos;
       };
       const size_t t = named({"t", "time"}), torque = named({"torque", "M_m"});
-      if (t != std::string::npos && torque != std::string::npos) {
+      const size_t own = setpoint ? named({"setpoint"}) : torque;
+      // A torque's table played as a position setpoint would hold the crank at its newton
+      // metres as radians.
+      if (setpoint && own == std::string::npos && torque != std::string::npos)
+        throw std::invalid_argument(where + ": the header '" + line +
+                                    "' names a torque [N m], not a setpoint [rad] (a setpoint "
+                                    "table's header is t,setpoint)");
+      if (t != std::string::npos && own != std::string::npos) {
         time_column = t;
-        torque_column = torque;
+        value_column = own;
         columns = fields.size();
       }
       continue;
@@ -126,17 +136,20 @@ TorqueProfile TorqueProfile::fromCsvFile(const std::string& path) {
     if (fields.size() < 2 || (columns == 2 && fields.size() != 2) || fields.size() != columns)
       throw std::invalid_argument(
           where + ": expected " +
-          (columns == 2 ? std::string("'t,torque'") : std::to_string(columns) + " columns") +
+          (columns == 2 ? "'t," + quantity + "'" : std::to_string(columns) + " columns") +
           ", got '" + line + "'");
     const double t = parseNumber(fields[time_column], where + " (time)");
-    const double torque = parseNumber(fields[torque_column], where + " (torque)");
+    const double v = parseNumber(fields[value_column], where + " (" + quantity + ")");
+    if (setpoint && std::abs(v) > Simulator::kMaxCrankAngle)
+      throw std::invalid_argument(where + " (setpoint): " + fields[value_column] +
+                                  " rad is beyond a million turns");
     if (!points.empty() && t < points.back().first)
       throw std::invalid_argument(where + ": time " + fields[time_column] +
                                   " goes backwards (previous " +
                                   std::to_string(points.back().first) + ")");
-    points.emplace_back(t, torque);
+    points.emplace_back(t, v);
   }
-  if (points.empty()) throw std::invalid_argument("torque CSV '" + path + "' has no rows");
+  if (points.empty()) throw std::invalid_argument(quantity + " CSV '" + path + "' has no rows");
   return table(std::move(points));
 }
 

@@ -85,6 +85,37 @@ TEST(TorqueProfile, FirstDataRowIsNeverTakenForAHeader) {
   EXPECT_EQ(TorqueProfile::fromCsvFile(writeFile("tiny.csv", "0,1e-320\n")).at(1.0), 1e-320);
 }
 
+// pd_controller's ~setpoint_table: the same reader, its values setpoints [rad]. A torque's
+// table (its header names torque or M_m) is refused, a setpoint beyond a million turns too, and
+// the messages say setpoint.
+TEST(TorqueProfile, ASetpointTableIsNotATorquesAndSaysSetpoint) {
+  const auto setpoints = [](const std::string& text) {
+    return TorqueProfile::fromCsvFile(writeFile("sp.csv", text),
+                                      TorqueProfile::TableValue::kSetpoint);
+  };
+  EXPECT_EQ(setpoints("t,setpoint\n0,0.5\n1,-1\n").at(1.5), -1.0);
+  EXPECT_EQ(setpoints("0,0.5\n1,-1\n").at(0.5), 0.5);  // no header: the first two columns
+  EXPECT_EQ(setpoints("time,x,setpoint\n0,9,0.5\n").at(0.0), 0.5);
+  const std::pair<const char*, const char*> refused[] = {
+      {"t,torque\n0,20\n", "sp.csv:1: the header 't,torque' names a torque [N m], not a setpoint"},
+      {"t,q1,q2,u1,u2,M_m\n0,0,0,0,0,1\n", "names a torque [N m]"},
+      {"0,1e308\n", "sp.csv:1 (setpoint): 1e308 rad is beyond a million turns"},
+      {"0,nan\n", "sp.csv:1 (setpoint): 'nan' is not finite"},
+      {"0,1,2\n", "expected 't,setpoint'"},
+      {"t,setpoint\n", "setpoint CSV '"},
+  };
+  for (const auto& [text, message] : refused) {
+    try {
+      setpoints(text);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
+  // Read as a torque (simulate's --torque-csv), a setpoint table plays as before.
+  EXPECT_EQ(TorqueProfile::fromCsvFile(writeFile("t.csv", "t,setpoint\n0,0.5\n")).at(0.0), 0.5);
+}
+
 TEST(TorqueProfile, MalformedCsvNamesLineAndValue) {
   expectCsvError("0,1\n0.5,abc\n", "profile.csv:2 (torque): 'abc' is not a number");
   expectCsvError("0,1\n1,2\n0.5,3\n", "profile.csv:3: time 0.5 goes backwards");

@@ -144,12 +144,23 @@ TEST(BadParam, SmallNodesRefuseBadNumbersNamingThem) {
       // The example controller's setpoint table: a device, no file, a file that is no table,
       // and a table beside a state feedback (which has no setpoint).
       {"pd_controller __name:=pd_table_zero _setpoint_table:=/dev/zero",
-       "~setpoint_table: torque CSV '/dev/zero' is not a readable file (not a regular file"},
+       "~setpoint_table: setpoint CSV '/dev/zero' is not a readable file (not a regular file"},
       {"pd_controller __name:=pd_table_none _setpoint_table:=/nonexistent/sp.csv",
-       "~setpoint_table: torque CSV '/nonexistent/sp.csv'"},
+       "~setpoint_table: setpoint CSV '/nonexistent/sp.csv'"},
       {"pd_controller __name:=pd_table_yaml _setpoint_table:=" KANE_SIM_CONFIG_DIR
        "/mechanism.yaml",
        "~setpoint_table: " KANE_SIM_CONFIG_DIR "/mechanism.yaml:"},
+      // A torque's table (its header says so), a number where a path goes, a relative path
+      // (said where it is read from), a setpoint beyond a million turns.
+      {"pd_controller __name:=pd_table_torque _setpoint_table:=" KANE_SIM_CONFIG_DIR
+       "/swing_up_plan.csv",
+       "names a torque [N m], not a setpoint [rad]"},
+      {"pd_controller __name:=pd_table_number _setpoint_table:=5",
+       "parameter /pd_table_number/setpoint_table must be a file path, got 5"},
+      {"pd_controller __name:=pd_table_relative _setpoint_table:=sp.csv",
+       "a relative path is read from this node's working folder"},
+      {"pd_controller __name:=pd_far _setpoint:=1e308",
+       "parameter /pd_far/setpoint 1e+308 rad is beyond a million turns"},
       {"pd_controller __name:=pd_table_law _law:=" KANE_SIM_CONFIG_DIR
        "/upright_lqr.yaml _setpoint_table:=" KANE_SIM_CONFIG_DIR "/swing_up_plan.csv",
        "~setpoint_table plays the PD's setpoint, and ~law"},

@@ -7,8 +7,10 @@
 #define KANE_SIM_ROS_NODE_PARAMS_H
 
 #include <cmath>
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <ros/node_handle.h>
 
@@ -49,6 +51,42 @@ inline bool flagParam(const ros::NodeHandle& pnh, const std::string& name, bool 
   if (pnh.hasParam(name) && !pnh.getParam(name, value))
     throw std::invalid_argument("parameter " + pnh.resolveName(name) + " must be true or false");
   return value;
+}
+
+// The file path parameter `name` of `pnh`, or "" when absent. Throws std::invalid_argument when
+// it is present but not a string (`_setpoint_table:=5` is read as the number 5, not a file).
+inline std::string pathParam(const ros::NodeHandle& pnh, const std::string& name) {
+  XmlRpc::XmlRpcValue value;
+  if (!pnh.getParam(name, value)) return "";
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeString) return static_cast<std::string>(value);
+  std::string shown = value.toXml();
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeInt)
+    shown = std::to_string(static_cast<int>(value));
+  else if (value.getType() == XmlRpc::XmlRpcValue::TypeDouble)
+    shown = formatNumber(static_cast<double>(value));
+  else if (value.getType() == XmlRpc::XmlRpcValue::TypeBoolean)
+    shown = static_cast<bool>(value) ? "true" : "false";
+  throw std::invalid_argument("parameter " + pnh.resolveName(name) + " must be a file path, got " +
+                              shown);
+}
+
+// The private parameters of `pnh` not among `known` (a typo such as ~setpoint_tabel, which
+// would otherwise be left unread without a word), by their resolved names.
+inline std::vector<std::string> unknownParams(const ros::NodeHandle& pnh,
+                                              std::initializer_list<const char*> known) {
+  std::vector<std::string> all, unknown;
+  if (!pnh.getParamNames(all)) return unknown;
+  const std::string prefix = pnh.getNamespace() + "/";
+  for (const std::string& name : all) {
+    if (name.rfind(prefix, 0) != 0) continue;
+    const std::string key =
+        name.substr(prefix.size(), name.find('/', prefix.size()) - prefix.size());
+    bool found = false;
+    for (const char* k : known) found = found || key == k;
+    if (!found && (unknown.empty() || unknown.back() != prefix + key))
+      unknown.push_back(prefix + key);
+  }
+  return unknown;
 }
 
 }  // namespace kane_sim

@@ -17,9 +17,14 @@ class TorqueProfile {
   static TorqueProfile sine(double amplitude, double frequency, double offset);
   // Times must be finite and non-decreasing, torques finite; before the first time: 0.
   static TorqueProfile table(std::vector<std::pair<double, double>> points);
-  // A CSV of `t,torque` lines (an optional header line, # comments); throws
+  // What a table's values are: a torque [N m] (simulate's --torque-csv; a servo's setpoints
+  // too, in a servo mode), or a position controller's setpoint [rad] (pd_controller's
+  // ~setpoint_table), which a header naming a torque (torque, M_m) is not, and whose values are
+  // within a million turns (Simulator::kMaxCrankAngle, as the servo's setpoints).
+  enum class TableValue { kTorque, kSetpoint };
+  // A CSV of `t,torque` (`t,setpoint`) lines (an optional header line, # comments); throws
   // std::invalid_argument naming the file, the line and the bad value.
-  static TorqueProfile fromCsvFile(const std::string& path);
+  static TorqueProfile fromCsvFile(const std::string& path, TableValue value = TableValue::kTorque);
   // simulate's flags, for every tool that takes them: flag "torque-step" (text "T,BEFORE,AFTER"),
   // "torque-sine" ("A,F[,OFFSET]") or "torque-csv" (a file). Throws std::invalid_argument naming
   // the flag and the value ("--torque-sine: 'x' is not a number").

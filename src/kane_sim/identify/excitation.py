@@ -4,7 +4,7 @@ import math
 import numpy as np
 
 from kane_sim import _core
-from kane_sim.core import Config, Simulator
+from kane_sim.core import Config, ConfigError, Simulator
 from kane_sim.identify.least_squares import _base_theta, _estimate, _rms, _separation
 from kane_sim.identify.refinement import replay_settings
 
@@ -19,9 +19,51 @@ SERVO_SETPOINT_RANGE = {"position": 1.5, "velocity": 8.0}
 
 
 # The example PD controller's private parameters (config/controller.yaml) and PdGains' defaults
-# for them: those of its law, and those that do not change it.
+# for those of its law; the others are checked as the controller checks them.
 PD_CONTROLLER_GAINS = {"kp": 500.0, "kd": 30.0, "ki": 0.0, "torque_limit": 50.0}
 PD_CONTROLLER_OTHER_KEYS = ("setpoint", "stamped", "setpoint_table")
+# [rad] the largest setpoint the controller takes (a million turns, as the simulator's servo)
+MAX_SETPOINT = 2e6 * math.pi
+# The controller's gains as the position servo's config keys.
+PD_AS_SERVO = {"kp": "command.position_kp", "kd": "command.position_kd",
+               "ki": "command.position_ki", "torque_limit": "command.torque_limit"}
+
+
+def _number(value):
+    """A number as rosparam reads it (YAML 1.1 reads 1e3, with no dot, as text), else value."""
+    if isinstance(value, str):
+        try:
+            return float(value)
+        except ValueError:
+            pass
+    return value
+
+
+def _check_controller_key(key, value):
+    """ValueError naming `key` when `value` is not what pd_controller takes for it."""
+    if key not in PD_CONTROLLER_GAINS and key not in PD_CONTROLLER_OTHER_KEYS:
+        raise ValueError("the controller's %r is not one of its parameters (%s)"
+                         % (key, ", ".join(list(PD_CONTROLLER_GAINS)
+                                           + list(PD_CONTROLLER_OTHER_KEYS))))
+    if key == "stamped":
+        if not isinstance(value, bool):
+            raise ValueError("the controller's stamped must be true or false, got %r" % (value,))
+        return
+    if key == "setpoint_table":
+        if not isinstance(value, str):
+            raise ValueError("the controller's setpoint_table must be a file path, got %r"
+                             % (value,))
+        return
+    number = _number(value)
+    if isinstance(number, bool) or not isinstance(number, (int, float)) or \
+            not math.isfinite(number) or (key != "setpoint" and number < 0):
+        raise ValueError("the controller's %s must be a finite number%s, got %r"
+                         % (key, "" if key == "setpoint" else " >= 0",
+                            number if isinstance(number, float) else value))
+    if key == "setpoint" and abs(number) > MAX_SETPOINT:
+        raise ValueError("the controller's setpoint %r rad is beyond a million turns" % number)
+    if key in ("kp", "torque_limit") and number == 0:
+        raise ValueError("the controller's %s is 0: its setpoint cannot move the crank" % key)
 
 
 def pd_controller_base(config, gains):
@@ -32,8 +74,8 @@ def pd_controller_base(config, gains):
     The setpoint table it designs plays through pd_controller's ~setpoint_table. One difference
     the design does not see: the servo acts at every physics step, the controller at every
     reading (100 Hz by default, a sensor's latency later), so the rig's loop is a little softer.
-    ValueError names a key that is not the controller's, a value that is not a finite number
-    >= 0, and ~law (a state feedback: no setpoint to play)."""
+    ValueError names a key that is not the controller's, a value the controller refuses, and
+    ~law (a state feedback: no setpoint to play)."""
     base = Config(config)
     if not isinstance(gains, dict):
         raise ValueError("the controller's file must be a mapping of its parameters (%s), got "
@@ -43,31 +85,18 @@ def pd_controller_base(config, gains):
                          "to excite through: remove it to design for the PD" % (gains["law"],))
     values = dict(PD_CONTROLLER_GAINS)
     for key, value in gains.items():
-        if key in PD_CONTROLLER_OTHER_KEYS:
-            continue
-        if key not in PD_CONTROLLER_GAINS:
-            raise ValueError("the controller's %r is not one of its parameters (%s)"
-                             % (key, ", ".join(list(PD_CONTROLLER_GAINS)
-                                               + list(PD_CONTROLLER_OTHER_KEYS))))
-        if isinstance(value, str):
-            # YAML 1.1 reads 1e3 (no dot) as text; rosparam, which loads the file for the
-            # controller, reads it as the number.
-            try:
-                value = float(value)
-            except ValueError:
-                pass
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or \
-                not math.isfinite(value) or value < 0:
-            raise ValueError("the controller's %s must be a finite number >= 0, got %r"
-                             % (key, value))
-        values[key] = float(value)
-    if values["kp"] == 0:
-        raise ValueError("the controller's kp is 0: its setpoint cannot move the crank")
-    return base.with_values({
-        "command.mode": "position", "command.feedforward": "none",
-        "command.position_kp": values["kp"], "command.position_kd": values["kd"],
-        "command.position_ki": values["ki"],
-        "command.torque_limit": min(values["torque_limit"], base["command.torque_limit"])})
+        _check_controller_key(key, value)
+        if key in PD_CONTROLLER_GAINS:
+            values[key] = float(_number(value))
+    values["torque_limit"] = min(values["torque_limit"], base["command.torque_limit"])
+    try:
+        return base.with_values(dict({PD_AS_SERVO[k]: v for k, v in values.items()},
+                                     **{"command.mode": "position",
+                                        "command.feedforward": "none"}))
+    except ConfigError as e:  # beyond what the servo takes (kp 1e308): named as the file's key
+        key = next((k for k, name in PD_AS_SERVO.items() if name in str(e)), None)
+        raise ValueError("the controller's %s as the position servo's: %s" % (key, e)) \
+            if key else e from None
 
 
 def excitation(config=None, duration=60.0, seed=0, rate=1000.0, candidates=4):

@@ -315,6 +315,14 @@ def test_excite_designs_the_pd_controllers_setpoint_table_with_its_law_in_the_lo
     ("", "must be a mapping of its parameters (kp, kd, ki, torque_limit), got None"),
     ("kp: [1\n", "not YAML: while parsing"),
     ("law: upright.yaml\n", "is a state feedback, which has no setpoint"),
+    # What the controller refuses (pd_controller's own checks), and what the servo cannot take.
+    ("setpoint: .nan\n", "the controller's setpoint must be a finite number, got nan"),
+    ("setpoint: 1e308\n", "the controller's setpoint 1e+308 rad is beyond a million turns"),
+    ("stamped: \"yes\"\n", "the controller's stamped must be true or false, got 'yes'"),
+    ("setpoint_table: 5\n", "the controller's setpoint_table must be a file path, got 5"),
+    ("torque_limit: 0\n", "the controller's torque_limit is 0"),
+    ("kp: 1e308\n", "the controller's kp as the position servo's: config key "
+                     "'command.position_kp' must be in [0, 1e+06], got 1e+308"),
 ])
 def test_a_controller_file_that_is_not_the_pds_gains_is_named(tmp_path, text, words):
     import subprocess
@@ -322,7 +330,7 @@ def test_a_controller_file_that_is_not_the_pds_gains_is_named(tmp_path, text, wo
     path.write_text(text)
     r = subprocess.run([tool("identify"), "--excite", "4", "--controller", str(path), "-o",
                         str(tmp_path / "sp.csv")], capture_output=True, text=True, timeout=120)
-    assert r.returncode == 3 and words in r.stderr, r.stderr
+    assert r.returncode == 1 and words in r.stderr, r.stderr  # a bad config: exit 1
     assert "--controller %s" % path in r.stderr and not (tmp_path / "sp.csv").exists()
 
 
@@ -330,14 +338,19 @@ def test_a_controller_file_that_is_not_the_pds_gains_is_named(tmp_path, text, wo
     (["--controller", "/dev/zero", "--excite", "4"], "not a regular file"),
     (["--controller", "/nonexistent.yaml", "--excite", "4"], "no such file"),
     (["--controller", "CONFIG"], "--controller is for --excite"),
+    (["--controller", "OUT", "--excite", "4"], "is the --controller file: it would be overwritten"),
 ])
 def test_controller_arguments_are_checked_before_any_work(tmp_path, args, words):
     import subprocess
     from conftest import config_path
-    args = [config_path("controller.yaml") if a == "CONFIG" else a for a in args]
-    r = subprocess.run([tool("identify")] + args + ["-o", str(tmp_path / "sp.csv")],
+    out = tmp_path / "sp.csv"
+    out.write_text("kp: 500\n")
+    args = [config_path("controller.yaml") if a == "CONFIG" else str(out) if a == "OUT" else a
+            for a in args]
+    r = subprocess.run([tool("identify")] + args + ["-o", str(out)],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and words in r.stderr, r.stderr
+    assert out.read_text() == "kp: 500\n"  # nothing written
 
 
 def test_a_simulate_bag_of_a_servo_replays_its_law_from_the_bags_input_log(tmp_path):
