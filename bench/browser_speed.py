@@ -5,13 +5,14 @@ Usage: /usr/bin/python3 bench/browser_speed.py [DURATION_S]   (after scripts/bui
 devel space sourced; prints the machine, then median-of-5 wall times and steps/s of each)
 """
 import os
-import platform
 import re
 import statistics
 import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from machine import machine  # noqa: E402
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
 
@@ -19,18 +20,6 @@ DURATION = float(sys.argv[1]) if len(sys.argv) > 1 else 3600.0
 TORQUE = ("--torque-sine", "1,0.5")
 FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
          "--disable-component-update", "--disable-sync", "--no-first-run"]
-
-
-def machine():
-    model = flags = "?"
-    with open("/proc/cpuinfo") as f:
-        for line in f:
-            if line.startswith("model name") and model == "?":
-                model = line.split(":", 1)[1].strip()
-            if line.startswith("flags") and flags == "?":
-                have = line.split(":", 1)[1].split()
-                flags = "AVX-512" if "avx512f" in have else "AVX2" if "avx2" in have else "SSE2"
-    return "%s, %s, %d cores, %s" % (model, flags, os.cpu_count(), platform.platform())
 
 
 def main():

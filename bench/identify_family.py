@@ -30,6 +30,7 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "test",
                                 "python", "identify"))
 import rigs  # noqa: E402
+from machine import machine  # noqa: E402
 import kane_sim  # noqa: E402
 from kane_sim import identify as ki  # noqa: E402
 
@@ -122,6 +123,7 @@ def main():
     print("refused: %d of %d rigs" % (len(refused), args.rigs))
     for rig, why in refused:
         print("  %s: %s" % (rig, why))
+    print("machine:", machine())
     print("wall time per fit: median %.1f s, worst %.1f s; peak memory %.0f MB"
           % (np.median(walls), np.max(walls),
              resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024))
