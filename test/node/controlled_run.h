@@ -12,6 +12,7 @@
 
 #include "kane_sim/ros/param_yaml.h"
 #include "kane_sim/sim/config_check.h"
+#include "kane_sim/sim/sim_driver.h"
 #include "node_test_utils.h"
 #include "pd_law.h"
 
@@ -60,6 +61,26 @@ template <class M>
   const bool enough = recorder.waitForCount(count, timeout_s);
   ros::service::call("kane_sim/pause", empty);
   if (!enough) return ::testing::AssertionFailure() << "only " << recorder.count() << " messages";
+  return ::testing::AssertionSuccess();
+}
+
+// Steps `driver` one publish period (`ticks` physics steps, the torque already commanded) and
+// compares its joint positions and velocities with the node's k-th stepped message, bit for bit.
+inline ::testing::AssertionResult stepsAsPublished(SimDriver* driver, int ticks,
+                                                   const sensor_msgs::JointState& published,
+                                                   size_t k) {
+  for (int i = 0; i < ticks; ++i)
+    if (!driver->step()) return ::testing::AssertionFailure() << "step refused, publish " << k;
+  const Snapshot s = driver->snapshot();
+  if (published.position.size() != 4u || published.velocity.size() != 4u)
+    return ::testing::AssertionFailure() << "publish " << k << " has not 4 joints";
+  for (int j = 0; j < 4; ++j)
+    if (published.position[j] != s.joints.position[j] ||
+        published.velocity[j] != s.joints.velocity[j])
+      return ::testing::AssertionFailure()
+             << "publish " << k << " joint " << j << ": node " << published.position[j] << ", "
+             << published.velocity[j] << "; driver " << s.joints.position[j] << ", "
+             << s.joints.velocity[j];
   return ::testing::AssertionSuccess();
 }
 

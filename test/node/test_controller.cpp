@@ -66,13 +66,7 @@ TEST(ControllerLaw, HoldsTheCrankUprightAsTheOfflineDriverDoes) {
   for (size_t k = 0; k < kPublishes; ++k) {
     driver.command(
         std::clamp(law.command(driver.simulator().state()), -torque_limit, torque_limit));
-    for (int i = 0; i < ticks_per_publish; ++i) ASSERT_TRUE(driver.step());
-    const Snapshot s = driver.snapshot();
-    ASSERT_EQ(recorded[k].position.size(), 4u);
-    for (int j = 0; j < 4; ++j) {
-      ASSERT_EQ(recorded[k].position[j], s.joints.position[j]) << "publish " << k << " joint " << j;
-      ASSERT_EQ(recorded[k].velocity[j], s.joints.velocity[j]) << "publish " << k << " joint " << j;
-    }
+    ASSERT_TRUE(test::stepsAsPublished(&driver, ticks_per_publish, recorded[k], k));
   }
   const sensor_msgs::JointState& last = recorded[kPublishes - 1];
   EXPECT_NEAR(std::remainder(last.position[0] - M_PI, 2 * M_PI), 0.0, 1e-3);
@@ -113,13 +107,7 @@ TEST(ControllerTable, ThePdFollowsItsSetpointTableAsTheOfflineDriverDoes) {
     const Snapshot before = driver.snapshot();
     driver.command(
         pdTorque(run.gains, setpoint, before.joints.position[0], before.joints.velocity[0]));
-    for (int i = 0; i < ticks_per_publish; ++i) ASSERT_TRUE(driver.step());
-    const Snapshot s = driver.snapshot();
-    ASSERT_EQ(recorded[k].position.size(), 4u);
-    for (int j = 0; j < 4; ++j) {
-      ASSERT_EQ(recorded[k].position[j], s.joints.position[j]) << "publish " << k << " joint " << j;
-      ASSERT_EQ(recorded[k].velocity[j], s.joints.velocity[j]) << "publish " << k << " joint " << j;
-    }
+    ASSERT_TRUE(test::stepsAsPublished(&driver, ticks_per_publish, recorded[k], k));
   }
   // Each row reached in turn before the next: within 0.1 rad, the PD's steady error (the holding
   // moment over kp: 0.055 rad at -0.4 rad, where the spring is stretched furthest) and then some;

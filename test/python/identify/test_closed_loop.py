@@ -305,6 +305,18 @@ def test_excite_designs_the_pd_controllers_setpoint_table_with_its_law_in_the_lo
     assert min(gap) > law["contact.gap"]
 
 
+def test_the_gains_defaults_are_the_controllers_own():
+    # One truth: a gains file that leaves a key out gets what pd_controller would use, its
+    # PdGains defaults, which its usage prints.
+    import re
+    import subprocess
+    usage = subprocess.run([tool("pd_controller"), "--help"], capture_output=True, text=True,
+                           timeout=60).stdout
+    for key, value in ki.excitation.__globals__["PD_CONTROLLER_GAINS"].items():
+        shown = re.search(r"_%s:=([-0-9.e+]+)" % key, usage)
+        assert shown and float(shown.group(1)) == value, (key, usage)
+
+
 @pytest.mark.parametrize("text, words", [
     ("kp: .nan\n", "the controller's kp must be a finite number >= 0, got nan"),
     ("kd: -1e308\n", "the controller's kd must be a finite number >= 0, got -1e+308"),
