@@ -5,6 +5,7 @@
 // to that floor.
 //   $KANE_SIM_BUILD_DIR/bench_bin/bench_core --benchmark_min_time=0.5
 #include <cmath>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
@@ -49,29 +50,49 @@ void BM_GeneratedEvaluation(benchmark::State& st) {
 }
 BENCHMARK(BM_GeneratedEvaluation);
 
-// every_load: the dampers and Coulomb friction on (the generated variant with every term, whose
-// tanh calls the library).
-void BM_Rk4Step(benchmark::State& st, kane_sim::EquationsSource equations, bool every_load) {
+// How a step is driven. kHeld: 2 N m throughout (the floor's drive). kSwung: 2 + 10 sin(2 pi t)
+// N m, the crank swung through about +-2 rad at 1 Hz, so the mechanism keeps moving whatever
+// its loads (under kHeld the lossy mechanism comes to rest within seconds and stays there).
+enum class Drive { kHeld, kSwung };
+
+// The dampers and Coulomb friction on (the generated variant with every term).
+void turnOnEveryLoad(kane_sim::Config* c) {
+  auto& p = c->mechanism;
+  p.damping = {0.01, 0.01, 0.5, 0.5, 0.2};  // crank, coupler, slider3, slider4, spring
+  p.friction.crank_joint = p.friction.coupler_joint = 0.02;
+  p.friction.slider3_joint = p.friction.slider4_joint = 0.3;
+}
+
+// every_load, held: at rest within seconds, where every friction tanh is in its smooth part (the
+// whole algorithm, |v| < 18.7 v_s). Swung: moving, where most are beyond it (exactly +-1).
+void BM_Rk4Step(benchmark::State& st, kane_sim::EquationsSource equations, bool every_load,
+                Drive drive) {
   kane_sim::Config c = defaultConfig();
   c.simulation.integrator = kane_sim::IntegratorType::kRk4;
   c.simulation.equations = equations;
-  if (every_load) {
-    auto& p = c.mechanism;
-    p.damping = {0.01, 0.01, 0.5, 0.5, 0.2};  // crank, coupler, slider3, slider4, spring
-    p.friction.crank_joint = p.friction.coupler_joint = 0.02;
-    p.friction.slider3_joint = p.friction.slider4_joint = 0.3;
+  if (every_load) turnOnEveryLoad(&c);
+  std::vector<double> swing(static_cast<std::size_t>(std::lround(c.simulation.physics_rate)));
+  for (std::size_t i = 0; i < swing.size(); ++i) {
+    swing[i] = 2.0 + 10.0 * std::sin(2.0 * M_PI * static_cast<double>(i) / swing.size());
   }
   kane_sim::Simulator sim(c);
   sim.setTorque(2.0);
   for (auto _ : st) {
+    if (drive == Drive::kSwung) sim.setTorque(swing[sim.ticks() % swing.size()]);
     if (!sim.step().ok) st.SkipWithError("step refused");
     if (sim.ticks() % 100000 == 0) sim.reset();  // stay in the same regime of motion
   }
   st.SetItemsProcessed(st.iterations());
 }
-BENCHMARK_CAPTURE(BM_Rk4Step, generated, kane_sim::EquationsSource::kGenerated, false);
-BENCHMARK_CAPTURE(BM_Rk4Step, generic, kane_sim::EquationsSource::kGeneric, false);
-BENCHMARK_CAPTURE(BM_Rk4Step, generated_every_load, kane_sim::EquationsSource::kGenerated, true);
+BENCHMARK_CAPTURE(BM_Rk4Step, generated, kane_sim::EquationsSource::kGenerated, false,
+                  Drive::kHeld);
+BENCHMARK_CAPTURE(BM_Rk4Step, generic, kane_sim::EquationsSource::kGeneric, false, Drive::kHeld);
+BENCHMARK_CAPTURE(BM_Rk4Step, generated_every_load, kane_sim::EquationsSource::kGenerated, true,
+                  Drive::kHeld);
+BENCHMARK_CAPTURE(BM_Rk4Step, generated_swung, kane_sim::EquationsSource::kGenerated, false,
+                  Drive::kSwung);
+BENCHMARK_CAPTURE(BM_Rk4Step, generated_every_load_swung, kane_sim::EquationsSource::kGenerated,
+                  true, Drive::kSwung);
 
 // dopri5: the cost of one simulated second at 1 kHz physics, per tolerance.
 void BM_Dopri5PerSimSecond(benchmark::State& st) {

@@ -351,8 +351,9 @@ TEST(LaneMath, TheWrittenOutSincosIsTheLibrarysBitForBit) {
 // The scalar tanh is SLEEF's deterministic tanh written out (model/math_functions.h): bit for
 // bit the library's own SSE2 function for every argument, checked densely where the reduction
 // changes hands (2|x| / ln 2 at a half-integer: q steps), at q = 0's edge, at the saturation
-// (18.714973875), on random arguments of every magnitude; signed zeros, subnormals, infinities
-// and NaN (the library's NaN: every bit set).
+// (18.714973875) and at the shortcuts' edges (0.17: the unreduced form), on random arguments of
+// every magnitude; signed zeros, subnormals, infinities and NaN (the library's NaN: every bit
+// set).
 TEST(LaneMath, TheWrittenOutTanhIsTheLibrarysBitForBit) {
   std::vector<double> x = {0.0,
                            -0.0,
@@ -371,7 +372,7 @@ TEST(LaneMath, TheWrittenOutTanhIsTheLibrarysBitForBit) {
     around((k + 0.5) * M_LN2 / 2, 300);
     around(-(k + 0.5) * M_LN2 / 2, 300);
   }
-  for (double centre : {18.714973875, -18.714973875, 1e-8, 1.0}) around(centre, 3000);
+  for (double centre : {18.714973875, -18.714973875, 0.17, -0.17, 1e-8, 1.0}) around(centre, 3000);
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> near(-20.0, 20.0), exponent(-320.0, 308.0);
   for (int i = 0; i < 300000; ++i) {
@@ -390,7 +391,8 @@ TEST(LaneMath, TheWrittenOutTanhIsTheLibrarysBitForBit) {
 }
 
 // The friction laws' tanh two values at once (one SSE2 register): each the one-value form's
-// bits, whatever the other lane holds (NaN and infinities included).
+// bits, whatever the other lane holds (NaN and infinities included): both lanes in the same
+// shortcut (saturated, unreduced) or in different ones.
 TEST(LaneMath, TanhPairGivesEachValueTheOneValueCallsBits) {
   std::mt19937_64 rng(6);
   std::uniform_real_distribution<double> exponent(-320.0, 310.0);
@@ -403,6 +405,8 @@ TEST(LaneMath, TanhPairGivesEachValueTheOneValueCallsBits) {
                            std::numeric_limits<double>::quiet_NaN()};
   for (int i = 0; i < 200000; ++i)
     x.push_back((i % 2 ? 1 : -1) * std::pow(10.0, exponent(rng) / 20.0 - 5.0 * (i % 3)));
+  std::uniform_real_distribution<double> either_side(-0.3, 0.3), saturating(18.0, 20.0);
+  for (int i = 0; i < 20000; ++i) x.push_back(i % 2 ? either_side(rng) : saturating(rng));
   const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
   int differing = 0;
   for (std::size_t i = 0; i + 1 < x.size(); ++i) {

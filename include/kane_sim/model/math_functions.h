@@ -125,6 +125,9 @@ static inline double whereZero(double v, double then, double otherwise) {
 static inline double whereAtMost(double v, double bound, double then, double otherwise) {
   return v <= bound ? then : otherwise;  // NaN: otherwise
 }
+// Whether every lane is below the bound, beyond it (NaN: neither): the kernel's shortcuts.
+static inline bool allBelow(double v, double bound) { return v < bound; }
+static inline bool allBeyond(double v, double bound) { return v > bound; }
 // y with x's sign flipped in (vmulsign), then every bit set where x is NaN (the library's NaN).
 static inline double signedLike(double y, double x) {
   std::uint64_t bits, sign;
@@ -164,6 +167,12 @@ static inline Two whereZero(Two v, Two then, Two otherwise) {
 static inline Two whereAtMost(Two v, double bound, Two then, Two otherwise) {
   return choose(_mm_cmple_pd(v.v, _mm_set1_pd(bound)), then, otherwise);
 }
+static inline bool allBelow(Two v, double bound) {
+  return _mm_movemask_pd(_mm_cmplt_pd(v.v, _mm_set1_pd(bound))) == 3;
+}
+static inline bool allBeyond(Two v, double bound) {
+  return _mm_movemask_pd(_mm_cmpgt_pd(v.v, _mm_set1_pd(bound))) == 3;
+}
 static inline Two signedLike(Two y, Two x) {
   const __m128d flipped = _mm_xor_pd(y.v, _mm_and_pd(x.v, _mm_set1_pd(-0.0)));
   return Two(_mm_or_pd(_mm_cmpunord_pd(x.v, x.v), flipped));
@@ -173,19 +182,25 @@ static inline Two signedLike(Two y, Two x) {
 // e^d - 1 for 0 <= d <= 2 kSaturation (expm1k): d = q ln 2 + s, a polynomial in s by
 // Estrin's scheme (the library's POLY10 of MLA(x, y, z) = x y + z: a multiply, then an add),
 // then scaled by 2^q in two halves (vldexp2; q >> 1 is q / 2 - 1 / 4 rounded, q >= 0).
+// The polynomial part: e^s - 1 for the reduced argument s, |s| <= ln 2 / 2.
 template <class V>
-static inline V expm1k(V d) {
-  const V q = sleef_sincos::nearestInteger(d * kInverseLn2);  // vrint: ties to even
-  V s = q * -kLn2Upper + d;
-  s = q * -kLn2Lower + s;
+static inline V expm1Reduced(V s) {
   const V s2 = s * s, s4 = s2 * s2, s8 = s4 * s4;
   const V high = s * 2.08860621107283687536341e-09 + 2.51112930892876518610661e-08;
   const V upper = s2 * (s * 2.75573911234900471893338e-07 + 2.75572362911928827629423e-06) +
                   (s * 2.4801587159235472998791e-05 + 0.000198412698960509205564975);
   const V lower = s2 * (s * 0.00138888888889774492207962 + 0.00833333333331652721664984) +
                   (s * 0.0416666666666665047591422 + 0.166666666666666851703837);
-  V u = s8 * high + (s4 * upper + lower);
-  u = (s2 * 0.5 + (s2 * s) * u) + s;
+  const V u = s8 * high + (s4 * upper + lower);
+  return (s2 * 0.5 + (s2 * s) * u) + s;
+}
+
+template <class V>
+static inline V expm1k(V d) {
+  const V q = sleef_sincos::nearestInteger(d * kInverseLn2);  // vrint: ties to even
+  V s = q * -kLn2Upper + d;
+  s = q * -kLn2Lower + s;
+  const V u = expm1Reduced(s);
   const V half = sleef_sincos::nearestInteger(q * 0.5 - 0.25);
   return whereZero(q, u, ((u + 1.0) * powerOfTwo(half)) * powerOfTwo(q - half) - 1.0);
 }
@@ -193,9 +208,20 @@ static inline V expm1k(V d) {
 // tanh x = e / (2 + e), e = e^(2|x|) - 1, with x's sign; +-1 beyond kSaturation; NaN as the
 // library returns it. Beyond kSaturation (and for NaN) the quotient is taken of 0, so that
 // every step stays in range, and dropped.
+// Two shortcuts give the same bits sooner (a friction step waits for its tanh in every rk4
+// stage): beyond kSaturation the answer is +-1 outright; below kUnreduced, 2|x| / ln 2 rounds to
+// q = 0, where expm1k's reduction leaves s = 2|x| (0 * -ln 2 + s is s, +0 included) and its
+// scaling is not taken, so e is the polynomial alone. Both are taken only when every lane can.
+constexpr double kUnreduced = 0.17;  // 2 * 0.17 / ln 2 = 0.49 < 0.5
+
 template <class V>
 static inline V tanhOf(V x) {
   const V magnitude = absOf(x);
+  if (allBeyond(magnitude, kSaturation)) return signedLike(V(1.0), x);
+  if (allBelow(magnitude, kUnreduced)) {
+    const V e = expm1Reduced(magnitude * 2.0);
+    return signedLike(e / (2.0 + e), x);
+  }
   const V within = whereAtMost(magnitude, kSaturation, magnitude, V(0.0));
   const V e = expm1k(within * 2.0);
   return signedLike(whereAtMost(magnitude, kSaturation, e / (2.0 + e), V(1.0)), x);
