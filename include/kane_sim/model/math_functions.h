@@ -267,6 +267,12 @@ static inline double tanh(double x) { return sleef_tanh::tanhOf(x); }
 // *tx = tanh x, *ty = tanh y: two at once in one SSE2 register where there is one (a friction
 // step takes 16 tanh), each lane the one-value form's bits.
 static inline void tanhPair(double x, double y, double* tx, double* ty) {
+  // Both beyond the saturation (a moving mechanism's usual case): +-1 without packing a register.
+  if (std::abs(x) > sleef_tanh::kSaturation && std::abs(y) > sleef_tanh::kSaturation) {
+    *tx = std::copysign(1.0, x);
+    *ty = std::copysign(1.0, y);
+    return;
+  }
 #if defined(__SSE2__) && !defined(__EMSCRIPTEN__)
   const __m128d both = sleef_tanh::tanhOf(sleef_tanh::Two(_mm_set_pd(y, x))).v;
   *tx = _mm_cvtsd_f64(both);
