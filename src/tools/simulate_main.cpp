@@ -27,7 +27,6 @@
 #include "kane_sim/config/load_config.h"
 #include "kane_sim/design/plan_file.h"
 #include "kane_sim/format_number.h"
-#include "kane_sim/ros/bag_writer.h"
 #include "kane_sim/sim/config_check.h"
 #include "kane_sim/sim/csv_format.h"
 #include "kane_sim/sim/output_grid.h"
@@ -35,8 +34,8 @@
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/sweep.h"
 #include "kane_sim/sim/torque_profile.h"
+#include "simulate/bag_module.h"
 #include "simulate/outputs.h"
-#include "simulate/replay.h"
 
 using kane_sim::ConfigError;
 using kane_sim::cli::CsvOutput;
@@ -121,7 +120,7 @@ int runSweepMode(const Options& options, const YAML::Node& base) {
 int runReplay(const Options& options, const kane_sim::Config& config) {
   simulate::ReplayResult r;
   try {
-    r = simulate::replayBag(options.replay_bag, config, &g_stop);
+    r = simulate::bagModule().replay(options.replay_bag, config, &g_stop);
   } catch (const simulate::ReplayError& e) {
     std::cerr << "error: --replay: " << e.what() << "\n";
     return kExitReplayDiffers;
@@ -279,7 +278,6 @@ int run(const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ros::Time::init();  // ros::Time without a master, for the bag writer
   // Past a file-size limit (ulimit -f) a write should fail (exit 4), not kill the process.
   std::signal(SIGXFSZ, SIG_IGN);
   std::signal(SIGINT, onStopSignal);

@@ -1,5 +1,5 @@
-// Where simulate's rows go: a CSV (kane_sim/cli/staged_output.h) and/or a bag, both fed from the
-// same snapshots. A write that fails is an OutputError.
+// Where simulate's rows go: a CSV (kane_sim/cli/staged_output.h) and/or a bag (the bag module,
+// bag_module.h), both fed from the same snapshots. A write that fails is an OutputError.
 #ifndef KANE_SIM_TOOLS_SIMULATE_OUTPUTS_H
 #define KANE_SIM_TOOLS_SIMULATE_OUTPUTS_H
 
@@ -12,10 +12,9 @@
 #include "kane_sim/cli/simulate_options.h"
 #include "kane_sim/cli/staged_output.h"
 #include "kane_sim/config/config.h"
-#include "kane_sim/description/robot_description.h"
-#include "kane_sim/ros/bag_writer.h"
 #include "kane_sim/sim/sim_driver.h"
 #include "kane_sim/sim/snapshot.h"
+#include "simulate/bag_module.h"
 
 namespace simulate {
 
@@ -27,10 +26,7 @@ using kane_sim::cli::StagedPath;
 // Where the rows go: a CSV stream and/or a bag, both fed from the same snapshots.
 class Outputs {
  public:
-  Outputs(const Options& options, const kane_sim::Config& config)
-      : robot_(kane_sim::describeRobot(config)),
-        sensors_enabled_(config.sensors.enabled),
-        mode_(config.command.mode) {
+  Outputs(const Options& options, const kane_sim::Config& config) {
     // With a bag and no --csv, no CSV.
     if (!options.csv_path.empty() || options.bag_path.empty())
       csv_ = std::make_unique<CsvOutput>(options.csv_path);
@@ -38,11 +34,10 @@ class Outputs {
       bag_path_ = options.bag_path;
       bag_file_ = std::make_unique<StagedPath>(options.bag_path);
       try {
-        bag_ = std::make_unique<kane_sim::BagWriter>(bag_file_->staging());
+        bag_ = bagModule().open(bag_file_->staging(), config);
       } catch (const std::exception& e) {
         throw OutputError("cannot write --bag '" + options.bag_path + "': " + e.what());
       }
-      bag_->writeStatic(kane_sim::staticTransforms(robot_, kane_sim::simStamp(0)));
     }
     if (csv_) kane_sim::writeCsvHeader(csv_->stream());
   }
@@ -53,12 +48,8 @@ class Outputs {
       if (!csv_->stream()) throw OutputError("writing the CSV failed (disk full?)");
     }
     if (bag_) {
-      const ros::Time stamp = kane_sim::simStamp(snapshot.time);
       try {
-        // real_time_factor 0: offline, not paced against any wall clock.
-        bag_->write(kane_sim::buildMessages(snapshot, robot_, 0.0, stamp), stamp, sensors_enabled_);
-        if (mode_ != kane_sim::CommandMode::kEffort)  // as the node: servo_state in servo modes
-          bag_->writeServoState(kane_sim::servoStateMessage(snapshot, mode_, stamp));
+        bag_->write(snapshot);
       } catch (const std::exception& e) {
         throw OutputError("writing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
       }
@@ -72,8 +63,7 @@ class Outputs {
     while (driver.takeSensorReading(&reading)) {
       if (!bag_) continue;
       try {
-        bag_->writeSensorReading(
-            kane_sim::jointStateMessage(reading.joints, kane_sim::simStamp(driver.time())));
+        bag_->writeSensorReading(reading, driver.time());
       } catch (const std::exception& e) {
         throw OutputError("writing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
       }
@@ -85,7 +75,7 @@ class Outputs {
   void logInput(const kane_sim::DriverInput& input, double time) {
     if (!bag_) return;
     try {
-      bag_->writeInputLog(kane_sim::inputLogMessage(input, kane_sim::simStamp(time), input_seq_++));
+      bag_->logInput(input, time);
     } catch (const std::exception& e) {
       throw OutputError("writing --bag '" + bag_path_ + "' failed (disk full?): " + e.what());
     }
@@ -105,14 +95,10 @@ class Outputs {
   }
 
  private:
-  kane_sim::RobotDescription robot_;  // the node's tf tree, the same in the bag
-  bool sensors_enabled_;
-  kane_sim::CommandMode mode_;
   std::unique_ptr<StagedPath> bag_file_;
   std::string bag_path_;
   std::unique_ptr<CsvOutput> csv_;
-  std::unique_ptr<kane_sim::BagWriter> bag_;
-  std::uint64_t input_seq_ = 0;  // /kane_sim/input_log's number of the next input
+  std::unique_ptr<BagOutput> bag_;
 };
 
 }  // namespace simulate
