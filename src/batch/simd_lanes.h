@@ -6,6 +6,7 @@
 #include <sleef.h>
 #include <xsimd/xsimd.hpp>
 
+#include "kane_sim/model/math_functions.h"
 #include "lane_block.h"
 
 namespace kane_sim {
@@ -43,12 +44,22 @@ struct Lanes<xsimd::batch<double, A>> {
   static void toBools(const Mask& m, bool* out) { m.store_unaligned(out); }
 };
 
+// SLEEF's tanh on W lanes, +-1 outright when every lane is beyond its saturation (the library's
+// own answer there, as the scalar form's shortcut: model/math_functions.h): a block of moving
+// mechanisms' friction skips the call.
+template <class B, class Vector>
+B saturatingTanh(const B& x) {
+  if (xsimd::all(xsimd::abs(x) > B(math::sleef_tanh::kSaturation)))  // false for NaN
+    return xsimd::copysign(B(1.0), x);
+  return B(Vector::tanh(x));
+}
+
 // The equations' functions (model/math_functions.h) on W lanes: the vector forms of the same
 // SLEEF functions, which return the scalar form's bits in every lane. `Vector` names them for
 // one instruction set (lanes_<arch>.cpp): sincos(register) -> {sines, cosines}, tanh(register).
 template <class B, class Vector>
 struct DeterministicMath {
-  static B tanh(const B& x) { return B(Vector::tanh(x)); }
+  static B tanh(const B& x) { return saturatingTanh<B, Vector>(x); }
   static void tanhPair(const B& x, const B& y, B* tx, B* ty) {  // every lane already used
     *tx = tanh(x);
     *ty = tanh(y);
@@ -65,7 +76,7 @@ struct DeterministicMath {
 // the difference (measured: batches.md). tanh stays the deterministic one.
 template <class B, class Vector>
 struct VectorMath {
-  static B tanh(const B& x) { return B(Vector::tanh(x)); }
+  static B tanh(const B& x) { return saturatingTanh<B, Vector>(x); }
   static void tanhPair(const B& x, const B& y, B* tx, B* ty) {
     *tx = tanh(x);
     *ty = tanh(y);
