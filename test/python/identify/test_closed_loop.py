@@ -291,6 +291,15 @@ def test_excite_designs_the_pd_controllers_setpoint_table_with_its_law_in_the_lo
     assert "pd_controller _setpoint_table:=%s" % out in r.stdout
     t, setpoint = np.loadtxt(out, delimiter=",", skiprows=1, unpack=True)
     assert t[0] == 0.0 and t[-1] > 5.9 and 0.1 < np.max(np.abs(setpoint)) <= 1.5
+    # One truth: the CLI's table is Python's excitation() on pd_controller_base() with the same
+    # file's gains, to the digits it writes (t to 1e-6 s, the setpoint to 12 significant).
+    import yaml
+    with open(config_path("controller.yaml")) as f:
+        gains_file = yaml.safe_load(f)
+    py_t, py_setpoint, _ = ki.excitation(ki.pd_controller_base(kane_sim.Config(), gains_file),
+                                         6.0, seed=0, rate=1000.0)
+    np.testing.assert_allclose(t, py_t, rtol=0, atol=5e-7)
+    np.testing.assert_allclose(setpoint, py_setpoint, rtol=1e-11, atol=0)
     # Played through the controller's law (its readings at 100 Hz, its clamp), the crank moves
     # and the sliders stay apart.
     law = kane_sim.Config().with_values({"command.torque_limit": 50.0})
