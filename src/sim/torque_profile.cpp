@@ -121,6 +121,14 @@ TorqueProfile TorqueProfile::fromCsvFile(const std::string& path, TableValue val
         throw std::invalid_argument(where + ": the header '" + line +
                                     "' names a torque [N m], not a setpoint [rad] (a setpoint "
                                     "table's header is t,setpoint)");
+      // And a setpoint's table played as a torque would drive the crank with its radians as
+      // newton metres.
+      if (value == TableValue::kTorqueOnly && torque == std::string::npos &&
+          named({"setpoint"}) != std::string::npos)
+        throw std::invalid_argument(where + ": the header '" + line +
+                                    "' names a setpoint, not a torque [N m] (a torque table's "
+                                    "header is t,torque; a setpoint table plays in "
+                                    "command.mode position or velocity)");
       if (t != std::string::npos && own != std::string::npos) {
         time_column = t;
         value_column = own;

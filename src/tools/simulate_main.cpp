@@ -203,6 +203,21 @@ int run(const Options& options) {
                        " (design the plan for this config, or play a t,torque CSV)");
   }
 
+  // The table's header says what its values are; the config's mode, what they drive.
+  if (!options.torque_csv.empty() && !kane_sim::isPlanCsv(options.torque_csv)) {
+    using Table = kane_sim::TorqueProfile::TableValue;
+    try {
+      kane_sim::TorqueProfile::fromCsvFile(options.torque_csv,
+                                           config.command.mode == kane_sim::CommandMode::kEffort
+                                               ? Table::kTorqueOnly
+                                               : Table::kSetpoint);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--torque-csv in command.mode ") +
+                           kane_sim::commandModeName(config.command.mode) + ": " + e.what(),
+                       false);
+    }
+  }
+
   kane_sim::OutputGrid grid;
   try {
     grid = kane_sim::outputGrid(config.simulation.physics_rate, options.duration,

@@ -112,8 +112,25 @@ TEST(TorqueProfile, ASetpointTableIsNotATorquesAndSaysSetpoint) {
       EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
     }
   }
-  // Read as a torque (simulate's --torque-csv), a setpoint table plays as before.
+  // Read before the mode is known (simulate's flags), a setpoint table is read; as a torque
+  // only (effort mode), it is refused, and a torque's table or one without a header plays.
   EXPECT_EQ(TorqueProfile::fromCsvFile(writeFile("t.csv", "t,setpoint\n0,0.5\n")).at(0.0), 0.5);
+  const auto torques = [](const std::string& text) {
+    return TorqueProfile::fromCsvFile(writeFile("tq.csv", text),
+                                      TorqueProfile::TableValue::kTorqueOnly);
+  };
+  EXPECT_EQ(torques("t,torque\n0,2\n").at(0.0), 2.0);
+  EXPECT_EQ(torques("0,2\n").at(0.0), 2.0);
+  EXPECT_EQ(torques("t,q1,q2,u1,u2,M_m,setpoint\n0,0,0,0,0,3,9\n").at(0.0), 3.0);
+  try {
+    torques("t,setpoint\n0,0.5\n");
+    ADD_FAILURE() << "a setpoint table was read as a torque";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("tq.csv:1: the header 't,setpoint' names a setpoint, not "
+                                         "a torque [N m]"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(TorqueProfile, MalformedCsvNamesLineAndValue) {

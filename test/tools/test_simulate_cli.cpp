@@ -113,6 +113,21 @@ TEST(SimulateCli, UnwritableOutputExitsFour) {
 TEST(SimulateCli, AbsurdValuesAndBadTorqueProfilesAreUsageErrors) {
   const std::string csv = ::testing::TempDir() + "/backwards.csv";
   std::ofstream(csv) << "t,torque\n0,1\n1,2\n0.5,3\n";
+  // A table's header says what its values are; the config's command.mode what they drive.
+  const std::string setpoints = ::testing::TempDir() + "/setpoints.csv";
+  std::ofstream(setpoints) << "t,setpoint\n0,0.5\n";
+  const std::string torques = ::testing::TempDir() + "/torques.csv";
+  std::ofstream(torques) << "t,torque\n0,0.5\n";
+  std::string servo_yaml;
+  {
+    std::ifstream in(kane_sim::test::configPath("mechanism.yaml"));
+    servo_yaml.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    const std::size_t mode = servo_yaml.find("mode: effort");
+    ASSERT_NE(mode, std::string::npos);
+    servo_yaml.replace(mode, 12, "mode: position");
+  }
+  const std::string servo = ::testing::TempDir() + "/position_servo.yaml";
+  std::ofstream(servo) << servo_yaml;
   const struct {
     std::string args;
     std::string message;
@@ -139,12 +154,26 @@ TEST(SimulateCli, AbsurdValuesAndBadTorqueProfilesAreUsageErrors) {
       {" --duration 1 --tolerance 1", "--tolerance is for --replay"},
       {" --duration 1 --accept-gaps", "--accept-gaps is for --replay"},
       {"", "the option '--duration' is required"},
+      {" --duration 1 --torque-csv " + setpoints,
+       "--torque-csv in command.mode effort: " + setpoints +
+           ":1: the header 't,setpoint' names a setpoint, not a torque [N m]"},
   };
   for (const auto& c : cases) {
     const RunResult r = runSimulate(kConfig + c.args);
     EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
     EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
   }
+  // In a servo mode the table is the setpoint's: a torque's is refused, a setpoint's plays.
+  const RunResult torque_as_setpoint =
+      runSimulate("--config " + servo + " --duration 0.1 --torque-csv " + torques);
+  EXPECT_EQ(torque_as_setpoint.exit_code, 2) << torque_as_setpoint.err;
+  EXPECT_NE(torque_as_setpoint.err.find("--torque-csv in command.mode position: " + torques +
+                                        ":1: the header 't,torque' names a torque [N m], not a "
+                                        "setpoint"),
+            std::string::npos)
+      << torque_as_setpoint.err;
+  EXPECT_EQ(
+      runSimulate("--config " + servo + " --duration 0.1 --torque-csv " + setpoints).exit_code, 0);
 }
 
 // Hostile input never aborts: each case ends with its documented exit code and a message, never

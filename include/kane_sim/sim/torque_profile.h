@@ -17,11 +17,12 @@ class TorqueProfile {
   static TorqueProfile sine(double amplitude, double frequency, double offset);
   // Times must be finite and non-decreasing, torques finite; before the first time: 0.
   static TorqueProfile table(std::vector<std::pair<double, double>> points);
-  // What a table's values are: a torque [N m] (simulate's --torque-csv; a servo's setpoints
-  // too, in a servo mode), or a position controller's setpoint [rad] (pd_controller's
-  // ~setpoint_table), which a header naming a torque (torque, M_m) is not, and whose values are
-  // within a million turns (Simulator::kMaxCrankAngle, as the servo's setpoints).
-  enum class TableValue { kTorque, kSetpoint };
+  // What a table's values are: a torque [N m] or a servo's setpoint (simulate's --torque-csv
+  // before the config says which), a torque only (effort mode: a header naming a setpoint is
+  // refused), or a setpoint [rad] (pd_controller's ~setpoint_table, a servo mode), which a header
+  // naming a torque (torque, M_m) is not, and whose values are within a million turns
+  // (Simulator::kMaxCrankAngle, as the servo's setpoints).
+  enum class TableValue { kTorque, kTorqueOnly, kSetpoint };
   // A CSV of `t,torque` (`t,setpoint`) lines (an optional header line, # comments); throws
   // std::invalid_argument naming the file, the line and the bad value.
   static TorqueProfile fromCsvFile(const std::string& path, TableValue value = TableValue::kTorque);
