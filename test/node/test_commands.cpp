@@ -89,9 +89,11 @@ TEST_F(Commands, TimeoutZeroesTheTorqueAndNextCommandResumes) {
   // Zeroed after command.timeout (0.5 s sim time), not before; one publish period of slack. Both
   // instants from the recorded states (the first at 3 N m, the first at 0 after it), not from
   // when this thread looked: on a starved machine it looks late, or after the torque lapsed.
+  // Each look scans afresh: a state still at 0 before the command took effect is not "after".
   double on_at = -1.0, off_at = -1.0;
   ASSERT_TRUE(test::waitFor(
       [&] {
+        on_at = off_at = -1.0;
         const auto states = state_.messages();
         for (size_t i = before; i < states.size(); ++i) {
           const auto& m = states[i];
