@@ -18,6 +18,7 @@
 #include "kane_sim/config/frame_names.h"
 #include "kane_sim/estimate/estimate_table.h"
 #include "kane_sim/estimate/mechanism_estimator.h"
+#include "kane_sim/ros/inline_callback_queue.h"
 
 namespace kane_sim {
 
@@ -29,9 +30,12 @@ class ObserverNode {
  private:
   void onJointState(const sensor_msgs::JointState::ConstPtr& msg);
   void onResetEvent(const ResetEvent::ConstPtr& msg);
-  void publishDiagnostics();
+  void publishDiagnostics();  // with inline_queue_ held
 
   ros::NodeHandle nh_;
+  // The readings and reset events are taken in roscpp's network thread, one at a time; the
+  // diagnostics timer, on ros::spin's thread, holds this queue while it reads the alarm.
+  InlineCallbackQueue inline_queue_;
   Config config_;
   std::unique_ptr<MechanismEstimator> estimator_;
   std::unique_ptr<VirtualSensors> sensors_;

@@ -68,10 +68,11 @@ TrackingControllerNode::TrackingControllerNode(const ros::NodeHandle& nh,
                          : nh_.advertise<std_msgs::Float64>("torque_command", 10);
   ros::NodeHandle pnh(private_nh);
   reference_pub_ = pnh.advertise<sensor_msgs::JointState>("reference", 10);
-  joint_state_sub_ = nh_.subscribe("joint_states", 10, &TrackingControllerNode::onJointState, this,
-                                   ros::TransportHints().tcpNoDelay());
-  reset_event_sub_ =
-      nh_.subscribe("kane_sim/reset_event", 10, &TrackingControllerNode::onResetEvent, this);
+  joint_state_sub_ = inline_queue_.subscribe<sensor_msgs::JointState>(
+      nh_, "joint_states", 10, [this](const auto& msg) { onJointState(msg); },
+      ros::TransportHints().tcpNoDelay());
+  reset_event_sub_ = inline_queue_.subscribe<ResetEvent>(
+      nh_, "kane_sim/reset_event", 10, [this](const auto& msg) { onResetEvent(msg); });
   ROS_INFO(
       "tracking_controller: following %s (%.3f s, %zu rows every %g s), then the goal's "
       "LQR; |M_m| <= %g N m",

@@ -17,6 +17,7 @@
 
 #include "kane_sim/ResetEvent.h"
 #include "kane_sim/design/plan_follower.h"
+#include "kane_sim/ros/inline_callback_queue.h"
 
 namespace kane_sim {
 
@@ -31,6 +32,9 @@ class TrackingControllerNode {
   void answer(const ros::Time& stamp, double torque);
 
   ros::NodeHandle nh_;
+  // Readings and reset events answered in roscpp's network thread, one at a time: at 1 kHz a
+  // spinner's wake-up per reading costs more than the law.
+  InlineCallbackQueue inline_queue_;
   std::optional<PlanFollower> follower_;
   double last_torque_ = 0.0;                // answered again for a reading it cannot use
   std::optional<std::int64_t> last_stamp_;  // [ns] a reading before it restarts the plan
