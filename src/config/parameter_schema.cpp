@@ -1,9 +1,12 @@
 #include "kane_sim/config/parameter_schema.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <deque>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "kane_sim/format_number.h"
@@ -58,6 +61,36 @@ void appendJointSensor(std::vector<ParameterSpec>* out) {
           k.revolute ? "counts/turn" : "counts/m", kCountsRule).doc(docs[3].c_str()),
   });
   // clang-format on
+}
+
+// uncertainty.<section.key>: a standard error for each parameter a recorded motion can tell, in
+// the identifiable rows' order (Config::uncertainty), its unit theirs.
+template <std::size_t I>
+double& uncertaintyField(Config& c) {
+  return c.uncertainty[I];
+}
+template <std::size_t... I>
+constexpr std::array<double& (*)(Config&), sizeof...(I)> uncertaintyFields(
+    std::index_sequence<I...>) {
+  return {{&uncertaintyField<I>...}};
+}
+
+void appendUncertainties(const std::vector<ParameterSpec>& rows, std::vector<ParameterSpec>* out) {
+  static const auto fields = uncertaintyFields(std::make_index_sequence<kMaxIdentifiable>());
+  static std::deque<std::string> keys, docs;  // the rows' text, kept for the program's life
+  std::size_t i = 0;
+  for (const ParameterSpec& spec : rows) {
+    if (!identifiable(spec)) continue;
+    if (i == fields.size())
+      throw std::logic_error("parameter schema: more identifiable rows than kMaxIdentifiable");
+    keys.push_back(spec.path());
+    docs.push_back("the standard error of " + spec.path() +
+                   " (identify writes it): the estimator takes the model as uncertain by this "
+                   "much; 0 = known exactly");
+    out->push_back(row("uncertainty", keys.back().c_str(), fields[i++], spec.unit, kNoiseRule)
+                       .role(ParameterRole::kOperational)
+                       .doc(docs.back().c_str()));
+  }
 }
 
 std::vector<ParameterSpec> declareParameters() {
@@ -230,6 +263,7 @@ std::vector<ParameterSpec> declareParameters() {
   // order: each after the hand-written rows of its section.
   const std::vector<ParameterSpec> mechanism = mechanismParameterRows();
   parameters.insert(parameters.end(), mechanism.begin(), mechanism.end());
+  appendUncertainties(mechanism, &parameters);
   const auto sectionIndex = [](const ParameterSpec& p) {
     const std::vector<SectionSpec>& sections = configSections();
     for (std::size_t i = 0; i < sections.size(); ++i)
@@ -367,9 +401,10 @@ std::vector<const ParameterSpec*> parametersOfRole(ParameterRole role) {
 
 const std::vector<SectionSpec>& configSections() {
   static const std::vector<SectionSpec> sections = {
-      {"mechanism", true},    {"initial_state", true}, {"simulation", false}, {"command", false},
-      {"damping", false},     {"friction", false},     {"contact", false},    {"frames", false},
-      {"diagnostics", false}, {"sensors", false},      {"estimator", false}};
+      {"mechanism", true}, {"initial_state", true}, {"simulation", false},
+      {"command", false},  {"damping", false},      {"friction", false},
+      {"contact", false},  {"frames", false},       {"diagnostics", false},
+      {"sensors", false},  {"estimator", false},    {"uncertainty", false}};
   return sections;
 }
 

@@ -89,7 +89,16 @@ MechanismEstimator::MechanismEstimator(const Config& config)
       alarm_(config.estimator.alarm_window, config.estimator.false_alarms_per_hour, suspect_names_,
              suspect_units_),
       // The intervals stray by the jitter's span and a physics step without being late.
-      arrival_(std::sqrt(12.0 * noise_.timing_variance) + step_) {}
+      arrival_(std::sqrt(12.0 * noise_.timing_variance) + step_) {
+  // uncertainty.<suspect>: identify's standard error of each parameter the alarm suspects.
+  parameter_sigma_.resize(static_cast<Eigen::Index>(suspects_.size()));
+  for (std::size_t j = 0; j < suspects_.size(); ++j) {
+    const ParameterSpec* row = findParameter("uncertainty", suspect_names_[j]);
+    const double sigma = row != nullptr ? numericValue(*row, config) : 0.0;
+    parameter_sigma_(static_cast<Eigen::Index>(j)) = sigma;
+    considers_parameters_ |= sigma > 0.0;
+  }
+}
 
 std::vector<MechanismEstimator::Suspect> MechanismEstimator::suspectsOf(
     const Config& config, std::vector<std::string>* names, std::vector<std::string>* units) {
@@ -261,6 +270,8 @@ void MechanismEstimator::start(const RigReading& r, double sample_time) {
   measured_.fill(false);
   nis_ = 0.0;
   signature_ = SignatureMatrix::Zero(6, static_cast<Eigen::Index>(suspects_.size()));
+  // The parameters' errors have not yet acted on a state read off the rig.
+  if (considers_parameters_) sample_.parameter_cross = signature_;
 }
 
 bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torque,
@@ -312,14 +323,15 @@ bool MechanismEstimator::predict(FilterEstimate* e, double span, double end_torq
     P.topRightCorner<4, 2>() = Phi * P.topRightCorner<4, 2>();
     P.bottomLeftCorner<2, 4>() = P.topRightCorner<4, 2>().transpose();
     P += Q;
-    if (signature != nullptr) {
+    if (signature != nullptr || considers_parameters_) {
       // The signature is first order: its rates are taken once per torque held (the interval's
       // start and its switch), not at every step.
       if (!(torque == signature_torque)) {
         signature_rates = signatureRates(x, torque);
         signature_torque = torque;
       }
-      carrySignature(signature, Phi, signature_rates, h);
+      if (signature != nullptr) carrySignature(signature, Phi, signature_rates, h);
+      if (considers_parameters_) considerParameters(e, Phi, signature_rates, h);
     }
     rk4Step(rates, x, h);
   }
@@ -365,6 +377,27 @@ void MechanismEstimator::carrySignature(SignatureMatrix* signature, const Matrix
   E.topRows<4>() = Phi * E.topRows<4>();
   E.topRows<2>() += (0.5 * h * h) * g;
   E.middleRows<2>(2) += h * g;
+}
+
+void MechanismEstimator::considerParameters(FilterEstimate* e, const Matrix4& Phi,
+                                            const SignatureRates& g, double h) const {
+  // x' = Phi x + G p, G a step's response to each parameter's standard error (as the
+  // signature's: g h^2 / 2 on q, g h on u, nothing on the biases), p of unit variance and
+  // C = cov(x, p): P' = Phi P Phi' + Phi C G' + G C' Phi' + G G' (Phi P Phi' already taken),
+  // C' = Phi C + G.
+  using Response = Eigen::Matrix<double, 4, Eigen::Dynamic, 0, 4, kMaxSuspects>;
+  const SignatureRates scaled = g.array().rowwise() * parameter_sigma_.array();
+  Response G(4, scaled.cols());
+  G.topRows<2>() = (0.5 * h * h) * scaled;
+  G.bottomRows<2>() = h * scaled;
+  SignatureMatrix& C = e->parameter_cross;
+  C.topRows<4>() = (Phi * C.topRows<4>()).eval();  // Phi C (the biases' rows carry through)
+  const Eigen::Matrix<double, 6, 4> cross = C * G.transpose();
+  EstimateCovariance& P = e->covariance;
+  P.leftCols<4>() += cross;
+  P.topRows<4>() += cross.transpose();
+  P.topLeftCorner<4, 4>() += G * G.transpose();
+  C.topRows<4>() += G;
 }
 
 double MechanismEstimator::switchOffset(double span, double lateness) const {
@@ -461,6 +494,8 @@ bool MechanismEstimator::correct(const RigReading& r) {
     information_[j] = Sigma.col(c).dot(S_inv_Sigma.col(c));
   }
   signature_ = (IKH * signature_).eval();
+  // The parameters are not corrected: only the state's share of their errors is.
+  if (considers_parameters_) sample_.parameter_cross = (IKH * sample_.parameter_cross).eval();
   const bool closed =
       alarm_.add(sample_.time, nis_, measured_, normalised, evidence_, information_);
   // A new window looks for a change from its start.

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <boost/math/distributions/chi_squared.hpp>
+#include "kane_sim/config/parameter_schema.h"
 #include "kane_sim/estimate/arrival_delay.h"
 #include "kane_sim/estimate/estimate_table.h"
 #include "kane_sim/estimate/mechanism_estimator.h"
@@ -285,6 +286,8 @@ AlarmRun runAlarm(const Config& model, const test::RigRecording& recording, doub
 // the window after; within 1 s for a mass or the spring. Friction shows only while the crank
 // moves, and this drive holds it still most of the time: the readings of the first second after
 // the fault cannot tell +50 % from none, so no test at this false-alarm rate could flag it then.
+// On a crank kept moving (a new setpoint every 0.1 to 0.3 s) the first second tells it to
+// sigma 0.029 N m: 5 sigma, still short of the 7.7 an ERROR at this rate needs with 95 % power.
 // 5 ms of latency is reported, not required: a latency the model does not know shifts the whole
 // motion in time - itself a motion of the model - so only the torque's timing betrays it.
 // z of a one-sided test with 95 % power.
@@ -308,6 +311,7 @@ TEST(EstimatorAlarm, FaultsAreFlaggedWithinASecond) {
     bool flagged_within_a_second;
     const char* parameter;  // what the alarm should name, and the change
     double change;
+    double hold_min = 0.3, hold_max = 1.5;  // [s] the drive's setpoints held this long
   };
   const Fault faults[] = {
       {"crank friction +50 %", [](Config* c) { c->mechanism.friction.crank_joint *= 1.5; }, 0.0,
@@ -317,6 +321,11 @@ TEST(EstimatorAlarm, FaultsAreFlaggedWithinASecond) {
       {"spring -30 %", [](Config* c) { c->mechanism.spring_stiffness *= 0.7; }, 0.0, true,
        "mechanism.spring_stiffness", -0.3 * healthy.mechanism.spring_stiffness},
       {"5 ms more latency", [](Config*) {}, 0.005, false, nullptr, 0.0},
+      // A rig whose crank keeps moving (a setpoint every 0.1 to 0.3 s) tells friction sooner:
+      // still not within the second at this false-alarm rate (ERROR 2.2 s, WARN 1.2 s after).
+      {"crank friction +50 %, crank moving",
+       [](Config* c) { c->mechanism.friction.crank_joint *= 1.5; }, 0.0, false,
+       "friction.crank_joint", 0.5 * healthy.mechanism.friction.crank_joint, 0.1, 0.3},
   };
   for (const Fault& fault : faults) {
     Config faulty = healthy;
@@ -324,6 +333,8 @@ TEST(EstimatorAlarm, FaultsAreFlaggedWithinASecond) {
     bool injected = false;
     test::RigDrive drive;
     drive.seed = 7;
+    drive.hold_min = fault.hold_min;
+    drive.hold_max = fault.hold_max;
     const test::RigRecording recording =
         test::recordRig(healthy, 20.0, drive, [&](SimDriver& driver) {
           if (!injected && driver.time() >= kFault) {
@@ -498,37 +509,57 @@ TEST(EstimatorAlarm, NoFalseAlarmInACleanHour) {
 }
 
 // The model off by identify's worst error bars at once (masses, the rod's inertia and k by 2 %,
-// friction by 15 %), and the config saying so: process noise of 2 rad/s^2/sqrt(Hz) (a 2 % error
-// of the ~50 rad/s^2 the controller's moves reach, over the filter's ~0.05 s memory). The
-// errors stay within what the filter claims (NEES and NIS not above their bands) on the family's
-// first rigs; with the default noise (for a model as good as identify's median, 0.06 %) they do
-// not, which is what the default's doc says.
+// the crank's friction by 15 %), and the config saying so in its uncertainty: section, as
+// identify writes it: each parameter's standard error. The filter considers those errors
+// (Schmidt's consider filter) with the default process noise, and its errors stay within what
+// it claims (NEES and NIS not above their bands) on the family's first rigs. The same model
+// without its uncertainty: section claims too much on most of them (NIS/m from 4 to 16).
+void setUncertainty(Config* config, const std::string& name, double sigma) {
+  const ParameterSpec* row = findParameter("uncertainty", name);
+  ASSERT_NE(row, nullptr) << name;
+  row->field.number(*config) = sigma;
+}
+
 TEST(Estimator, ParametersOffByTheirErrorBarsStayConsistent) {
   std::mt19937 random(20261127);
   int nis_in_band = 0, nees_not_over = 0;  // not above the band: the filter does not lie
+  int unaware_over = 0;                    // without the uncertainty: NIS above its band
   const int kRigs = 10;
   for (int i = 0; i < kRigs; ++i) {
     const Config rig = familyRig(i, &random);
     Config model = rig;
     const double sign = i % 2 ? 1.0 : -1.0;
-    model.mechanism.rod_mass *= 1.0 + 0.02 * sign;
-    model.mechanism.rod_inertia *= 1.0 - 0.02 * sign;
-    model.mechanism.slider4_mass *= 1.0 + 0.02 * sign;
-    model.mechanism.spring_stiffness *= 1.0 - 0.02 * sign;
-    model.mechanism.friction.crank_joint *= 1.0 + 0.15 * sign;
-    model.estimator.crank_acceleration_noise = 2.0;
-    model.estimator.slider4_acceleration_noise = 0.2;
+    MechanismParameters& m = model.mechanism;
+    const struct {
+      const char* name;
+      double* value;
+      double share;  // the error bar, as a share of the value
+    } off[] = {{"mechanism.rod_mass", &m.rod_mass, 0.02 * sign},
+               {"mechanism.rod_inertia", &m.rod_inertia, -0.02 * sign},
+               {"mechanism.slider4_mass", &m.slider4_mass, 0.02 * sign},
+               {"mechanism.spring_stiffness", &m.spring_stiffness, -0.02 * sign},
+               {"friction.crank_joint", &m.friction.crank_joint, 0.15 * sign}};
+    for (const auto& p : off) *p.value *= 1.0 + p.share;
+    Config aware = model;
+    for (const auto& p : off)
+      setUncertainty(&aware, p.name, std::abs(p.share / (1.0 + p.share) * *p.value));
     test::RigDrive drive;
     drive.seed = static_cast<unsigned>(i + 1);
-    const RunErrors e = estimateRun(model, test::recordRig(rig, 20.0, drive), i % 2 == 0);
+    const test::RigRecording recording = test::recordRig(rig, 20.0, drive);
+    const RunErrors e = estimateRun(aware, recording, i % 2 == 0);
+    const RunErrors unaware = estimateRun(model, recording, i % 2 == 0);
     const double seconds = 19.0;
     nis_in_band += e.nis_mean <= bandHigh(e.nis_dof, seconds);
     nees_not_over += e.nees_mean <= bandHigh(4.0, seconds);
-    std::printf("rig %d with the model off: NEES/4 %.2f NIS/m %.3f u1 RMS %.4f\n", i,
-                e.nees_mean / 4, e.nis_mean / e.nis_dof, e.u1_rms);
+    unaware_over += unaware.nis_mean > bandHigh(unaware.nis_dof, seconds);
+    std::printf(
+        "rig %d with the model off: NEES/4 %.2f NIS/m %.3f u1 RMS %.4f; without its "
+        "uncertainty NIS/m %.2f\n",
+        i, e.nees_mean / 4, e.nis_mean / e.nis_dof, e.u1_rms, unaware.nis_mean / unaware.nis_dof);
   }
   EXPECT_GE(nis_in_band, 9);
   EXPECT_GE(nees_not_over, 9);
+  EXPECT_GE(unaware_over, 5);
 }
 
 // Readings it cannot use are refused with the field and the value, and change nothing.

@@ -206,6 +206,12 @@ TEST(LoadConfig, OutOfRangeValuesNameKeyAndValue) {
       {"contact", "restitution", ".nan", "must be finite, got '.nan'"},
       {"contact", "gap", "-0.07", "must be >= 0, got -0.07"},
       {"contact", "enabled", "sometimes", "must be true or false, got 'sometimes'"},
+      // A standard error the estimator considers (identify writes them): one row per parameter.
+      {"uncertainty", "mechanism.rod_mass", "-0.1", "must be in [0, 1e+06], got -0.1"},
+      {"uncertainty", "mechanism.spring_stiffness", ".nan", "got '.nan'"},
+      {"uncertainty", "friction.crank_joint", ".inf", "got '.inf'"},
+      {"uncertainty", "damping.spring", "1e308", "must be in [0, 1e+06], got 1e+308"},
+      {"uncertainty", "mechanism.slider4_mass", "small", "must be a number, got 'small'"},
   };
   for (const Case& c : cases) {
     YAML::Node root = defaultYaml();
@@ -294,6 +300,19 @@ TEST(LoadConfig, UnknownKeysAreWarningsNamingThem) {
   const std::string all = loaded.warnings[0] + loaded.warnings[1];
   EXPECT_NE(all.find("'mechanism.rod_colour'"), std::string::npos) << all;
   EXPECT_NE(all.find("'extras'"), std::string::npos) << all;
+}
+
+// An uncertainty for a parameter that has none (L is measured, not fitted) or a misspelt one is
+// named, as any unknown key is.
+TEST(LoadConfig, AnUncertaintyOfNoFittedParameterIsNamed) {
+  YAML::Node root = defaultYaml();
+  root["uncertainty"]["mechanism.rod_half_length"] = 0.001;
+  root["uncertainty"]["mechanism.rod_mas"] = 0.01;
+  const LoadedConfig loaded = loadConfig(root);
+  ASSERT_EQ(loaded.warnings.size(), 2u);
+  const std::string all = loaded.warnings[0] + loaded.warnings[1];
+  EXPECT_NE(all.find("'uncertainty.mechanism.rod_half_length'"), std::string::npos) << all;
+  EXPECT_NE(all.find("'uncertainty.mechanism.rod_mas'"), std::string::npos) << all;
 }
 
 // Writes `text` to a temporary file (unless it is empty: then `name` is the path) and expects

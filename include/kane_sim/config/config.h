@@ -108,6 +108,9 @@ struct EstimatorSettings {
   double answer_timing_noise = 0.002;
 };
 
+// At most this many parameters a recorded motion can tell (the schema's identifiable rows: 15).
+constexpr int kMaxIdentifiable = 24;
+
 struct Config {
   MechanismParameters mechanism;
   State initial_state;  // q10, q20, u10, u20; the spring is unstretched at (q10, q20)
@@ -117,6 +120,10 @@ struct Config {
   DiagnosticsSettings diagnostics;
   SensorSettings sensors;
   EstimatorSettings estimator;
+  // uncertainty.<section.key>: each identifiable parameter's standard error (identify writes
+  // it), in the schema's order of those parameters; 0 = known exactly. The estimator takes the
+  // model as uncertain by this much.
+  std::array<double, kMaxIdentifiable> uncertainty{};
 };
 
 // Sensor readings per second of sim time: sensors.rate, or simulation.publish_rate when it is 0;

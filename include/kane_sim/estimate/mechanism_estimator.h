@@ -7,7 +7,11 @@
 //   predict:  x' = f(x, M_m) by rk4 on the physics step; M_m one reading's effort until an answer
 //             to it can be in force (MeasurementNoise::answer_delay), then the next reading's;
 //             P' = Phi P Phi' + Q, Phi = exp(A h) to third order, A the exact Jacobian, Q white
-//             acceleration noise (estimator.*_acceleration_noise) and the biases' walk
+//             acceleration noise (estimator.*_acceleration_noise) and the biases' walk; with
+//             the config's uncertainty.* (identify's standard errors) the parameters' errors
+//             are considered: x' = Phi x + G p (G: each parameter's effect on a step), P gains
+//             Phi C G' + G C' Phi' + G G' and C' = Phi C + G, p scaled to unit variance, and a
+//             correction keeps p as it is: C <- (I - K H) C (Schmidt's consider filter)
 //   update:   z = (q1 + b1, q2 + b2 [, u1, u2]) at the reading's sample instant, stamp minus the
 //             sensors' latency (and half their jitter); R from the sensors' noise model: white
 //             noise, the encoder's step^2 / 12, and the jitter's timing error (speed^2 var)
@@ -65,7 +69,7 @@ using EstimateVector = Eigen::Matrix<double, 6, 1>;
 using EstimateCovariance = Eigen::Matrix<double, 6, 6>;
 // At most this many suspect parameters (the schema's identifiable rows: 15), so that the
 // signatures live on the stack: no allocation per reading at 1 kHz.
-constexpr int kMaxSuspects = 24;
+constexpr int kMaxSuspects = kMaxIdentifiable;
 // Each suspect parameter's signature: how the estimate's error would have grown since the alarm
 // window opened, per unit change of that parameter (a column each).
 using SignatureMatrix = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxSuspects>;
@@ -76,6 +80,10 @@ struct FilterEstimate {
   State state;
   std::array<double, 2> bias{};  // [rad, m] b1, b2
   EstimateCovariance covariance = EstimateCovariance::Zero();
+  // cov(x's error, each uncertain parameter's error / its uncertainty.*), a column each: the
+  // model's parameters considered, never estimated (Schmidt's consider filter). Empty when the
+  // config gives no parameter an uncertainty.
+  SignatureMatrix parameter_cross;
   double torque = 0.0;                  // [N m] M_m held
   std::array<double, 4> sigma() const;  // standard deviations of q1, q2, u1, u2
 };
@@ -133,6 +141,9 @@ class MechanismEstimator {
   SignatureRates signatureRates(const std::array<double, 4>& x, double torque) const;
   static void carrySignature(SignatureMatrix* signature, const Eigen::Matrix4d& Phi,
                              const SignatureRates& g, double h);
+  // One step of the parameters' errors (uncertainty.*) into e's covariance and cross-covariance.
+  void considerParameters(FilterEstimate* e, const Eigen::Matrix4d& Phi, const SignatureRates& g,
+                          double h) const;
   // [s] where in a reading interval of `span` the torque takes the next reading's effort, the
   // last reading's answer `lateness` later than in a regular stream (at most the interval).
   double switchOffset(double span, double lateness) const;
@@ -152,6 +163,9 @@ class MechanismEstimator {
   MeasurementNoise noise_;
   std::vector<std::string> suspect_names_, suspect_units_;
   std::vector<Suspect> suspects_;
+  // Each suspect's uncertainty.* (its standard error), and whether any is above 0.
+  Eigen::Matrix<double, 1, Eigen::Dynamic, Eigen::RowMajor, 1, kMaxSuspects> parameter_sigma_;
+  bool considers_parameters_ = false;
   std::array<double, 2> acceleration_density_;  // [rad^2/s^3, m^2/s^3] of the process noise
   double step_;                                 // [s] the physics step
   double restart_gap_;

@@ -322,8 +322,11 @@ def fitted_config(base, estimates, std_errors=None, extra=None):
     noise around it and is written as the bound; further below, ValueError (the model does not
     describe the data). The rest length goes in as initial_state.q2 (the config's spring is
     unstretched at the initial state); the torque offset is not a config value. `extra`: other
-    config values set in the same validation (a replay's settings)."""
+    config values set in the same validation (a replay's settings). With `std_errors`, each
+    written parameter's standard error goes in as uncertainty.<name> (the estimator considers
+    the model that uncertain); the rod's inertia, scaled with its mass, that of the mass."""
     values, clipped = {}, []
+    uncertain = set(Config.names())
     for name, value in estimates.items():
         if name == "torque_offset":
             continue
@@ -347,4 +350,12 @@ def fitted_config(base, estimates, std_errors=None, extra=None):
         values["mechanism.rod_inertia"] = float(
             values["mechanism.rod_mass"] * base["mechanism.rod_inertia"]
             / base["mechanism.rod_mass"])
+    sigmas = dict(std_errors or {})
+    if "mechanism.rod_mass" in sigmas and "mechanism.rod_inertia" not in estimates:
+        sigmas["mechanism.rod_inertia"] = (sigmas["mechanism.rod_mass"]
+                                           * base["mechanism.rod_inertia"]
+                                           / base["mechanism.rod_mass"])
+    for name, sigma in sigmas.items():
+        if name in values and "uncertainty." + name in uncertain and np.isfinite(sigma):
+            values["uncertainty." + name] = float(max(sigma, 0.0))
     return base.with_values(dict(values, **(extra or {}))), clipped
