@@ -87,6 +87,26 @@ def main(build_dir):
     check(summary["alarm"]["level"] == "OK" and summary["alarm"]["suspects"] == [],
           "a rig that is its model: OK, no parameter suspected")
 
+    # The model's uncertainty (as identify writes it) through both doors: the same rows, and a
+    # filter that claims less.
+    with open(config) as f:
+        uncertain = yaml.safe_load(f)
+    uncertain["uncertainty"] = {"mechanism.rod_mass": 0.02, "mechanism.spring_stiffness": 4.0,
+                                "friction.crank_joint": 0.03}
+    uncertain_config = os.path.join(tmp, "uncertain.yaml")
+    uncertain_csv = os.path.join(tmp, "uncertain.csv")
+    with open(uncertain_config, "w") as f:
+        yaml.safe_dump(uncertain, f)
+    r = run("--bag", bag, "--config", uncertain_config, "--csv", uncertain_csv)
+    check(r.returncode == 0, "observer --bag with an uncertainty: section (%s)" % r.stderr[-200:])
+    u_rows = np.genfromtxt(uncertain_csv, delimiter=",", names=True)
+    py_u_rows, _ = kane_sim.Estimator(uncertain_config).run_bag(bag)
+    check(all(np.array_equal(py_u_rows[c], u_rows[c]) for c in names),
+          "with uncertainty: kane_sim.Estimator.run_bag = observer --bag")
+    check(np.median(u_rows["sigma_u1"][settled]) > np.median(rows["sigma_u1"][settled]),
+          "the uncertain model claims less: median sigma_u1 %.4g > %.4g" %
+          (np.median(u_rows["sigma_u1"][settled]), np.median(rows["sigma_u1"][settled])))
+
     # Hostile inputs: each refused with its exit code, naming what is wrong.
     def refused(args, code, words, what):
         r = run(*args)
