@@ -279,15 +279,18 @@ void bindAnalysis(py::module_& m) {
       .def(py::pickle(
           [](const TorqueProfile& p) {  // to a cluster's worker and back
             const TorqueProfile::Parts parts = p.parts();
-            return py::make_tuple(parts.kind, parts.a, parts.b, parts.c, parts.points);
+            return py::make_tuple(parts.kind, parts.a, parts.b, parts.c, parts.points, parts.named,
+                                  parts.header);
           },
           [](const py::tuple& t) {
-            if (t.size() != 5) throw py::value_error("TorqueProfile: a pickle of 5 fields");
+            if (t.size() != 7) throw py::value_error("TorqueProfile: a pickle of 7 fields");
             TorqueProfile::Parts parts;
             parts.kind = t[0].cast<int>();
             parts.a = t[1].cast<double>(), parts.b = t[2].cast<double>();
             parts.c = t[3].cast<double>();
             parts.points = t[4].cast<std::vector<std::pair<double, double>>>();
+            parts.named = t[5].cast<int>();
+            parts.header = t[6].cast<std::string>();
             return checked([&] { return TorqueProfile::fromParts(parts); });
           }))
       .def("__repr__",

@@ -481,7 +481,15 @@ class PythonSimulator {
 
   TorqueProfile profileOf(const py::object& torque) const {
     if (torque.is_none()) return TorqueProfile::constant(held_);
-    if (py::isinstance<TorqueProfile>(torque)) return torque.cast<TorqueProfile>();
+    if (py::isinstance<TorqueProfile>(torque)) {
+      TorqueProfile profile = torque.cast<TorqueProfile>();
+      try {  // a table's header against the config's mode
+        profile.checkPlaysAs(config_.config().command.mode != CommandMode::kEffort);
+      } catch (const std::invalid_argument& e) {
+        throw py::value_error(std::string("run: torque: ") + e.what());
+      }
+      return profile;
+    }
     double value;
     try {
       value = torque.cast<double>();

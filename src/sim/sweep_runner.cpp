@@ -100,6 +100,16 @@ std::vector<SweepResult> runSweep(const YAML::Node& base, const SweepPlan& plan,
           result.error = e.what();
           continue;
         }
+        if (settings.torque) {
+          // A table whose header named a setpoint is no effort mode's torque, and the reverse.
+          try {
+            settings.torque->checkPlaysAs(configs[i - begin].command.mode != CommandMode::kEffort);
+          } catch (const std::invalid_argument& e) {
+            result.status = "config_refused";
+            result.error = std::string("the torque profile: ") + e.what();
+            continue;
+          }
+        }
         if (lanes && laneEligible(configs[i - begin], settings)) {
           on_lanes.push_back(&configs[i - begin]);
           lane_results.push_back(&result);

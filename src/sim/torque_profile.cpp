@@ -15,6 +15,20 @@
 namespace kane_sim {
 namespace {
 
+// What is wrong with playing a table whose header (`where`: "f.csv:1: the header 't,x'") named
+// `named` as setpoints (or as torques); "" when nothing is.
+std::string headerRefusal(const std::string& where, TorqueProfile::Named named, bool setpoints) {
+  if (setpoints && named == TorqueProfile::Named::kTorque)
+    return where + " names a torque [N m], not a setpoint [rad] (a setpoint table's header is " +
+           "t,setpoint)";
+  // And a setpoint's table played as a torque would drive the crank with its radians as
+  // newton metres.
+  if (!setpoints && named == TorqueProfile::Named::kSetpoint)
+    return where + " names a setpoint, not a torque [N m] (a torque table's header is t,torque; " +
+           "a setpoint table plays in command.mode position or velocity)";
+  return "";
+}
+
 // The whole of `text` (surrounding blanks allowed) as a number; strtod, unlike std::stod, also
 // takes values below the normal range (1e-320) instead of calling them out of range.
 bool readNumber(const std::string& text, double* value) {
@@ -89,6 +103,8 @@ TorqueProfile TorqueProfile::fromCsvFile(const std::string& path, TableValue val
   std::string line;
   int number = 0;
   bool first_row = true;
+  Named header_named = Named::kUnnamed;
+  std::string header_where;
   // The columns read: t and the value, the first two unless a header names them (t or time;
   // torque or M_m, or setpoint): a plan of `design plan` (t,q1,q2,u1,u2,M_m,...) plays its M_m.
   size_t time_column = 0, value_column = 1, columns = 2;
@@ -114,21 +130,19 @@ TorqueProfile TorqueProfile::fromCsvFile(const std::string& path, TableValue val
         return std::string::npos;
       };
       const size_t t = named({"t", "time"}), torque = named({"torque", "M_m"});
-      const size_t own = setpoint ? named({"setpoint"}) : torque;
+      const size_t setpoint_column = named({"setpoint"});
+      const size_t own = setpoint ? setpoint_column : torque;
+      header_named =
+          torque != std::string::npos && setpoint_column == std::string::npos   ? Named::kTorque
+          : setpoint_column != std::string::npos && torque == std::string::npos ? Named::kSetpoint
+                                                                                : Named::kUnnamed;
+      header_where = where + ": the header '" + line + "'";
       // A torque's table played as a position setpoint would hold the crank at its newton
-      // metres as radians.
-      if (setpoint && own == std::string::npos && torque != std::string::npos)
-        throw std::invalid_argument(where + ": the header '" + line +
-                                    "' names a torque [N m], not a setpoint [rad] (a setpoint "
-                                    "table's header is t,setpoint)");
-      // And a setpoint's table played as a torque would drive the crank with its radians as
-      // newton metres.
-      if (value == TableValue::kTorqueOnly && torque == std::string::npos &&
-          named({"setpoint"}) != std::string::npos)
-        throw std::invalid_argument(where + ": the header '" + line +
-                                    "' names a setpoint, not a torque [N m] (a torque table's "
-                                    "header is t,torque; a setpoint table plays in "
-                                    "command.mode position or velocity)");
+      // metres as radians: refused before its rows are read.
+      if (setpoint) {
+        const std::string refusal = headerRefusal(header_where, header_named, true);
+        if (!refusal.empty()) throw std::invalid_argument(refusal);
+      }
       if (t != std::string::npos && own != std::string::npos) {
         time_column = t;
         value_column = own;
@@ -158,7 +172,15 @@ TorqueProfile TorqueProfile::fromCsvFile(const std::string& path, TableValue val
     points.emplace_back(t, v);
   }
   if (points.empty()) throw std::invalid_argument(quantity + " CSV '" + path + "' has no rows");
-  return table(std::move(points));
+  TorqueProfile profile = table(std::move(points));
+  profile.named_ = header_named;
+  profile.header_ = header_where;
+  return profile;
+}
+
+void TorqueProfile::checkPlaysAs(bool setpoints) const {
+  const std::string refusal = headerRefusal(header_, named_, setpoints);
+  if (!refusal.empty()) throw std::invalid_argument(refusal);
 }
 
 namespace {
@@ -213,7 +235,7 @@ TorqueProfile TorqueProfile::fromFlag(const std::string& flag, const std::string
 }
 
 TorqueProfile::Parts TorqueProfile::parts() const {
-  return Parts{static_cast<int>(kind_), a_, b_, c_, points_};
+  return Parts{static_cast<int>(kind_), a_, b_, c_, points_, static_cast<int>(named_), header_};
 }
 
 TorqueProfile TorqueProfile::fromParts(const Parts& p) {
@@ -224,8 +246,15 @@ TorqueProfile TorqueProfile::fromParts(const Parts& p) {
       return step(p.a, p.b, p.c);
     case 2:
       return sine(p.a, p.b, p.c);
-    case 3:
-      return table(p.points);
+    case 3: {
+      if (p.named < 0 || p.named > static_cast<int>(Named::kSetpoint))
+        throw std::invalid_argument("torque profile: what its header named (" +
+                                    std::to_string(p.named) + ") is not 0, 1 or 2");
+      TorqueProfile profile = table(p.points);
+      profile.named_ = static_cast<Named>(p.named);
+      profile.header_ = p.header;
+      return profile;
+    }
   }
   throw std::invalid_argument("torque profile kind " + std::to_string(p.kind) +
                               " is not 0 (constant), 1 (step), 2 (sine) or 3 (table)");

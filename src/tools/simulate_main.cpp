@@ -204,13 +204,9 @@ int run(const Options& options) {
   }
 
   // The table's header says what its values are; the config's mode, what they drive.
-  if (!options.torque_csv.empty() && !kane_sim::isPlanCsv(options.torque_csv)) {
-    using Table = kane_sim::TorqueProfile::TableValue;
+  if (!options.torque_csv.empty() && !kane_sim::isPlanCsv(options.torque_csv) && options.profile) {
     try {
-      kane_sim::TorqueProfile::fromCsvFile(options.torque_csv,
-                                           config.command.mode == kane_sim::CommandMode::kEffort
-                                               ? Table::kTorqueOnly
-                                               : Table::kSetpoint);
+      options.profile->checkPlaysAs(config.command.mode != kane_sim::CommandMode::kEffort);
     } catch (const std::invalid_argument& e) {
       throw UsageError(std::string("--torque-csv in command.mode ") +
                            kane_sim::commandModeName(config.command.mode) + ": " + e.what(),

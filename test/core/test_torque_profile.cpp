@@ -112,24 +112,32 @@ TEST(TorqueProfile, ASetpointTableIsNotATorquesAndSaysSetpoint) {
       EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
     }
   }
-  // Read before the mode is known (simulate's flags), a setpoint table is read; as a torque
-  // only (effort mode), it is refused, and a torque's table or one without a header plays.
-  EXPECT_EQ(TorqueProfile::fromCsvFile(writeFile("t.csv", "t,setpoint\n0,0.5\n")).at(0.0), 0.5);
-  const auto torques = [](const std::string& text) {
-    return TorqueProfile::fromCsvFile(writeFile("tq.csv", text),
-                                      TorqueProfile::TableValue::kTorqueOnly);
+  // Read before the mode is known (simulate's flags, Python's from_csv), a table is read and
+  // its header remembered: played as torques (effort mode), a setpoint table is refused, and a
+  // torque's table, one without a header or one naming both plays; played as setpoints, a
+  // torque's table is refused. The pickle a cluster's worker gets keeps it.
+  const auto table = [](const std::string& text) {
+    return TorqueProfile::fromCsvFile(writeFile("tq.csv", text));
   };
-  EXPECT_EQ(torques("t,torque\n0,2\n").at(0.0), 2.0);
-  EXPECT_EQ(torques("0,2\n").at(0.0), 2.0);
-  EXPECT_EQ(torques("t,q1,q2,u1,u2,M_m,setpoint\n0,0,0,0,0,3,9\n").at(0.0), 3.0);
-  try {
-    torques("t,setpoint\n0,0.5\n");
-    ADD_FAILURE() << "a setpoint table was read as a torque";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("tq.csv:1: the header 't,setpoint' names a setpoint, not "
-                                         "a torque [N m]"),
-              std::string::npos)
-        << e.what();
+  EXPECT_EQ(table("t,setpoint\n0,0.5\n").at(0.0), 0.5);
+  for (const char* text :
+       {"t,torque\n0,2\n", "0,2\n", "t,q1,q2,u1,u2,M_m,setpoint\n0,0,0,0,0,3,9\n"})
+    EXPECT_NO_THROW(table(text).checkPlaysAs(false)) << text;
+  for (const char* text : {"t,setpoint\n0,0.5\n", "0,2\n"})
+    EXPECT_NO_THROW(table(text).checkPlaysAs(true)) << text;
+  const std::pair<const char*, bool> played_otherwise[] = {
+      {"tq.csv:1: the header 't,setpoint' names a setpoint, not a torque [N m]", false},
+      {"tq.csv:1: the header 't,torque' names a torque [N m], not a setpoint [rad]", true}};
+  for (const auto& [message, setpoints] : played_otherwise) {
+    const TorqueProfile read = table(setpoints ? "t,torque\n0,2\n" : "t,setpoint\n0,0.5\n");
+    for (const TorqueProfile& p : {read, TorqueProfile::fromParts(read.parts())}) {
+      try {
+        p.checkPlaysAs(setpoints);
+        ADD_FAILURE() << message;
+      } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+      }
+    }
   }
 }
 

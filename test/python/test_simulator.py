@@ -443,3 +443,36 @@ def test_states_only_runs_are_the_full_runs_states():
         np.testing.assert_array_equal(lean[name], full[name], err_msg=name)
     with pytest.raises(TypeError, match="states_only must be True or False"):
         kane_sim.Simulator(cfg).run(0.1, states_only="yes")
+
+
+def test_a_tables_header_is_checked_against_the_mode_through_every_door(tmp_path):
+    """A table whose header names a setpoint plays only in a servo mode, one naming a torque
+    only in effort mode: Simulator.run and sweep (on lanes and alone) refuse the other, the
+    pickle a cluster's worker gets keeps the header, and a table without a header plays in
+    either."""
+    import pickle
+    setpoints, torques, bare = (tmp_path / n for n in ("sp.csv", "tq.csv", "bare.csv"))
+    setpoints.write_text("t,setpoint\n0,0.6\n")
+    torques.write_text("t,torque\n0,2\n")
+    bare.write_text("0,0.6\n")
+    effort = kane_sim.load_config()
+    servo = effort.with_values({"command.mode": "position"})
+    read = {p: kane_sim.TorqueProfile.from_csv(str(p)) for p in (setpoints, torques, bare)}
+    shipped = {p: pickle.loads(pickle.dumps(t)) for p, t in read.items()}
+    for profiles in (read, shipped):
+        with pytest.raises(ValueError, match="sp.csv:1: the header 't,setpoint' names a setpoint"):
+            kane_sim.Simulator(effort).run(0.01, torque=profiles[setpoints])
+        with pytest.raises(ValueError, match="tq.csv:1: the header 't,torque' names a torque"):
+            kane_sim.Simulator(servo).run(0.01, torque=profiles[torques])
+        kane_sim.Simulator(effort).run(0.01, torque=profiles[torques])
+        kane_sim.Simulator(servo).run(0.01, torque=profiles[setpoints])
+        for config in (effort, servo):
+            kane_sim.Simulator(config).run(0.01, torque=profiles[bare])
+        for simd in ("auto", "off"):
+            swept = kane_sim.sweep(effort, cases={"mechanism.rod_mass": [1.0, 1.1]}, duration=0.01,
+                                   torque=profiles[setpoints], simd=simd)
+            assert list(swept["status"]) == ["config_refused"] * 2, swept["status"]
+            assert "names a setpoint, not a torque" in swept["error"][0], swept["error"]
+            swept = kane_sim.sweep(effort, cases={"mechanism.rod_mass": [1.0]}, duration=0.01,
+                                   torque=profiles[torques], simd=simd)
+            assert list(swept["status"]) == ["ok"], swept["error"]

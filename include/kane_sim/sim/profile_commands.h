@@ -24,10 +24,14 @@ inline TorqueCommand::Verdict sendCommand(SimDriver& driver, double value) {
 
 // The command stream of an offline run (`simulate`, every sweep case): the profile given, else
 // the start held: 0 N m in effort mode, a servo's initial setpoint (the starting angle, or
-// standing still) in command.mode velocity | position.
+// standing still) in command.mode velocity | position. A table whose header named a setpoint is
+// refused in effort mode and one that named a torque in a servo mode (std::invalid_argument).
 inline TorqueProfile profileOrHold(const SimDriver& driver,
                                    const std::optional<TorqueProfile>& given) {
-  if (given) return *given;
+  if (given) {
+    given->checkPlaysAs(driver.servoMode());  // a table's header against the mode
+    return *given;
+  }
   return TorqueProfile::constant(driver.servoMode() ? driver.snapshot().servo.setpoint : 0.0);
 }
 
