@@ -384,8 +384,21 @@ LoadedConfig loadConfig(const YAML::Node& root) {
       unknown->push_back(key);
   }
   for (const Section& s : sections) s.collectUnknownKeys();
-  for (const std::string& key : loaded.unknown_keys)
-    loaded.warnings.push_back("unknown config key '" + key + "' is ignored");
+  for (const std::string& key : loaded.unknown_keys) {
+    std::string warning = "unknown config key '" + key + "' is ignored";
+    // A misspelt uncertainty leaves its parameter taken as exact: say which keys there are.
+    if (key.rfind("uncertainty.", 0) == 0) {
+      warning += ": the uncertainty: section has a row for each parameter identify fits (";
+      const char* separator = "";
+      for (const ParameterSpec& p : parameterSchema())
+        if (std::string(p.section) == "uncertainty") {
+          warning += separator + std::string(p.key);
+          separator = ", ";
+        }
+      warning += ")";
+    }
+    loaded.warnings.push_back(warning);
+  }
   return loaded;
 }
 

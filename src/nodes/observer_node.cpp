@@ -45,7 +45,7 @@ ObserverNode::ObserverNode(const ros::NodeHandle& nh, const ros::NodeHandle& pri
     for (const std::string& warning : loaded.warnings) ROS_WARN("observer: %s", warning.c_str());
     config_ = loaded.config;
   } catch (const ConfigError& e) {
-    throw std::invalid_argument((from.empty() ? "~config " : "~config_from ") + path + ": " +
+    throw std::invalid_argument((from.empty() ? "~config " + path : "~config_from " + from) + ": " +
                                 e.what());
   }
   estimator_ = std::make_unique<MechanismEstimator>(config_);
@@ -91,8 +91,10 @@ void ObserverNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
   last_reading_ = ros::SteadyTime::now();
   if (step.event == EstimatorEvent::kStarted || step.event == EstimatorEvent::kRestarted)
     first_stamp_ = reading.stamp;
+  // Throttled: a driver whose clock jumps at every reading would restart it at every reading
+  // (each restart is counted in ~estimate's restarts).
   if (step.event == EstimatorEvent::kRestarted)
-    ROS_WARN("observer: the filter restarted: %s", step.reason.c_str());
+    ROS_WARN_THROTTLE(1.0, "observer: the filter restarted: %s", step.reason.c_str());
   // The virtual sensors cost a snapshot of the model: only for someone listening.
   const bool virtual_sensors =
       joint_state_pub_.getNumSubscribers() > 0 || mechanism_state_pub_.getNumSubscribers() > 0;
@@ -114,7 +116,8 @@ void ObserverNode::onJointState(const sensor_msgs::JointState::ConstPtr& msg) {
 }
 
 void ObserverNode::onResetEvent(const ResetEvent::ConstPtr& msg) {
-  ROS_INFO("observer: the rig was moved (%s): the filter starts again", msg->cause.c_str());
+  ROS_INFO_THROTTLE(1.0, "observer: the rig was moved (%s): the filter starts again",
+                    msg->cause.c_str());
   estimator_->restart();
 }
 

@@ -313,6 +313,9 @@ TEST(LoadConfig, AnUncertaintyOfNoFittedParameterIsNamed) {
   const std::string all = loaded.warnings[0] + loaded.warnings[1];
   EXPECT_NE(all.find("'uncertainty.mechanism.rod_half_length'"), std::string::npos) << all;
   EXPECT_NE(all.find("'uncertainty.mechanism.rod_mas'"), std::string::npos) << all;
+  EXPECT_NE(loaded.warnings[0].find("a row for each parameter identify fits (mechanism.rod_mass, "),
+            std::string::npos)
+      << loaded.warnings[0];
 }
 
 // Writes `text` to a temporary file (unless it is empty: then `name` is the path) and expects
