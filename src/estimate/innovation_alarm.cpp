@@ -101,7 +101,9 @@ bool InnovationAlarm::add(double time, double nis,
                           const std::array<bool, kMeasuredCoordinates>& measured,
                           const std::array<double, kMeasuredCoordinates>& normalised,
                           const std::vector<double>& evidence,
-                          const std::vector<double>& information) {
+                          const std::vector<double>& information,
+                          const std::vector<double>& considered,
+                          const std::vector<double>& considered_coordinates) {
   if (!open_) {
     open_ = true;
     window_start_ = time;
@@ -109,15 +111,45 @@ bool InnovationAlarm::add(double time, double nis,
     sums_.fill(0.0);
     signed_sums_.fill(0.0);
     counts_.fill(0.0);
-    evidence_.assign(suspects_.size(), 0.0);
-    information_.assign(suspects_.size(), 0.0);
+    window_evidence_.a.assign(suspects_.size(), 0.0);
+    window_evidence_.b.assign(suspects_.size(), 0.0);
+    window_evidence_.considered.clear();
+    window_evidence_.considered_squares.clear();
+    coordinate_considered_.clear();
+    coordinate_considered_squares_.fill(0.0);
   }
   nis_ += nis;
-  if (evidence.size() == suspects_.size() && information.size() == suspects_.size())
-    for (std::size_t j = 0; j < suspects_.size(); ++j) {
-      evidence_[j] += evidence[j];
-      information_[j] += information[j];
+  const std::size_t n = suspects_.size();
+  if (evidence.size() == n && information.size() == n)
+    for (std::size_t j = 0; j < n; ++j) {
+      window_evidence_.a[j] += evidence[j];
+      window_evidence_.b[j] += information[j];
     }
+  if (n > 0 && considered.size() == n * n) {
+    Evidence& w = window_evidence_;
+    if (w.considered.empty()) {
+      w.considered.assign(n * n, 0.0);
+      w.considered_squares.assign(n, 0.0);
+    }
+    for (std::size_t j = 0; j < n; ++j)
+      for (std::size_t i = 0; i < n; ++i) {
+        const double m = considered[j * n + i];
+        w.considered[j * n + i] += m;
+        w.considered_squares[j] += m * m;
+      }
+  }
+  if (n > 0 && considered_coordinates.size() == kMeasuredCoordinates * n) {
+    if (coordinate_considered_.empty())
+      coordinate_considered_.assign(kMeasuredCoordinates * n, 0.0);
+    for (std::size_t i = 0; i < kMeasuredCoordinates; ++i) {
+      if (!measured[i]) continue;
+      for (std::size_t k = 0; k < n; ++k) {
+        const double r = considered_coordinates[i * n + k];
+        coordinate_considered_[i * n + k] += r;
+        coordinate_considered_squares_[i] += r * r;
+      }
+    }
+  }
   for (std::size_t i = 0; i < kMeasuredCoordinates; ++i) {
     if (!measured[i]) continue;
     dof_ += 1.0;
@@ -144,7 +176,7 @@ void InnovationAlarm::closeWindow(double time) {
   r.windows = report_.windows + 1;
   r.verdict = true;
   r.window_end = time;
-  r.information = information_;
+  r.information = window_evidence_.b;
   r.nis = nis_;
   r.dof = dof_;
   const double p_warn = warn_probability_ / tests(), p_error = error_probability_ / tests();
@@ -154,7 +186,16 @@ void InnovationAlarm::closeWindow(double time) {
   double least_likely_coordinate = 2.0;
   for (std::size_t i = 0; i < kMeasuredCoordinates; ++i) {
     if (counts_[i] == 0.0) continue;
-    const double mean_statistic = signed_sums_[i] * signed_sums_[i] / counts_[i];
+    // The mean's variance: the count, or with parameters considered, their share in it.
+    double variance = counts_[i];
+    if (!coordinate_considered_.empty()) {
+      const std::size_t n = suspects_.size();
+      double norm = 0.0;
+      for (std::size_t k = 0; k < n; ++k)
+        norm += coordinate_considered_[i * n + k] * coordinate_considered_[i * n + k];
+      variance += norm - coordinate_considered_squares_[i];
+    }
+    const double mean_statistic = signed_sums_[i] * signed_sums_[i] / variance;
     const double p =
         std::min(chiSquareUpperTail(1.0, mean_statistic), chiSquareUpperTail(counts_[i], sums_[i]));
     if (p < least_likely_coordinate) {
@@ -163,7 +204,7 @@ void InnovationAlarm::closeWindow(double time) {
     }
   }
   least_likely = std::min(least_likely, least_likely_coordinate);
-  past_.emplace_back(evidence_, information_);
+  past_.push_back(window_evidence_);
   past_seconds_.push_back(time - window_start_);
   if (past_.size() > kSpans.back()) {
     past_.pop_front();
@@ -206,27 +247,51 @@ std::vector<InnovationAlarm::SuspectTest> InnovationAlarm::rankSuspects(double p
   // no test. A span longer than one window counts only when its newest window adds to the
   // evidence (the statistic without it is smaller): a change long over is not reported again.
   const std::size_t n = suspects_.size();
-  std::vector<double> a(n, 0.0), b(n, 0.0);
-  const std::vector<double>& newest_a = past_.back().first;
-  const std::vector<double>& newest_b = past_.back().second;
+  std::vector<double> a(n, 0.0), b(n, 0.0), considered, squares;
+  const Evidence& newest = past_.back();
+  // a_j's variance over the windows summed so far, without the newest's share when `before`.
+  const auto variance = [&](std::size_t j, bool before) {
+    const double b_j = b[j] - (before ? newest.b[j] : 0.0);
+    if (considered.empty()) return b_j;
+    double norm = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double m = considered[j * n + i] -
+                       (before && !newest.considered.empty() ? newest.considered[j * n + i] : 0.0);
+      norm += m * m;
+    }
+    const double square =
+        squares[j] - (before && !newest.considered.empty() ? newest.considered_squares[j] : 0.0);
+    return b_j - square + norm;
+  };
   std::vector<std::vector<SuspectTest>> spans;  // each span's tests, strongest first
   std::vector<double> span_seconds;
   double seconds = 0.0, strongest = 0.0;
   for (std::size_t windows = 1; windows <= past_.size(); ++windows) {
-    const auto& [ev, info] = past_[past_.size() - windows];
+    const Evidence& w = past_[past_.size() - windows];
     seconds += past_seconds_[past_.size() - windows];
     for (std::size_t j = 0; j < n; ++j) {
-      a[j] += ev[j];
-      b[j] += info[j];
+      a[j] += w.a[j];
+      b[j] += w.b[j];
+    }
+    if (!w.considered.empty()) {
+      if (considered.empty()) {
+        considered.assign(n * n, 0.0);
+        squares.assign(n, 0.0);
+      }
+      for (std::size_t k = 0; k < n * n; ++k) considered[k] += w.considered[k];
+      for (std::size_t j = 0; j < n; ++j) squares[j] += w.considered_squares[j];
     }
     if (std::find(kSpans.begin(), kSpans.end(), windows) == kSpans.end()) continue;
     std::vector<SuspectTest> tests;
     for (std::size_t j = 0; j < n; ++j) {
-      if (!(b[j] > 0.0) || !std::isfinite(b[j])) continue;
-      const double statistic = a[j] * a[j] / b[j];
-      const double a_before = a[j] - newest_a[j], b_before = b[j] - newest_b[j];
-      if (windows > 1 && b_before > 0.0 && !(statistic > a_before * a_before / b_before)) continue;
-      tests.push_back({statistic, j, a[j] / b[j], 1.0 / std::sqrt(b[j])});
+      const double var = variance(j, false);
+      if (!(b[j] > 0.0) || !std::isfinite(b[j]) || !(var > 0.0) || !std::isfinite(var)) continue;
+      const double statistic = a[j] * a[j] / var;
+      const double a_before = a[j] - newest.a[j], var_before = variance(j, true);
+      if (windows > 1 && var_before > 0.0 && !(statistic > a_before * a_before / var_before))
+        continue;
+      tests.push_back({statistic, j, a[j] / b[j],
+                       considered.empty() ? 1.0 / std::sqrt(b[j]) : std::sqrt(var) / b[j]});
     }
     std::sort(tests.begin(), tests.end(),
               [](const SuspectTest& x, const SuspectTest& y) { return x.statistic > y.statistic; });

@@ -493,11 +493,28 @@ bool MechanismEstimator::correct(const RigReading& r) {
     evidence_[j] = Sigma.col(c).dot(S_inv_nu);
     information_[j] = Sigma.col(c).dot(S_inv_Sigma.col(c));
   }
+  if (considers_parameters_) {
+    // Each suspect's share of the considered parameters' errors: m_j = sigma_j' S^-1 H C.
+    const SuspectRows HC = H * sample_.parameter_cross;
+    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxSuspects, kMaxSuspects> M =
+        S_inv_Sigma.transpose() * HC;
+    considered_.resize(n * n);
+    for (std::size_t j = 0; j < n; ++j)
+      for (std::size_t i = 0; i < n; ++i)
+        considered_[j * n + i] = M(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(i));
+    // And each measured coordinate's: (H C)_i / sqrt(S_ii).
+    considered_coordinates_.assign(kMeasuredCoordinates * n, 0.0);
+    for (int i = 0; i < m; ++i)
+      for (std::size_t k = 0; k < n; ++k)
+        considered_coordinates_[static_cast<std::size_t>(i) * n + k] =
+            HC(i, static_cast<Eigen::Index>(k)) / std::sqrt(S(i, i));
+  }
   signature_ = (IKH * signature_).eval();
   // The parameters are not corrected: only the state's share of their errors is.
   if (considers_parameters_) sample_.parameter_cross = (IKH * sample_.parameter_cross).eval();
-  const bool closed =
-      alarm_.add(sample_.time, nis_, measured_, normalised, evidence_, information_);
+  const bool closed = alarm_.add(sample_.time, nis_, measured_, normalised, evidence_, information_,
+                                 considers_parameters_ ? considered_ : no_considered_,
+                                 considers_parameters_ ? considered_coordinates_ : no_considered_);
   // A new window looks for a change from its start.
   if (closed) signature_.setZero();
   return true;

@@ -40,6 +40,7 @@ struct RunErrors {
   // 4's rail carries nothing: gravity and the spring act along it.)
   double rail3_sample_rms = 0, rail3_truth_rms = 0;
   std::size_t n = 0;
+  bool error_raised = false;  // the alarm said ERROR after the settling time
 };
 
 RunErrors estimateRun(const Config& model, const test::RigRecording& recording, bool use_velocity,
@@ -94,6 +95,7 @@ RunErrors estimateRun(const Config& model, const test::RigRecording& recording, 
     nees += err.dot(est.covariance.topLeftCorner<4, 4>().ldlt().solve(err));
     nis += estimator.nis();
     for (bool m : estimator.measured()) dof += m;
+    e.error_raised |= estimator.alarm().report().level == AlarmLevel::kError;
     ++e.n;
   }
   const double n = static_cast<double>(e.n);
@@ -512,8 +514,9 @@ TEST(EstimatorAlarm, NoFalseAlarmInACleanHour) {
 // the crank's friction by 15 %), and the config saying so in its uncertainty: section, as
 // identify writes it: each parameter's standard error. The filter considers those errors
 // (Schmidt's consider filter) with the default process noise, and its errors stay within what
-// it claims (NEES and NIS not above their bands) on the family's first rigs. The same model
-// without its uncertainty: section claims too much on most of them (NIS/m from 4 to 16).
+// it claims (NEES and NIS not above their bands) on the family's first rigs, and its alarm
+// stays quiet. The same model without its uncertainty: section claims too much on most of them
+// (NIS/m from 4 to 16), and its alarm says ERROR.
 void setUncertainty(Config* config, const std::string& name, double sigma) {
   const ParameterSpec* row = findParameter("uncertainty", name);
   ASSERT_NE(row, nullptr) << name;
@@ -524,6 +527,7 @@ TEST(Estimator, ParametersOffByTheirErrorBarsStayConsistent) {
   std::mt19937 random(20261127);
   int nis_in_band = 0, nees_not_over = 0;  // not above the band: the filter does not lie
   int unaware_over = 0;                    // without the uncertainty: NIS above its band
+  int aware_errors = 0, unaware_errors = 0;  // rigs whose alarm said ERROR
   const int kRigs = 10;
   for (int i = 0; i < kRigs; ++i) {
     const Config rig = familyRig(i, &random);
@@ -552,6 +556,8 @@ TEST(Estimator, ParametersOffByTheirErrorBarsStayConsistent) {
     nis_in_band += e.nis_mean <= bandHigh(e.nis_dof, seconds);
     nees_not_over += e.nees_mean <= bandHigh(4.0, seconds);
     unaware_over += unaware.nis_mean > bandHigh(unaware.nis_dof, seconds);
+    aware_errors += e.error_raised;
+    unaware_errors += unaware.error_raised;
     std::printf(
         "rig %d with the model off: NEES/4 %.2f NIS/m %.3f u1 RMS %.4f; without its "
         "uncertainty NIS/m %.2f\n",
@@ -560,6 +566,12 @@ TEST(Estimator, ParametersOffByTheirErrorBarsStayConsistent) {
   EXPECT_GE(nis_in_band, 9);
   EXPECT_GE(nees_not_over, 9);
   EXPECT_GE(unaware_over, 5);
+  // The alarm: a parameter off by its error bar is no change (its tests' variance counts the
+  // considered errors, constant in time); without the section the same model is a mismatch.
+  std::printf("ERROR on %d of %d rigs with the uncertainty, %d without\n", aware_errors, kRigs,
+              unaware_errors);
+  EXPECT_LE(aware_errors, 1);
+  EXPECT_GE(unaware_errors, 5);
 }
 
 // Readings it cannot use are refused with the field and the value, and change nothing.

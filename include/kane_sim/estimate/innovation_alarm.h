@@ -20,6 +20,11 @@
 // and then (a friction, while the crank moves) is also tested over the last 2, 4 and 8 windows
 // together: their a_j and b_j add (the innovations are white), so one test sees the evidence
 // of every window in which the parameter acted.
+// When the model's parameters are uncertain (uncertainty.*, the filter considers them), their
+// errors are constant in time: the innovations are not white along them, and a_j's variance is
+// b_j - sum_k |m_jk|^2 + |sum_k m_jk|^2, m_jk = sigma_kj' S_k^-1 H C_k (C the state's
+// cross-covariance with those errors, each of unit variance): a parameter off by its error bar
+// is no change. Each coordinate's mean is tested so too.
 // ROS-free; the observer publishes the report on /diagnostics.
 #ifndef KANE_SIM_ESTIMATE_INNOVATION_ALARM_H
 #define KANE_SIM_ESTIMATE_INNOVATION_ALARM_H
@@ -83,10 +88,16 @@ class InnovationAlarm {
   // coordinate's own normalised square (nu_i^2 / S_ii). Returns true when a window closed.
   // `normalised` holds each coordinate's nu_i / sqrt(S_ii).
   // `evidence` / `information` (one per suspect, or empty): this reading's sigma_j' S^-1 nu and
-  // sigma_j' S^-1 sigma_j.
+  // sigma_j' S^-1 sigma_j. `considered` (n x n, suspect j's row j n .. j n + n - 1, or empty):
+  // this reading's m_j = sigma_j' S^-1 H C, C the cross-covariance with the considered
+  // parameters' errors (unit variance; a column each, in the suspects' order).
+  // `considered_coordinates` (kMeasuredCoordinates x n, coordinate i's row i n .., or empty): each
+  // measured coordinate's (H C)_i / sqrt(S_ii), for its mean's test.
   bool add(double time, double nis, const std::array<bool, kMeasuredCoordinates>& measured,
            const std::array<double, kMeasuredCoordinates>& normalised,
-           const std::vector<double>& evidence = {}, const std::vector<double>& information = {});
+           const std::vector<double>& evidence = {}, const std::vector<double>& information = {},
+           const std::vector<double>& considered = {},
+           const std::vector<double>& considered_coordinates = {});
   void restart();  // a new start of the filter: the open window is dropped, the verdict OK
 
   const AlarmReport& report() const { return report_; }
@@ -117,10 +128,18 @@ class InnovationAlarm {
   double window_start_ = 0.0;
   double nis_ = 0.0, dof_ = 0.0;
   std::array<double, kMeasuredCoordinates> sums_{}, signed_sums_{}, counts_{};
+  // With parameters considered: each coordinate's sum_k (H C)_i / sqrt(S_ii) (n each) and the
+  // sum of their squared norms; its mean's variance is count - squares + |sum|^2.
+  std::vector<double> coordinate_considered_;
+  std::array<double, kMeasuredCoordinates> coordinate_considered_squares_{};
   std::vector<std::string> suspects_, units_;
-  std::vector<double> evidence_, information_;  // the window's a_j, b_j
-  // The last closed windows' a_j, b_j (newest last; at most the longest span's count) and spans.
-  std::deque<std::pair<std::vector<double>, std::vector<double>>> past_;
+  // A window's a_j, b_j and, with parameters considered, sum_k m_jk (n x n) and sum_k |m_jk|^2.
+  struct Evidence {
+    std::vector<double> a, b, considered, considered_squares;
+  };
+  Evidence window_evidence_;
+  // The last closed windows' evidence (newest last; at most the longest span's count) and spans.
+  std::deque<Evidence> past_;
   std::deque<double> past_seconds_;
   AlarmReport report_;
 };

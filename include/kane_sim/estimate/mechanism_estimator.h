@@ -191,6 +191,9 @@ class MechanismEstimator {
   SignatureMatrix signature_before_outlier_;
   std::vector<double> evidence_,
       information_;  // this reading's, for the alarm (kept: no allocation)
+  // With parameters considered: this reading's sigma_j' S^-1 H C (InnovationAlarm::add).
+  std::vector<double> considered_, considered_coordinates_;
+  const std::vector<double> no_considered_;
 };
 
 }  // namespace kane_sim
