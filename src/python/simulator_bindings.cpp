@@ -484,7 +484,7 @@ class PythonSimulator {
     if (py::isinstance<TorqueProfile>(torque)) {
       TorqueProfile profile = torque.cast<TorqueProfile>();
       try {  // a table's header against the config's mode
-        profile.checkPlaysAs(config_.config().command.mode != CommandMode::kEffort);
+        profile.checkPlaysAs(servoMode());
       } catch (const std::invalid_argument& e) {
         throw py::value_error(std::string("run: torque: ") + e.what());
       }

@@ -41,8 +41,8 @@ class TorqueProfile {
     double a = 0.0, b = 0.0, c = 0.0;
     std::vector<std::pair<double, double>> points;
     int named = 0;  // Named
-    std::string
-        header;  // where the header is and what it says: "sp.csv:1: the header 't,setpoint'"
+    // Where the header is and what it says: "sp.csv:1: the header 't,setpoint'".
+    std::string header;
   };
   Parts parts() const;
   // Through the factories above: what they refuse is refused (std::invalid_argument).
@@ -52,7 +52,6 @@ class TorqueProfile {
   // the other quantity than what it is played as: a setpoint table played as torques would drive
   // the crank with its radians as newton metres, and the reverse.
   void checkPlaysAs(bool setpoints) const;
-  Named named() const { return named_; }
 
   double at(double t) const;  // [N m]
   bool isConstant() const { return kind_ == Kind::kConstant; }
