@@ -48,7 +48,9 @@ TEST(ClockMode, FreeRunsFasterThanRealTimeAndMatchesOfflineSimulate) {
   ASSERT_TRUE(ros::service::waitForService("kane_sim/step", ros::Duration(10)));
   ASSERT_TRUE(ros::service::call("kane_sim/step", step));
   ASSERT_TRUE(step.response.success) << step.response.message;
-  ASSERT_TRUE(state.waitForCount(1, 2.0));
+  // The step's state: a loaded machine may deliver the initial one (t = 0) only now, after it
+  // was cleared (failed once in a clean-clone CI beside two heavy tests).
+  ASSERT_TRUE(test::waitFor([&] { return state.count() > 0 && state.last().sim_time > 0.0; }, 2.0));
   EXPECT_EQ(state.last().applied_torque, 2.0);
   EXPECT_NEAR(state.last().sim_time, 0.01, 1e-12);
 
